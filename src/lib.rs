@@ -1,1 +1,43 @@
-//! placeholder
+//! The `cellc` command line: a thin layer over the compiler that reads files, renders
+//! diagnostics and sets exit codes. Its library target exists so that the end-to-end and
+//! UI tests in `tests/` render diagnostics exactly as the binary does.
+
+pub mod args;
+pub mod commands;
+pub mod docs;
+pub mod fs_world;
+pub mod render;
+
+use std::process::ExitCode;
+
+use clap::Parser;
+
+/// Every diagnostic code any phase can produce.
+pub fn all_codes() -> Vec<cellc_lang::Code> {
+    let mut codes: Vec<cellc_lang::Code> = cellc_lang::phrases::codes::ALL.to_vec();
+    codes.extend_from_slice(cellc_compiler::diagnostics::codes::ALL);
+    codes
+}
+
+/// Parses the command line and runs the subcommand.
+pub fn dispatch() -> ExitCode {
+    let args = match args::Args::try_parse() {
+        Ok(args) => args,
+        Err(e) => {
+            let _ = e.print();
+            return match e.kind() {
+                clap::error::ErrorKind::DisplayHelp | clap::error::ErrorKind::DisplayVersion => ExitCode::SUCCESS,
+                _ => ExitCode::from(2),
+            };
+        }
+    };
+    match &args.command {
+        args::Command::Check {
+            files,
+            deny_warnings,
+            report,
+        } => commands::check::run(files, *deny_warnings, report),
+        args::Command::Fmt { files, check } => commands::fmt::run(files, *check),
+        args::Command::Explain { code } => commands::explain::run(code),
+    }
+}

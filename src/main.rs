@@ -1,1 +1,5 @@
-fn main() {}
+//! The `cellc` binary.
+
+fn main() -> std::process::ExitCode {
+    cellc::dispatch()
+}

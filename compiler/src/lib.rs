@@ -1,1 +1,91 @@
-//! placeholder
+//! The cellc compiler: from cell source files to a checked cell and its object-state
+//! graphs.
+//!
+//! Pipeline: [`load`] (read and parse the main file and its includes) -> [`resolve`]
+//! (names to typed ids, quantities to SI) -> [`workspaces`] (derive workspaces, compute
+//! reach) -> [`checks`] -> [`graph`] (one graph per object) -> [`expect`] (the cell's own
+//! requirements). [`compile`] runs it all. The compiler does no I/O: files come through a
+//! [`World`].
+#![warn(missing_docs)]
+
+pub mod checks;
+pub mod diagnostics;
+pub mod expect;
+pub mod graph;
+pub mod ids;
+pub mod load;
+pub mod math;
+pub mod model;
+pub mod resolve;
+pub mod units;
+pub mod urdf;
+pub mod workspaces;
+pub mod world;
+
+use cellc_lang::{Diagnostic, SourceMap};
+
+pub use graph::ObjectGraph;
+pub use model::Cell;
+pub use world::{MemoryWorld, World};
+
+/// Everything a compilation produced.
+#[derive(Debug)]
+pub struct Compilation {
+    /// Every file read (for rendering diagnostics).
+    pub sources: SourceMap,
+    /// The resolved cell, when the main file could be read and parsed.
+    pub cell: Option<Cell>,
+    /// One graph per object (empty when the cell has errors that make graphs
+    /// meaningless).
+    pub graphs: Vec<ObjectGraph>,
+    /// Every problem found, in source order.
+    pub diagnostics: Vec<Diagnostic>,
+}
+
+impl Compilation {
+    /// True when any diagnostic is an error.
+    pub fn has_errors(&self) -> bool {
+        self.diagnostics.iter().any(Diagnostic::is_error)
+    }
+}
+
+/// Compiles the cell at `path`.
+pub fn compile(world: &dyn World, path: &str) -> Compilation {
+    let loaded = load::load(world, path);
+    let mut diagnostics = loaded.diagnostics.clone();
+    // Items that failed to parse are missing from the trees, so resolving anyway would
+    // report every reference to them as unknown: syntax errors are reported alone.
+    let main_parsed = loaded.files.first().is_some_and(|f| f.ast.is_some())
+        && !diagnostics.iter().any(|d| d.code == cellc_lang::phrases::codes::SYNTAX
+            || d.code == cellc_lang::phrases::codes::TOO_DEEP);
+    let mut cell = None;
+    let mut graphs = Vec::new();
+    if main_parsed {
+        let mut resolved = resolve::resolve(world, &loaded, &mut diagnostics);
+        workspaces::assign(&mut resolved, &mut diagnostics);
+        checks::check_cell(&resolved, &mut diagnostics);
+        // Graph-level findings on a cell that already has errors would mostly repeat
+        // them in other words, so they wait until the cell is clean.
+        if !diagnostics.iter().any(Diagnostic::is_error) {
+            graphs = graph::build(&resolved);
+            checks::check_graphs(&resolved, &graphs, &mut diagnostics);
+            expect::check(&resolved, &graphs, &mut diagnostics);
+        }
+        cell = Some(resolved);
+    }
+    sort(&mut diagnostics);
+    Compilation {
+        sources: loaded.sources,
+        cell,
+        graphs,
+        diagnostics,
+    }
+}
+
+/// Source order: by file, then position, then code; diagnostics without a place last.
+fn sort(diagnostics: &mut [Diagnostic]) {
+    diagnostics.sort_by_key(|d| {
+        let place = d.primary_label().map(|l| (l.file, l.span.start, l.span.end));
+        (place.is_none(), place, d.code)
+    });
+}

@@ -1,0 +1,132 @@
+//! Evaluates the cell's own `expect` requirements on the resolved cell and its graphs.
+
+use cellc_lang::ast::Mobility;
+use cellc_lang::Diagnostic;
+use petgraph::visit::{Bfs, Walker};
+use petgraph::Direction;
+
+use crate::checks::describe_state;
+use crate::diagnostics;
+use crate::graph::ObjectGraph;
+use crate::model::*;
+
+/// Reports every requirement that does not hold.
+pub fn check(cell: &Cell, graphs: &[ObjectGraph], diagnostics: &mut Vec<Diagnostic>) {
+    for expectation in &cell.expectations {
+        if let Err(why) = holds(cell, graphs, &expectation.requirement) {
+            diagnostics.push(diagnostics::expectation_failed(&expectation.text, expectation.origin, &why));
+        }
+    }
+}
+
+fn matching(graph: &ObjectGraph, cell: &Cell, p: &Placement) -> Vec<petgraph::graph::NodeIndex> {
+    graph
+        .graph
+        .node_indices()
+        .filter(|&n| {
+            let s = graph.graph[n];
+            s.end_effector == p.end_effector
+                && s.workspace == p.workspace
+                && p.grasp.is_none_or(|g| g == s.grasp)
+                && cell.holds(s.end_effector, s.grasp)
+        })
+        .collect()
+}
+
+fn describe_placement(cell: &Cell, p: &Placement) -> String {
+    let grasp = match p.grasp {
+        Some(g) => format!(" with `{}`", cell.grasps[g].name),
+        None => String::new(),
+    };
+    format!(
+        "`{}`{grasp} in `{}`",
+        cell.end_effectors[p.end_effector].name, cell.workspaces[p.workspace].name
+    )
+}
+
+/// `Ok` when the requirement holds, else why not.
+pub fn holds(cell: &Cell, graphs: &[ObjectGraph], requirement: &Requirement) -> Result<(), String> {
+    match requirement {
+        Requirement::Reach { object, from, to } => {
+            let graph = graphs
+                .iter()
+                .find(|g| g.object == *object)
+                .ok_or_else(|| "the object has no graph".to_string())?;
+            let starts = matching(graph, cell, from);
+            if starts.is_empty() {
+                return Err(format!("there is no state with the object held by {}", describe_placement(cell, from)));
+            }
+            let goals = matching(graph, cell, to);
+            if goals.is_empty() {
+                return Err(format!("there is no state with the object held by {}", describe_placement(cell, to)));
+            }
+            let mut reached = vec![false; graph.graph.node_count()];
+            for &start in &starts {
+                for n in Bfs::new(&graph.graph, start).iter(&graph.graph) {
+                    reached[n.index()] = true;
+                }
+            }
+            if goals.iter().any(|g| reached[g.index()]) {
+                return Ok(());
+            }
+            let n_reached = reached.iter().filter(|r| **r).count();
+            Err(format!(
+                "from {} the object can reach {n_reached} of {} states, none held by {}",
+                describe_placement(cell, from),
+                graph.graph.node_count(),
+                describe_placement(cell, to)
+            ))
+        }
+        Requirement::Coverage {
+            workspace,
+            at_least,
+            mobility,
+        } => {
+            let reachers: Vec<&str> = cell
+                .end_effectors
+                .iter()
+                .filter(|(_, e)| e.reaches.contains(workspace) && mobility.is_none_or(|m| m == e.mobility))
+                .map(|(_, e)| e.name.as_str())
+                .collect();
+            if reachers.len() as u64 >= u64::from(*at_least) {
+                return Ok(());
+            }
+            let which = match mobility {
+                Some(Mobility::Movable) => "movable end-effectors",
+                Some(Mobility::Fixed) => "fixed end-effectors",
+                None => "end-effectors",
+            };
+            let list = if reachers.is_empty() {
+                "none".to_string()
+            } else {
+                reachers.iter().map(|r| format!("`{r}`")).collect::<Vec<_>>().join(", ")
+            };
+            Err(format!(
+                "`{}` is reached by {} {which} ({list}), fewer than {at_least}",
+                cell.workspaces[*workspace].name,
+                reachers.len()
+            ))
+        }
+        Requirement::NoIsolatedStates { object } => {
+            let mut isolated = Vec::new();
+            for graph in graphs.iter().filter(|g| object.is_none_or(|o| o == g.object)) {
+                for n in graph.graph.node_indices() {
+                    let no_in = graph.graph.neighbors_directed(n, Direction::Incoming).next().is_none();
+                    let no_out = graph.graph.neighbors_directed(n, Direction::Outgoing).next().is_none();
+                    if no_in && no_out {
+                        isolated.push(format!(
+                            "{} of `{}`",
+                            describe_state(cell, graph.graph[n]),
+                            cell.objects[graph.object].name
+                        ));
+                    }
+                }
+            }
+            match isolated.len() {
+                0 => Ok(()),
+                1 => Err(format!("state {} has no arcs", isolated[0])),
+                n => Err(format!("{n} states have no arcs, e.g. {}", isolated[..n.min(3)].join(", "))),
+            }
+        }
+    }
+}

@@ -1,0 +1,371 @@
+//! The resolved cell: every name replaced by a typed id, every quantity in SI units.
+//!
+//! This is what the checks, workspace derivation and graph generation work on. It keeps
+//! an [`Origin`] on everything so that any later finding (an unreachable goal, a pruned
+//! arc) can point back at the line that caused it.
+
+use cellc_lang::ast::{GraspKeyword, Mobility};
+use cellc_lang::{FileId, Span};
+
+use crate::ids::*;
+use crate::math::{Aabb, Pose};
+
+/// Where something was declared.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct Origin {
+    /// File.
+    pub file: FileId,
+    /// Span of the declaring item or member.
+    pub span: Span,
+    /// Span of the declared name (the best place for a label).
+    pub name_span: Span,
+}
+
+/// Arc weights: the cost Dijkstra pays per move and per grasp transition.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Weights {
+    /// Same grasp, adjacent workspace.
+    pub move_weight: f64,
+    /// Grasp change inside one workspace.
+    pub transition_weight: f64,
+}
+
+impl Default for Weights {
+    /// The paper's text: a move is cheap (0.1); a change of end-effector is more likely to
+    /// fail (1.0).
+    fn default() -> Weights {
+        Weights {
+            move_weight: 0.1,
+            transition_weight: 1.0,
+        }
+    }
+}
+
+/// A region of the cell.
+#[derive(Clone, Debug)]
+pub struct Workspace {
+    /// Name (declared, or derived from who reaches it).
+    pub name: String,
+    /// Human label.
+    pub label: Option<String>,
+    /// Geometry: the union of these boxes (empty in abstract cells).
+    pub boxes: Vec<Aabb>,
+    /// Declaration, or for derived workspaces the `workspaces from reach` item.
+    pub origin: Origin,
+    /// True when computed from reach rather than declared.
+    pub derived: bool,
+}
+
+/// What kind of holder a holder kind is.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum HolderClass {
+    /// A hand model: grasps.
+    Hand,
+    /// A kind of support surface: resting poses.
+    Support,
+}
+
+/// A primitive or mesh shape, in metres.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Shape {
+    /// Box with edge lengths.
+    Box {
+        /// Edge lengths.
+        size: [f64; 3],
+    },
+    /// Cylinder along z.
+    Cylinder {
+        /// Radius.
+        radius: f64,
+        /// Height.
+        height: f64,
+    },
+    /// Sphere.
+    Sphere {
+        /// Radius.
+        radius: f64,
+    },
+    /// Mesh file, path resolved against the declaring file.
+    Mesh {
+        /// Path.
+        path: String,
+    },
+}
+
+/// A shape placed in a frame.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Solid {
+    /// Shape.
+    pub shape: Shape,
+    /// Placement in the parent frame.
+    pub pose: Pose,
+}
+
+/// A hand model or support kind: what grasps and resting poses are declared for, so that
+/// identical hardware shares one set of them.
+#[derive(Clone, Debug)]
+pub struct HolderKind {
+    /// Name.
+    pub name: String,
+    /// Hand or support.
+    pub class: HolderClass,
+    /// Collision shapes (hands).
+    pub solids: Vec<Solid>,
+    /// Declaration.
+    pub origin: Origin,
+}
+
+/// A robot model read from a URDF: the serial chain from base to tip.
+#[derive(Clone, Debug)]
+pub struct Robot {
+    /// Name.
+    pub name: String,
+    /// URDF path, resolved against the declaring file.
+    pub urdf_path: String,
+    /// The URDF text (kept for hashing into the artifact and for the kinematics crate).
+    pub urdf_text: String,
+    /// Base link.
+    pub base_link: String,
+    /// Tip link.
+    pub tip_link: String,
+    /// Names of the movable joints from base to tip, in order.
+    pub chain_joints: Vec<String>,
+    /// Declaration.
+    pub origin: Origin,
+}
+
+/// How an end-effector exists physically.
+#[derive(Clone, Debug)]
+pub enum Body {
+    /// Declared in the abstract form (`fixed`/`movable NAME reaches ...`).
+    Abstract,
+    /// A hand or conveyor carriage at the tip of a robot placed in the cell.
+    Arm {
+        /// Robot model (`None` when its name did not resolve).
+        robot: Option<RobotId>,
+        /// Pose of the robot base in the cell.
+        base: Pose,
+    },
+    /// A fixed surface: objects rest on the slab's top face.
+    Surface {
+        /// The slab.
+        slab: Aabb,
+        /// Height of the reach extrusion above the top face.
+        reach_height: f64,
+    },
+}
+
+/// Something that can hold or support an object.
+#[derive(Clone, Debug)]
+pub struct EndEffector {
+    /// Name.
+    pub name: String,
+    /// Movable (a hand, a conveyor) or fixed (a surface).
+    pub mobility: Mobility,
+    /// Holder kind, for geometric end-effectors.
+    pub kind: Option<HolderKindId>,
+    /// Physical body.
+    pub body: Body,
+    /// Reach cuboids (geometric cells).
+    pub reach_boxes: Vec<Aabb>,
+    /// Workspaces this end-effector reaches, sorted.
+    pub reaches: Vec<WorkspaceId>,
+    /// Declaration.
+    pub origin: Origin,
+}
+
+impl EndEffector {
+    /// True for hands and conveyors.
+    pub fn is_movable(&self) -> bool {
+        self.mobility == Mobility::Movable
+    }
+}
+
+/// Continuous or discrete symmetry of an object about an axis of its frame.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Symmetry {
+    /// Axis in the object frame.
+    pub axis: [f64; 3],
+    /// `None`: any angle; `Some(n)`: multiples of 360°/n.
+    pub order: Option<u32>,
+}
+
+/// An object.
+#[derive(Clone, Debug)]
+pub struct Object {
+    /// Name.
+    pub name: String,
+    /// Collision shape.
+    pub shape: Option<Shape>,
+    /// Symmetries.
+    pub symmetries: Vec<Symmetry>,
+    /// Grasps and resting poses declared for it, in source order.
+    pub grasps: Vec<GraspId>,
+    /// Declaration.
+    pub origin: Origin,
+}
+
+/// Who a grasp is declared for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Holder {
+    /// One end-effector (abstract cells, or a grasp particular to one arm).
+    EndEffector(EndEffectorId),
+    /// Every end-effector of a holder kind.
+    Kind(HolderKindId),
+}
+
+/// A grasp or resting pose of one object.
+#[derive(Clone, Debug)]
+pub struct Grasp {
+    /// Name, unique within the object.
+    pub name: String,
+    /// Human label.
+    pub label: Option<String>,
+    /// The object.
+    pub object: ObjectId,
+    /// Who holds it (`None` when the holder's name did not resolve).
+    pub holder: Option<Holder>,
+    /// `grasp` or `rest`.
+    pub keyword: GraspKeyword,
+    /// Pose of the object in the holder's frame.
+    pub pose: Option<Pose>,
+    /// Declaration.
+    pub origin: Origin,
+}
+
+/// A declared, directed grasp exchange (`a <-> b` declares two).
+#[derive(Clone, Debug)]
+pub struct Transition {
+    /// Grasp given up.
+    pub from: GraspId,
+    /// Grasp taken.
+    pub to: GraspId,
+    /// The `transition` member.
+    pub origin: Origin,
+}
+
+/// A declared adjacency between two workspaces.
+#[derive(Clone, Debug)]
+pub struct Adjacency {
+    /// One workspace.
+    pub a: WorkspaceId,
+    /// The other.
+    pub b: WorkspaceId,
+    /// Declaration.
+    pub origin: Origin,
+}
+
+/// A resolved `expect`.
+#[derive(Clone, Debug)]
+pub enum Requirement {
+    /// The object can go from one placement to the other.
+    Reach {
+        /// Object.
+        object: ObjectId,
+        /// Start.
+        from: Placement,
+        /// Goal.
+        to: Placement,
+    },
+    /// A workspace is reached by at least `at_least` end-effectors (of one mobility).
+    Coverage {
+        /// Workspace.
+        workspace: WorkspaceId,
+        /// Minimum.
+        at_least: u32,
+        /// Only count these.
+        mobility: Option<Mobility>,
+    },
+    /// No state of the object (or of any object) is isolated.
+    NoIsolatedStates {
+        /// Limit to one object.
+        object: Option<ObjectId>,
+    },
+}
+
+/// Where an object is held in a requirement.
+#[derive(Clone, Copy, Debug)]
+pub struct Placement {
+    /// Holder.
+    pub end_effector: EndEffectorId,
+    /// A particular grasp, or any grasp of that end-effector.
+    pub grasp: Option<GraspId>,
+    /// Workspace.
+    pub workspace: WorkspaceId,
+}
+
+/// A resolved `expect` with its origin.
+#[derive(Clone, Debug)]
+pub struct Expectation {
+    /// What is required.
+    pub requirement: Requirement,
+    /// The `expect` item, and the text of the requirement for messages.
+    pub origin: Origin,
+    /// The requirement as written (for messages).
+    pub text: String,
+}
+
+/// The resolved cell.
+#[derive(Clone, Debug, Default)]
+pub struct Cell {
+    /// Name from `cell NAME`.
+    pub name: String,
+    /// Workspaces, declared then derived.
+    pub workspaces: Arena<WorkspaceId, Workspace>,
+    /// End-effectors.
+    pub end_effectors: Arena<EndEffectorId, EndEffector>,
+    /// Holder kinds.
+    pub holder_kinds: Arena<HolderKindId, HolderKind>,
+    /// Robot models.
+    pub robots: Arena<RobotId, Robot>,
+    /// Objects.
+    pub objects: Arena<ObjectId, Object>,
+    /// Grasps of all objects.
+    pub grasps: Arena<GraspId, Grasp>,
+    /// Declared transitions, directed.
+    pub transitions: Vec<Transition>,
+    /// Declared adjacencies.
+    pub adjacencies: Vec<Adjacency>,
+    /// Arc weights.
+    pub weights: Weights,
+    /// Requirements.
+    pub expectations: Vec<Expectation>,
+    /// True when the cell says `workspaces from reach`.
+    pub derive_workspaces: Option<Origin>,
+}
+
+impl Cell {
+    /// True when end-effector `e` can hold grasp `g`.
+    pub fn holds(&self, e: EndEffectorId, g: GraspId) -> bool {
+        match self.grasps[g].holder {
+            Some(Holder::EndEffector(holder)) => holder == e,
+            Some(Holder::Kind(kind)) => self.end_effectors[e].kind == Some(kind),
+            None => false,
+        }
+    }
+
+    /// End-effectors that can hold grasp `g`, in id order.
+    pub fn holders_of(&self, g: GraspId) -> Vec<EndEffectorId> {
+        self.end_effectors
+            .ids()
+            .filter(|&e| self.holds(e, g))
+            .collect()
+    }
+
+    /// True when workspaces `a` and `b` are adjacent: declared so, or (when the cell
+    /// declares no adjacency) both reached by one movable end-effector.
+    pub fn adjacent(&self, a: WorkspaceId, b: WorkspaceId) -> bool {
+        if a == b {
+            return false;
+        }
+        if self.adjacencies.is_empty() {
+            self.end_effectors
+                .iter()
+                .any(|(_, e)| e.is_movable() && e.reaches.contains(&a) && e.reaches.contains(&b))
+        } else {
+            self.adjacencies
+                .iter()
+                .any(|adj| (adj.a == a && adj.b == b) || (adj.a == b && adj.b == a))
+        }
+    }
+}

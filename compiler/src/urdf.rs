@@ -1,0 +1,113 @@
+//! Robot models: reads a URDF through the [`World`], checks that the named links exist
+//! and that a chain of joints leads from the base to the tip.
+//!
+//! The compiler only validates and records the chain; kinematics live in the runtime,
+//! which reads the URDF text carried in the artifact.
+
+use std::collections::HashMap;
+
+use cellc_lang::ast::RobotItem;
+use cellc_lang::diagnostic::did_you_mean;
+use cellc_lang::{Diagnostic, FileId};
+
+use crate::diagnostics;
+use crate::model::{Origin, Robot};
+use crate::world::{join, World};
+
+/// Loads the URDF of a `robot` item, reporting every problem; `None` when the model is
+/// unusable.
+pub fn load_robot(
+    world: &dyn World,
+    declaring_path: &str,
+    file: FileId,
+    item: &RobotItem,
+    origin: Origin,
+    diagnostics: &mut Vec<Diagnostic>,
+) -> Option<Robot> {
+    let path = join(declaring_path, &item.urdf.value);
+    let text = match world.read(&path) {
+        Ok(text) => text,
+        Err(reason) => {
+            diagnostics.push(diagnostics::urdf_unreadable(&path, &reason, file, item.urdf.span));
+            return None;
+        }
+    };
+    // The URDF reader is a third-party XML stack: guard against it panicking on hostile
+    // input so that bad files can never take the checker down.
+    let parsed = std::panic::catch_unwind(|| urdf_rs::read_from_string(&text));
+    let model = match parsed {
+        Ok(Ok(model)) => model,
+        Ok(Err(error)) => {
+            diagnostics.push(diagnostics::urdf_invalid(&path, &error.to_string(), file, item.urdf.span));
+            return None;
+        }
+        Err(_) => {
+            diagnostics.push(diagnostics::urdf_invalid(&path, "the reader failed on this file", file, item.urdf.span));
+            return None;
+        }
+    };
+    let links: Vec<&str> = model.links.iter().map(|l| l.name.as_str()).collect();
+    // child link -> (joint index, parent link)
+    let parent_of: HashMap<&str, (usize, &str)> = model
+        .joints
+        .iter()
+        .enumerate()
+        .map(|(i, j)| (j.child.link.as_str(), (i, j.parent.link.as_str())))
+        .collect();
+    let root = links.iter().copied().find(|l| !parent_of.contains_key(l));
+    let mut ok = true;
+    let mut check_link = |name: &cellc_lang::ast::Name| {
+        if links.contains(&name.text.as_str()) {
+            true
+        } else {
+            let suggestion = did_you_mean(&name.text, links.iter().copied());
+            diagnostics.push(diagnostics::urdf_unknown_link(
+                "link", &name.text, &path, file, name.span, suggestion,
+            ));
+            false
+        }
+    };
+    let base = match &item.base {
+        Some(base) => {
+            ok &= check_link(base);
+            base.text.clone()
+        }
+        None => root.unwrap_or_default().to_string(),
+    };
+    ok &= check_link(&item.tip);
+    if !ok {
+        return None;
+    }
+    // Walk from the tip up to the base.
+    let mut chain = Vec::new();
+    let mut link = item.tip.text.as_str();
+    let mut steps = 0;
+    while link != base {
+        match parent_of.get(link) {
+            Some(&(joint, parent)) if steps <= model.joints.len() => {
+                chain.push(joint);
+                link = parent;
+                steps += 1;
+            }
+            _ => {
+                diagnostics.push(diagnostics::urdf_no_chain(&base, &item.tip.text, &path, file, item.span));
+                return None;
+            }
+        }
+    }
+    chain.reverse();
+    let chain_joints = chain
+        .into_iter()
+        .filter(|&j| !matches!(model.joints[j].joint_type, urdf_rs::JointType::Fixed))
+        .map(|j| model.joints[j].name.clone())
+        .collect();
+    Some(Robot {
+        name: item.name.text.clone(),
+        urdf_path: path,
+        urdf_text: text,
+        base_link: base,
+        tip_link: item.tip.text.clone(),
+        chain_joints,
+        origin,
+    })
+}

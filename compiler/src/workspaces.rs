@@ -1,0 +1,179 @@
+//! Workspace derivation and reach: which end-effector reaches which workspace.
+//!
+//! Abstract end-effectors list the workspaces they reach. Geometric ones have reach
+//! cuboids (arms: declared `reach` boxes; surfaces: a thin extrusion above the top face).
+//! With `workspaces from reach`, space is cut along every cuboid face into cells, each
+//! cell is labelled with the set of end-effectors whose reach covers it, and the cells
+//! of one label form one workspace. Workspaces therefore never overlap, and two of them
+//! are adjacent exactly when a movable end-effector reaches both.
+
+use std::collections::BTreeMap;
+
+use cellc_lang::Diagnostic;
+
+use crate::diagnostics;
+use crate::ids::*;
+use crate::math::{covered_by_union, Aabb, EPS};
+use crate::model::*;
+
+/// The reach cuboids of a geometric end-effector (empty for abstract ones).
+pub fn reach_boxes(e: &EndEffector) -> Vec<Aabb> {
+    match &e.body {
+        Body::Abstract => Vec::new(),
+        Body::Arm { .. } => e.reach_boxes.clone(),
+        Body::Surface { slab, reach_height } => vec![Aabb {
+            min: [slab.min[0], slab.min[1], slab.max[2]],
+            max: [slab.max[0], slab.max[1], slab.max[2] + reach_height],
+        }],
+    }
+}
+
+/// Derives workspaces when asked, then fills `reaches` of every geometric end-effector.
+pub fn assign(cell: &mut Cell, diagnostics: &mut Vec<Diagnostic>) {
+    let reach: Vec<(EndEffectorId, Vec<Aabb>)> = cell
+        .end_effectors
+        .iter()
+        .map(|(id, e)| (id, reach_boxes(e)))
+        .filter(|(_, boxes)| !boxes.is_empty())
+        .collect();
+    if let Some(origin) = cell.derive_workspaces {
+        if reach.is_empty() {
+            diagnostics.push(diagnostics::derivation_conflict(
+                "`workspaces from reach` but nothing in the cell has a reach box",
+                origin,
+                "add `reach ARM box ...` lines or surfaces, or declare the workspaces",
+            ));
+        } else {
+            derive(cell, &reach, origin);
+        }
+    }
+    for (e, boxes) in &reach {
+        let mut reaches: Vec<WorkspaceId> = cell
+            .workspaces
+            .iter()
+            .filter(|(_, w)| !w.boxes.is_empty() && w.boxes.iter().all(|b| covered_by_union(b, boxes)))
+            .map(|(id, _)| id)
+            .collect();
+        reaches.extend(cell.end_effectors[*e].reaches.iter().copied());
+        reaches.sort();
+        reaches.dedup();
+        cell.end_effectors[*e].reaches = reaches;
+    }
+}
+
+fn derive(cell: &mut Cell, reach: &[(EndEffectorId, Vec<Aabb>)], origin: Origin) {
+    let declared: Vec<Aabb> = cell
+        .workspaces
+        .iter()
+        .flat_map(|(_, w)| w.boxes.iter().copied())
+        .collect();
+    let cuts: [Vec<f64>; 3] = [0, 1, 2].map(|axis| {
+        let mut cuts: Vec<f64> = reach
+            .iter()
+            .flat_map(|(_, boxes)| boxes.iter().flat_map(|b| [b.min[axis], b.max[axis]]))
+            .collect();
+        cuts.sort_by(f64::total_cmp);
+        cuts.dedup_by(|a, b| (*a - *b).abs() <= EPS);
+        cuts
+    });
+    // label (sorted end-effectors) -> cells; BTreeMap so that naming and order are
+    // deterministic.
+    let mut regions: BTreeMap<Vec<EndEffectorId>, Vec<Aabb>> = BTreeMap::new();
+    for x in cuts[0].windows(2) {
+        for y in cuts[1].windows(2) {
+            for z in cuts[2].windows(2) {
+                let cell_box = Aabb {
+                    min: [x[0], y[0], z[0]],
+                    max: [x[1], y[1], z[1]],
+                };
+                let center = cell_box.center();
+                if declared.iter().any(|b| b.contains_point(center)) {
+                    continue;
+                }
+                let label: Vec<EndEffectorId> = reach
+                    .iter()
+                    .filter(|(_, boxes)| boxes.iter().any(|b| b.contains_point(center)))
+                    .map(|(e, _)| *e)
+                    .collect();
+                // Nothing can bring an object into space no movable end-effector
+                // reaches, so such space is not a workspace.
+                if label.iter().any(|&e| cell.end_effectors[e].is_movable()) {
+                    regions.entry(label).or_default().push(cell_box);
+                }
+            }
+        }
+    }
+    let mut taken: std::collections::HashSet<String> = cell
+        .end_effectors
+        .iter()
+        .map(|(_, e)| e.name.clone())
+        .chain(cell.workspaces.iter().map(|(_, w)| w.name.clone()))
+        .chain(cell.objects.iter().map(|(_, o)| o.name.clone()))
+        .chain(cell.holder_kinds.iter().map(|(_, k)| k.name.clone()))
+        .chain(cell.robots.iter().map(|(_, r)| r.name.clone()))
+        .collect();
+    // Name order follows the order of the end-effectors' declarations.
+    let mut ordered: Vec<(Vec<EndEffectorId>, Vec<Aabb>)> = regions.into_iter().collect();
+    ordered.sort_by(|a, b| a.0.cmp(&b.0));
+    for (label, boxes) in ordered {
+        let names: Vec<&str> = label
+            .iter()
+            .map(|&e| cell.end_effectors[e].name.as_str())
+            .collect();
+        let base = format!("ws_{}", names.join("_"));
+        let mut name = base.clone();
+        let mut n = 2;
+        while taken.contains(&name) {
+            name = format!("{base}_{n}");
+            n += 1;
+        }
+        taken.insert(name.clone());
+        cell.workspaces.insert(Workspace {
+            name,
+            label: Some(format!("reached by {}", names.join(", "))),
+            boxes: merge_boxes(boxes),
+            origin,
+            derived: true,
+        });
+    }
+}
+
+/// Merges grid cells that share a whole face, until no two can merge, so that a
+/// workspace is described by few boxes.
+fn merge_boxes(mut boxes: Vec<Aabb>) -> Vec<Aabb> {
+    let same = |a: f64, b: f64| (a - b).abs() <= EPS;
+    loop {
+        let mut merged = false;
+        'search: for i in 0..boxes.len() {
+            for j in (i + 1)..boxes.len() {
+                let (a, b) = (boxes[i], boxes[j]);
+                for axis in 0..3 {
+                    let others_equal = (0..3)
+                        .filter(|&k| k != axis)
+                        .all(|k| same(a.min[k], b.min[k]) && same(a.max[k], b.max[k]));
+                    if others_equal && (same(a.max[axis], b.min[axis]) || same(b.max[axis], a.min[axis])) {
+                        let mut union = a;
+                        union.min[axis] = a.min[axis].min(b.min[axis]);
+                        union.max[axis] = a.max[axis].max(b.max[axis]);
+                        boxes[i] = union;
+                        boxes.swap_remove(j);
+                        merged = true;
+                        break 'search;
+                    }
+                }
+            }
+        }
+        if !merged {
+            break;
+        }
+    }
+    boxes.sort_by(|a, b| {
+        a.min
+            .iter()
+            .zip(b.min.iter())
+            .map(|(x, y)| x.total_cmp(y))
+            .find(|o| o.is_ne())
+            .unwrap_or(std::cmp::Ordering::Equal)
+    });
+    boxes
+}

@@ -1,0 +1,69 @@
+//! Command-line arguments (clap derive).
+
+use std::path::PathBuf;
+
+use clap::{Parser, Subcommand, ValueEnum};
+
+use crate::render::Format;
+
+/// cellc: describe a robot manipulation cell, check it, compile it, plan in it.
+#[derive(Parser, Debug)]
+#[command(name = "cellc", version, about, propagate_version = true)]
+pub struct Args {
+    /// What to do.
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+/// When to colour human output.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum ColorChoice {
+    /// When standard error is a terminal.
+    Auto,
+    /// Always.
+    Always,
+    /// Never.
+    Never,
+}
+
+/// Flags shared by the commands that report diagnostics.
+#[derive(clap::Args, Debug, Clone)]
+pub struct ReportFlags {
+    /// Output style for diagnostics.
+    #[arg(long, value_enum, default_value = "human")]
+    pub format: Format,
+    /// Colour in human output.
+    #[arg(long, value_enum, default_value = "auto")]
+    pub color: ColorChoice,
+}
+
+/// Subcommands.
+#[derive(Subcommand, Debug)]
+pub enum Command {
+    /// Check cells and report every problem (exit 1 on errors).
+    Check {
+        /// Cell files.
+        #[arg(required = true)]
+        files: Vec<PathBuf>,
+        /// Treat warnings as errors.
+        #[arg(long)]
+        deny_warnings: bool,
+        /// Output flags.
+        #[command(flatten)]
+        report: ReportFlags,
+    },
+    /// Format cell files in the canonical layout.
+    Fmt {
+        /// Cell files.
+        #[arg(required = true)]
+        files: Vec<PathBuf>,
+        /// Do not write; exit 1 if any file is not formatted.
+        #[arg(long)]
+        check: bool,
+    },
+    /// Explain a diagnostic code, e.g. `cellc explain E0101`.
+    Explain {
+        /// The code.
+        code: String,
+    },
+}

@@ -1,0 +1,355 @@
+//! Renders diagnostics three ways: human (miette), short (one line each, for editors and
+//! CI annotations) and JSON (a stable schema for programs).
+
+use std::fmt;
+
+use cellc_lang::{Diagnostic, FileId, Severity, SourceMap};
+use miette::{GraphicalReportHandler, GraphicalTheme, LabeledSpan, NamedSource};
+use serde::Serialize;
+
+/// Output style.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum Format {
+    /// Source snippets with labels (the default).
+    Human,
+    /// `file:line:col: severity[CODE]: message`, one per line.
+    Short,
+    /// A JSON document (schema in `docs/diagnostics/README.md`).
+    Json,
+}
+
+/// Colour for human output.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Color {
+    /// ANSI colours.
+    Always,
+    /// Plain text (files, snapshots, pipes).
+    Never,
+}
+
+/// Human rendering of a list of diagnostics, with a summary line.
+pub fn human(diagnostics: &[Diagnostic], sources: &SourceMap, color: Color) -> String {
+    let theme = match color {
+        Color::Always => GraphicalTheme::unicode(),
+        Color::Never => GraphicalTheme::unicode_nocolor(),
+    };
+    let handler = GraphicalReportHandler::new_themed(theme)
+        .with_width(100)
+        .with_links(false)
+        .without_syntax_highlighting();
+    let mut out = String::new();
+    for diagnostic in diagnostics {
+        let report = Report::new(diagnostic, sources);
+        if handler.render_report(&mut out, &report).is_err() {
+            // Rendering into a String cannot fail for I/O reasons; fall back to the short
+            // form rather than lose the diagnostic.
+            out.push_str(&short(std::slice::from_ref(diagnostic), sources));
+        }
+        out.push('\n');
+    }
+    out
+}
+
+/// One line per diagnostic.
+pub fn short(diagnostics: &[Diagnostic], sources: &SourceMap) -> String {
+    let mut out = String::new();
+    for d in diagnostics {
+        match d.primary_label() {
+            Some(label) => {
+                let file = sources.get(label.file);
+                let (line, col) = file.line_col(label.span.start);
+                out.push_str(&format!(
+                    "{}:{line}:{col}: {}[{}]: {}\n",
+                    file.path,
+                    d.severity.as_str(),
+                    d.code,
+                    d.message
+                ));
+            }
+            None => out.push_str(&format!("{}[{}]: {}\n", d.severity.as_str(), d.code, d.message)),
+        }
+    }
+    out
+}
+
+/// The JSON document for a run of `cellc check`.
+#[derive(Serialize)]
+pub struct JsonReport<'a> {
+    /// Schema version; bumped on any incompatible change.
+    pub version: u32,
+    /// Every diagnostic.
+    pub diagnostics: Vec<JsonDiagnostic<'a>>,
+    /// Number of errors.
+    pub errors: usize,
+    /// Number of warnings.
+    pub warnings: usize,
+}
+
+/// One diagnostic in JSON.
+#[derive(Serialize)]
+pub struct JsonDiagnostic<'a> {
+    /// Stable code, e.g. `E0101`.
+    pub code: &'static str,
+    /// `error` or `warning`.
+    pub severity: &'static str,
+    /// The message.
+    pub message: &'a str,
+    /// File of the primary label (null when the problem has no place).
+    pub file: Option<&'a str>,
+    /// 1-based line of the primary label.
+    pub line: Option<usize>,
+    /// 1-based column (in characters) of the primary label.
+    pub column: Option<usize>,
+    /// Byte range of the primary label.
+    pub span: Option<JsonSpan>,
+    /// All labels, primary first.
+    pub labels: Vec<JsonLabel<'a>>,
+    /// The fix.
+    pub help: Option<&'a str>,
+    /// Extra facts.
+    pub notes: &'a [String],
+}
+
+/// A byte range.
+#[derive(Serialize)]
+pub struct JsonSpan {
+    /// First byte.
+    pub start: u32,
+    /// One past the last byte.
+    pub end: u32,
+}
+
+/// A label in JSON.
+#[derive(Serialize)]
+pub struct JsonLabel<'a> {
+    /// File.
+    pub file: &'a str,
+    /// 1-based line.
+    pub line: usize,
+    /// 1-based column.
+    pub column: usize,
+    /// Byte range.
+    pub span: JsonSpan,
+    /// Text of the label.
+    pub message: &'a str,
+    /// Primary or secondary.
+    pub primary: bool,
+}
+
+/// JSON rendering.
+pub fn json(diagnostics: &[Diagnostic], sources: &SourceMap) -> String {
+    let diagnostics_json: Vec<JsonDiagnostic> = diagnostics
+        .iter()
+        .map(|d| {
+            let labels: Vec<JsonLabel> = d
+                .labels
+                .iter()
+                .map(|l| {
+                    let file = sources.get(l.file);
+                    let (line, column) = file.line_col(l.span.start);
+                    JsonLabel {
+                        file: &file.path,
+                        line,
+                        column,
+                        span: JsonSpan {
+                            start: l.span.start,
+                            end: l.span.end,
+                        },
+                        message: &l.message,
+                        primary: l.primary,
+                    }
+                })
+                .collect();
+            let primary = labels.iter().find(|l| l.primary);
+            JsonDiagnostic {
+                code: d.code.as_str(),
+                severity: d.severity.as_str(),
+                message: &d.message,
+                file: primary.map(|l| l.file),
+                line: primary.map(|l| l.line),
+                column: primary.map(|l| l.column),
+                span: primary.map(|l| JsonSpan {
+                    start: l.span.start,
+                    end: l.span.end,
+                }),
+                help: d.help.as_deref(),
+                notes: &d.notes,
+                labels,
+            }
+        })
+        .collect();
+    let report = JsonReport {
+        version: 1,
+        errors: diagnostics.iter().filter(|d| d.is_error()).count(),
+        warnings: diagnostics.iter().filter(|d| !d.is_error()).count(),
+        diagnostics: diagnostics_json,
+    };
+    serde_json::to_string_pretty(&report).unwrap_or_else(|e| format!("{{\"error\": \"{e}\"}}")) + "\n"
+}
+
+/// A summary line like `2 errors, 1 warning`.
+pub fn summary(diagnostics: &[Diagnostic]) -> String {
+    let errors = diagnostics.iter().filter(|d| d.is_error()).count();
+    let warnings = diagnostics.len() - errors;
+    let plural = |n: usize, word: &str| format!("{n} {word}{}", if n == 1 { "" } else { "s" });
+    format!("{}, {}", plural(errors, "error"), plural(warnings, "warning"))
+}
+
+/// Adapter from our diagnostic to miette's trait. Labels in the primary label's file are
+/// drawn on its snippet; labels in other files become related reports, each with its
+/// own snippet.
+struct Report<'a> {
+    diagnostic: &'a Diagnostic,
+    file: Option<FileId>,
+    source: Option<NamedSource<String>>,
+    labels: Vec<LabeledSpan>,
+    related: Vec<Related>,
+    help: Option<String>,
+}
+
+struct Related {
+    message: String,
+    source: NamedSource<String>,
+    label: LabeledSpan,
+}
+
+impl<'a> Report<'a> {
+    fn new(diagnostic: &'a Diagnostic, sources: &SourceMap) -> Report<'a> {
+        let file = diagnostic.primary_label().map(|l| l.file);
+        let source = file.map(|f| {
+            let s = sources.get(f);
+            NamedSource::new(s.path.clone(), s.text.clone())
+        });
+        let mut labels = Vec::new();
+        let mut related = Vec::new();
+        for label in &diagnostic.labels {
+            let span = label.span.start as usize..label.span.end as usize;
+            let text = (!label.message.is_empty()).then(|| label.message.clone());
+            let labeled = if label.primary {
+                LabeledSpan::new_primary_with_span(text, span)
+            } else {
+                LabeledSpan::new_with_span(text, span)
+            };
+            if Some(label.file) == file {
+                labels.push(labeled);
+            } else {
+                let s = sources.get(label.file);
+                related.push(Related {
+                    message: label.message.clone(),
+                    source: NamedSource::new(s.path.clone(), s.text.clone()),
+                    label: labeled,
+                });
+            }
+        }
+        let mut help = diagnostic.help.clone();
+        if !diagnostic.notes.is_empty() {
+            let notes = diagnostic
+                .notes
+                .iter()
+                .map(|n| format!("note: {n}"))
+                .collect::<Vec<_>>()
+                .join("\n");
+            help = Some(match help {
+                Some(h) => format!("{h}\n{notes}"),
+                None => notes,
+            });
+        }
+        Report {
+            diagnostic,
+            file,
+            source,
+            labels,
+            related,
+            help,
+        }
+    }
+}
+
+impl fmt::Debug for Report<'_> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{:?}", self.diagnostic)
+    }
+}
+
+impl fmt::Display for Report<'_> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(&self.diagnostic.message)
+    }
+}
+
+impl std::error::Error for Report<'_> {}
+
+impl miette::Diagnostic for Report<'_> {
+    fn code<'b>(&'b self) -> Option<Box<dyn fmt::Display + 'b>> {
+        // `error[E0101]`, as rustc writes it, so the severity reads in plain text too.
+        Some(Box::new(format!(
+            "{}[{}]",
+            self.diagnostic.severity.as_str(),
+            self.diagnostic.code
+        )))
+    }
+
+    fn severity(&self) -> Option<miette::Severity> {
+        Some(match self.diagnostic.severity {
+            Severity::Error => miette::Severity::Error,
+            Severity::Warning => miette::Severity::Warning,
+        })
+    }
+
+    fn help<'b>(&'b self) -> Option<Box<dyn fmt::Display + 'b>> {
+        self.help.as_ref().map(|h| Box::new(h) as Box<dyn fmt::Display>)
+    }
+
+    fn source_code(&self) -> Option<&dyn miette::SourceCode> {
+        let _ = self.file;
+        self.source.as_ref().map(|s| s as &dyn miette::SourceCode)
+    }
+
+    fn labels(&self) -> Option<Box<dyn Iterator<Item = LabeledSpan> + '_>> {
+        if self.labels.is_empty() {
+            None
+        } else {
+            Some(Box::new(self.labels.iter().cloned()))
+        }
+    }
+
+    fn related<'b>(&'b self) -> Option<Box<dyn Iterator<Item = &'b dyn miette::Diagnostic> + 'b>> {
+        if self.related.is_empty() {
+            None
+        } else {
+            Some(Box::new(self.related.iter().map(|r| r as &dyn miette::Diagnostic)))
+        }
+    }
+}
+
+impl fmt::Debug for Related {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(&self.message)
+    }
+}
+
+impl fmt::Display for Related {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        if self.message.is_empty() {
+            f.write_str("related place")
+        } else {
+            f.write_str(&self.message)
+        }
+    }
+}
+
+impl std::error::Error for Related {}
+
+impl miette::Diagnostic for Related {
+    fn severity(&self) -> Option<miette::Severity> {
+        Some(miette::Severity::Advice)
+    }
+
+    fn source_code(&self) -> Option<&dyn miette::SourceCode> {
+        Some(&self.source)
+    }
+
+    fn labels(&self) -> Option<Box<dyn Iterator<Item = LabeledSpan> + '_>> {
+        Some(Box::new(std::iter::once(self.label.clone())))
+    }
+}

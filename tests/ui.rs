@@ -1,0 +1,45 @@
+//! UI tests: every `tests/ui/*.cell` holds one problem, names the code it must produce
+//! on its first line (`// expect: E0101`), and has an insta snapshot of its source plus
+//! the rendered diagnostics. The harness fails when the codes produced differ from the
+//! one written, so a snapshot can never quietly bless a wrong diagnostic.
+//!
+//! Files under `tests/ui/support/` are included or referenced by UI files, not tested
+//! alone.
+
+use std::collections::BTreeSet;
+use std::path::Path;
+
+use cellc::fs_world::FsWorld;
+use cellc::render::{self, Color};
+
+fn expected_code(source: &str) -> Option<&str> {
+    source.lines().next()?.trim().strip_prefix("// expect:").map(str::trim)
+}
+
+#[test]
+fn ui() {
+    let mut failures = Vec::new();
+    let mut count = 0;
+    insta::glob!("ui/*.cell", |path| {
+        count += 1;
+        let relative = path
+            .strip_prefix(Path::new(env!("CARGO_MANIFEST_DIR")))
+            .unwrap_or(path)
+            .to_string_lossy()
+            .replace('\\', "/");
+        let source = std::fs::read_to_string(path).unwrap_or_default();
+        let Some(code) = expected_code(&source) else {
+            failures.push(format!("{relative}: first line must be `// expect: CODE`"));
+            return;
+        };
+        let compilation = cellc_compiler::compile(&FsWorld, &relative);
+        let produced: BTreeSet<&str> = compilation.diagnostics.iter().map(|d| d.code.as_str()).collect();
+        if produced != BTreeSet::from([code]) {
+            failures.push(format!("{relative}: expected only {code}, got {produced:?}"));
+        }
+        let rendered = render::human(&compilation.diagnostics, &compilation.sources, Color::Never);
+        insta::assert_snapshot!(format!("{source}\n----- diagnostics -----\n{rendered}"));
+    });
+    assert!(count > 0, "no UI test files found");
+    assert!(failures.is_empty(), "UI tests failed:\n{}", failures.join("\n"));
+}
