@@ -23,9 +23,14 @@ fn main() {
     let mut out = String::from("/// (code, page) for every documented diagnostic code.\npub static DIAGNOSTIC_DOCS: &[(&str, &str)] = &[\n");
     for (code, path) in &pages {
         println!("cargo:rerun-if-changed={}", path.display());
-        let _ = writeln!(out, "    ({code:?}, include_str!({:?})),", path.display().to_string());
+        let _ = writeln!(
+            out,
+            "    ({code:?}, include_str!({:?})),",
+            path.display().to_string()
+        );
     }
     out.push_str("];\n");
-    let target = std::path::Path::new(&std::env::var("OUT_DIR").expect("cargo sets OUT_DIR")).join("diagnostic_docs.rs");
+    let target = std::path::Path::new(&std::env::var("OUT_DIR").expect("cargo sets OUT_DIR"))
+        .join("diagnostic_docs.rs");
     std::fs::write(target, out).expect("OUT_DIR is writable");
 }

@@ -13,6 +13,11 @@ impl World for FsWorld {
             std::io::ErrorKind::IsADirectory => "it is a directory".to_string(),
             _ => e.to_string(),
         })?;
-        String::from_utf8(bytes).map_err(|e| format!("not UTF-8 text (invalid byte at offset {})", e.utf8_error().valid_up_to()))
+        String::from_utf8(bytes).map_err(|e| {
+            format!(
+                "not UTF-8 text (invalid byte at offset {})",
+                e.utf8_error().valid_up_to()
+            )
+        })
     }
 }

@@ -7,13 +7,17 @@
 //! alone.
 
 use std::collections::BTreeSet;
-use std::path::Path;
 
 use cellc::fs_world::FsWorld;
 use cellc::render::{self, Color};
 
 fn expected_code(source: &str) -> Option<&str> {
-    source.lines().next()?.trim().strip_prefix("// expect:").map(str::trim)
+    source
+        .lines()
+        .next()?
+        .trim()
+        .strip_prefix("// expect:")
+        .map(str::trim)
 }
 
 #[test]
@@ -23,7 +27,7 @@ fn ui() {
     insta::glob!("ui/*.cell", |path| {
         count += 1;
         let relative = path
-            .strip_prefix(Path::new(env!("CARGO_MANIFEST_DIR")))
+            .strip_prefix(std::path::Path::new(env!("CARGO_MANIFEST_DIR")))
             .unwrap_or(path)
             .to_string_lossy()
             .replace('\\', "/");
@@ -33,13 +37,23 @@ fn ui() {
             return;
         };
         let compilation = cellc_compiler::compile(&FsWorld, &relative);
-        let produced: BTreeSet<&str> = compilation.diagnostics.iter().map(|d| d.code.as_str()).collect();
+        let produced: BTreeSet<&str> = compilation
+            .diagnostics
+            .iter()
+            .map(|d| d.code.as_str())
+            .collect();
         if produced != BTreeSet::from([code]) {
-            failures.push(format!("{relative}: expected only {code}, got {produced:?}"));
+            failures.push(format!(
+                "{relative}: expected only {code}, got {produced:?}"
+            ));
         }
         let rendered = render::human(&compilation.diagnostics, &compilation.sources, Color::Never);
         insta::assert_snapshot!(format!("{source}\n----- diagnostics -----\n{rendered}"));
     });
     assert!(count > 0, "no UI test files found");
-    assert!(failures.is_empty(), "UI tests failed:\n{}", failures.join("\n"));
+    assert!(
+        failures.is_empty(),
+        "UI tests failed:\n{}",
+        failures.join("\n")
+    );
 }

@@ -2,7 +2,6 @@
 
 use std::collections::{BTreeMap, HashSet};
 
-
 use cellc_lang::Diagnostic;
 use petgraph::Direction as Dir;
 
@@ -32,15 +31,18 @@ fn check_workspaces(cell: &Cell, diagnostics: &mut Vec<Diagnostic>) {
         if ws.derived {
             continue;
         }
-        if !cell.end_effectors.iter().any(|(_, e)| e.reaches.contains(&w)) {
+        if !cell
+            .end_effectors
+            .iter()
+            .any(|(_, e)| e.reaches.contains(&w))
+        {
             diagnostics.push(diagnostics::unreached_workspace(&ws.name, ws.origin));
         }
     }
     for adj in &cell.adjacencies {
-        let shared = cell
-            .end_effectors
-            .iter()
-            .any(|(_, e)| e.is_movable() && e.reaches.contains(&adj.a) && e.reaches.contains(&adj.b));
+        let shared = cell.end_effectors.iter().any(|(_, e)| {
+            e.is_movable() && e.reaches.contains(&adj.a) && e.reaches.contains(&adj.b)
+        });
         if !shared {
             diagnostics.push(diagnostics::useless_adjacency(
                 &cell.workspaces[adj.a].name,
@@ -49,7 +51,8 @@ fn check_workspaces(cell: &Cell, diagnostics: &mut Vec<Diagnostic>) {
             ));
         }
     }
-    let declared: Vec<(WorkspaceId, &Workspace)> = cell.workspaces.iter().filter(|(_, w)| !w.derived).collect();
+    let declared: Vec<(WorkspaceId, &Workspace)> =
+        cell.workspaces.iter().filter(|(_, w)| !w.derived).collect();
     for (i, (_, a)) in declared.iter().enumerate() {
         for (_, b) in &declared[i + 1..] {
             let volume: f64 = a
@@ -59,19 +62,29 @@ fn check_workspaces(cell: &Cell, diagnostics: &mut Vec<Diagnostic>) {
                 .map(|i| i.volume())
                 .sum();
             if volume > 0.0 {
-                diagnostics.push(diagnostics::overlapping_workspaces(&a.name, a.origin, &b.name, b.origin, volume));
+                diagnostics.push(diagnostics::overlapping_workspaces(
+                    &a.name, a.origin, &b.name, b.origin, volume,
+                ));
             }
         }
     }
 }
 
 fn check_grasps(cell: &Cell, diagnostics: &mut Vec<Diagnostic>) {
-    let used: HashSet<GraspId> = cell.transitions.iter().flat_map(|t| [t.from, t.to]).collect();
+    let used: HashSet<GraspId> = cell
+        .transitions
+        .iter()
+        .flat_map(|t| [t.from, t.to])
+        .collect();
     for (g, grasp) in cell.grasps.iter() {
         if let Some(Holder::Kind(kind)) = grasp.holder {
             if !cell.end_effectors.iter().any(|(_, e)| e.kind == Some(kind)) {
                 let k = &cell.holder_kinds[kind];
-                diagnostics.push(diagnostics::kind_without_holder(&k.name, grasp.origin, k.origin));
+                diagnostics.push(diagnostics::kind_without_holder(
+                    &k.name,
+                    grasp.origin,
+                    k.origin,
+                ));
                 continue;
             }
         }
@@ -82,24 +95,35 @@ fn check_grasps(cell: &Cell, diagnostics: &mut Vec<Diagnostic>) {
 }
 
 fn check_transitions(cell: &Cell, diagnostics: &mut Vec<Diagnostic>) {
-    let declared: HashSet<(GraspId, GraspId)> = cell.transitions.iter().map(|t| (t.from, t.to)).collect();
+    let declared: HashSet<(GraspId, GraspId)> =
+        cell.transitions.iter().map(|t| (t.from, t.to)).collect();
     let mut reported: HashSet<(GraspId, GraspId)> = HashSet::new();
     for t in &cell.transitions {
         let (from, to) = (&cell.grasps[t.from], &cell.grasps[t.to]);
-        let (Some(_), Some(_)) = (from.holder, to.holder) else { continue };
+        let (Some(_), Some(_)) = (from.holder, to.holder) else {
+            continue;
+        };
         let key = (t.from.min(t.to), t.from.max(t.to));
         let holders_from = cell.holders_of(t.from);
         let holders_to = cell.holders_of(t.to);
-        let all_fixed = |hs: &[EndEffectorId]| !hs.is_empty() && hs.iter().all(|&e| !cell.end_effectors[e].is_movable());
+        let all_fixed = |hs: &[EndEffectorId]| {
+            !hs.is_empty() && hs.iter().all(|&e| !cell.end_effectors[e].is_movable())
+        };
         if all_fixed(&holders_from) && all_fixed(&holders_to) {
             if reported.insert(key) {
                 let a = &cell.end_effectors[holders_from[0]];
                 let b = &cell.end_effectors[holders_to[0]];
-                diagnostics.push(diagnostics::fixed_to_fixed(t.origin, (&a.name, a.origin), (&b.name, b.origin)));
+                diagnostics.push(diagnostics::fixed_to_fixed(
+                    t.origin,
+                    (&a.name, a.origin),
+                    (&b.name, b.origin),
+                ));
             }
             continue;
         }
-        if let (Some(Holder::EndEffector(a)), Some(Holder::EndEffector(b))) = (from.holder, to.holder) {
+        if let (Some(Holder::EndEffector(a)), Some(Holder::EndEffector(b))) =
+            (from.holder, to.holder)
+        {
             if a == b && reported.insert(key) {
                 diagnostics.push(diagnostics::same_holder_transition(
                     &cell.end_effectors[a].name,
@@ -110,7 +134,9 @@ fn check_transitions(cell: &Cell, diagnostics: &mut Vec<Diagnostic>) {
             }
         }
         if !declared.contains(&(t.to, t.from)) && reported.insert(key) {
-            diagnostics.push(diagnostics::asymmetric_transition(&from.name, &to.name, t.origin));
+            diagnostics.push(diagnostics::asymmetric_transition(
+                &from.name, &to.name, t.origin,
+            ));
         }
     }
 }
@@ -118,7 +144,11 @@ fn check_transitions(cell: &Cell, diagnostics: &mut Vec<Diagnostic>) {
 /// Checks that need the graphs: states that can never be entered or left. Grasps in no
 /// transition are already reported as unused, so their states are not reported again.
 pub fn check_graphs(cell: &Cell, graphs: &[ObjectGraph], diagnostics: &mut Vec<Diagnostic>) {
-    let used: HashSet<GraspId> = cell.transitions.iter().flat_map(|t| [t.from, t.to]).collect();
+    let used: HashSet<GraspId> = cell
+        .transitions
+        .iter()
+        .flat_map(|t| [t.from, t.to])
+        .collect();
     for graph in graphs {
         // (grasp, "entered"/"left") -> states, so one warning covers all workspaces.
         let mut dead: BTreeMap<(GraspId, &str), Vec<String>> = BTreeMap::new();
@@ -128,10 +158,22 @@ pub fn check_graphs(cell: &Cell, graphs: &[ObjectGraph], diagnostics: &mut Vec<D
                 continue;
             }
             let name = describe_state(cell, state);
-            if graph.graph.neighbors_directed(node, Dir::Incoming).next().is_none() {
-                dead.entry((state.grasp, "entered")).or_default().push(name.clone());
+            if graph
+                .graph
+                .neighbors_directed(node, Dir::Incoming)
+                .next()
+                .is_none()
+            {
+                dead.entry((state.grasp, "entered"))
+                    .or_default()
+                    .push(name.clone());
             }
-            if graph.graph.neighbors_directed(node, Dir::Outgoing).next().is_none() {
+            if graph
+                .graph
+                .neighbors_directed(node, Dir::Outgoing)
+                .next()
+                .is_none()
+            {
                 dead.entry((state.grasp, "left")).or_default().push(name);
             }
         }
@@ -140,7 +182,11 @@ pub fn check_graphs(cell: &Cell, graphs: &[ObjectGraph], diagnostics: &mut Vec<D
                 1 => states[0].clone(),
                 n => format!("{} (and {} more)", states[0], n - 1),
             };
-            diagnostics.push(diagnostics::dead_end_state(&shown, never, cell.grasps[grasp].origin));
+            diagnostics.push(diagnostics::dead_end_state(
+                &shown,
+                never,
+                cell.grasps[grasp].origin,
+            ));
         }
     }
 }

@@ -190,19 +190,40 @@ pub fn unknown_name(
 /// The same name declared twice in one namespace.
 pub fn duplicate_name(sort: Sort, name: &str, first: Origin, again: Origin) -> Diagnostic {
     Diagnostic::error(DUPLICATE_NAME, format!("`{name}` is declared twice"))
-        .primary(again.file, again.name_span, format!("{} `{name}` declared again here", sort.noun()))
+        .primary(
+            again.file,
+            again.name_span,
+            format!("{} `{name}` declared again here", sort.noun()),
+        )
         .secondary(first.file, first.name_span, "first declared here")
-        .help(format!("rename one of them or remove the second declaration of `{name}`"))
+        .help(format!(
+            "rename one of them or remove the second declaration of `{name}`"
+        ))
 }
 
 /// A name of the wrong sort.
-pub fn wrong_sort(name: &str, wanted: Sort, found: Sort, file: FileId, span: Span, declared: Origin) -> Diagnostic {
+pub fn wrong_sort(
+    name: &str,
+    wanted: Sort,
+    found: Sort,
+    file: FileId,
+    span: Span,
+    declared: Origin,
+) -> Diagnostic {
     Diagnostic::error(
         WRONG_SORT,
-        format!("`{name}` is {}, not {}", found.describe(), wanted.describe()),
+        format!(
+            "`{name}` is {}, not {}",
+            found.describe(),
+            wanted.describe()
+        ),
     )
     .primary(file, span, format!("{} is needed here", wanted.describe()))
-    .secondary(declared.file, declared.name_span, format!("`{name}` is declared as {} here", found.describe()))
+    .secondary(
+        declared.file,
+        declared.name_span,
+        format!("`{name}` is declared as {} here", found.describe()),
+    )
     .help(format!("name {} here", wanted.describe()))
 }
 
@@ -233,9 +254,14 @@ pub fn missing_unit(dimension: Dimension, file: FileId, span: Span) -> Diagnosti
         Dimension::Angle => ("90 deg", "units m, deg"),
         _ => ("0.5 m", "units m, deg"),
     };
-    Diagnostic::error(MISSING_UNIT, format!("{} without a unit", dimension.describe()))
-        .primary(file, span, "which unit is this in?")
-        .help(format!("write the unit (`{example}`) or declare `{units}` at the top of the file"))
+    Diagnostic::error(
+        MISSING_UNIT,
+        format!("{} without a unit", dimension.describe()),
+    )
+    .primary(file, span, "which unit is this in?")
+    .help(format!(
+        "write the unit (`{example}`) or declare `{units}` at the top of the file"
+    ))
 }
 
 /// A unit of the wrong dimension.
@@ -245,15 +271,26 @@ pub fn wrong_unit(dimension: Dimension, unit: &str, file: FileId, span: Span) ->
         Dimension::Angle => "use `deg` or `rad`",
         Dimension::Number => "remove the unit",
     };
-    Diagnostic::error(WRONG_UNIT, format!("expected {}, found `{unit}`", dimension.describe()))
-        .primary(file, span, format!("`{unit}` is not {}", dimension.describe()))
-        .help(fix)
+    Diagnostic::error(
+        WRONG_UNIT,
+        format!("expected {}, found `{unit}`", dimension.describe()),
+    )
+    .primary(
+        file,
+        span,
+        format!("`{unit}` is not {}", dimension.describe()),
+    )
+    .help(fix)
 }
 
 /// A quaternion of non-unit length.
 pub fn not_a_rotation(norm: f64, file: FileId, span: Span) -> Diagnostic {
     Diagnostic::error(NOT_A_ROTATION, "this quaternion is not a rotation")
-        .primary(file, span, format!("its length is {norm:.4}, a rotation's is 1"))
+        .primary(
+            file,
+            span,
+            format!("its length is {norm:.4}, a rotation's is 1"),
+        )
         .help("normalise the quaternion (divide each part by its length), or use `rpy (r, p, y)`")
 }
 
@@ -305,8 +342,14 @@ pub fn kind_without_holder(kind: &str, grasp: Origin, kind_origin: Origin) -> Di
         format!("no end-effector is of kind `{kind}`, so this pose can never be used"),
     )
     .primary(grasp.file, grasp.span, format!("declared for `{kind}`"))
-    .secondary(kind_origin.file, kind_origin.name_span, "kind declared here")
-    .help(format!("add an arm or surface `with`/`:` `{kind}`, or declare this pose for a kind the cell has"))
+    .secondary(
+        kind_origin.file,
+        kind_origin.name_span,
+        "kind declared here",
+    )
+    .help(format!(
+        "add an arm or surface `with`/`:` `{kind}`, or declare this pose for a kind the cell has"
+    ))
 }
 
 /// A transition that names a grasp of another object.
@@ -321,9 +364,14 @@ pub fn cross_object_transition(object: &str, other: &str, file: FileId, span: Sp
 
 /// A workspace nobody reaches.
 pub fn unreached_workspace(name: &str, origin: Origin) -> Diagnostic {
-    Diagnostic::error(UNREACHED_WORKSPACE, format!("no end-effector reaches workspace `{name}`"))
-        .primary(origin.file, origin.name_span, "reached by nothing")
-        .help(format!("add `{name}` to the `reaches` list of an end-effector, or remove the workspace"))
+    Diagnostic::error(
+        UNREACHED_WORKSPACE,
+        format!("no end-effector reaches workspace `{name}`"),
+    )
+    .primary(origin.file, origin.name_span, "reached by nothing")
+    .help(format!(
+        "add `{name}` to the `reaches` list of an end-effector, or remove the workspace"
+    ))
 }
 
 /// An adjacency no movable end-effector shares.
@@ -332,17 +380,33 @@ pub fn useless_adjacency(a: &str, b: &str, origin: Origin) -> Diagnostic {
         USELESS_ADJACENCY,
         format!("no movable end-effector reaches both `{a}` and `{b}`"),
     )
-    .primary(origin.file, origin.span, "nothing can move an object across this adjacency")
-    .help(format!("let a movable end-effector reach both `{a}` and `{b}`, or remove this line"))
+    .primary(
+        origin.file,
+        origin.span,
+        "nothing can move an object across this adjacency",
+    )
+    .help(format!(
+        "let a movable end-effector reach both `{a}` and `{b}`, or remove this line"
+    ))
 }
 
 /// Two declared workspaces overlap.
-pub fn overlapping_workspaces(a: &str, a_origin: Origin, b: &str, b_origin: Origin, volume: f64) -> Diagnostic {
+pub fn overlapping_workspaces(
+    a: &str,
+    a_origin: Origin,
+    b: &str,
+    b_origin: Origin,
+    volume: f64,
+) -> Diagnostic {
     Diagnostic::error(
         OVERLAPPING_WORKSPACES,
         format!("workspaces `{a}` and `{b}` overlap"),
     )
-    .primary(b_origin.file, b_origin.span, format!("overlaps `{a}` by {volume:.4} m³"))
+    .primary(
+        b_origin.file,
+        b_origin.span,
+        format!("overlaps `{a}` by {volume:.4} m³"),
+    )
     .secondary(a_origin.file, a_origin.span, format!("`{a}` declared here"))
     .help("workspaces must not overlap: shrink or split one of them so that they only touch")
 }
@@ -368,46 +432,67 @@ pub fn file_unreadable(path: &str, reason: &str, at: Option<(FileId, Span)>) -> 
 
 /// `rest` on a hand.
 pub fn rest_on_hand(holder: &str, origin: Origin, holder_span: Span) -> Diagnostic {
-    Diagnostic::error(REST_ON_HAND, format!("`{holder}` is a hand; objects rest only on supports"))
-        .primary(origin.file, holder_span, "a hand holds with `grasp`")
-        .help("write `grasp NAME by HAND`, or rest the object on a support kind or surface")
+    Diagnostic::error(
+        REST_ON_HAND,
+        format!("`{holder}` is a hand; objects rest only on supports"),
+    )
+    .primary(origin.file, holder_span, "a hand holds with `grasp`")
+    .help("write `grasp NAME by HAND`, or rest the object on a support kind or surface")
 }
 
 /// An `expect` that does not hold.
 pub fn expectation_failed(text: &str, origin: Origin, why: &str) -> Diagnostic {
-    Diagnostic::error(EXPECTATION_FAILED, format!("requirement does not hold: {text}"))
-        .primary(origin.file, origin.span, "this requirement fails")
-        .note(why.to_string())
-        .help("change the cell so that the requirement holds, or change the requirement")
+    Diagnostic::error(
+        EXPECTATION_FAILED,
+        format!("requirement does not hold: {text}"),
+    )
+    .primary(origin.file, origin.span, "this requirement fails")
+    .note(why.to_string())
+    .help("change the cell so that the requirement holds, or change the requirement")
 }
 
 /// An included cell.
 pub fn included_cell(path: &str, file: FileId, span: Span) -> Diagnostic {
-    Diagnostic::error(INCLUDED_CELL, format!("`{path}` is a cell; only libraries can be included"))
-        .primary(file, span, "included here")
-        .help("write `library NAME { ... }` in the included file, or move what you need into a library")
+    Diagnostic::error(
+        INCLUDED_CELL,
+        format!("`{path}` is a cell; only libraries can be included"),
+    )
+    .primary(file, span, "included here")
+    .help("write `library NAME { ... }` in the included file, or move what you need into a library")
 }
 
 /// A movable geometric end-effector without reach.
 pub fn no_reach(name: &str, origin: Origin) -> Diagnostic {
     Diagnostic::error(NO_REACH, format!("arm `{name}` has no reach"))
         .primary(origin.file, origin.name_span, "reaches nothing")
-        .help(format!("add `reach {name} box center (x, y, z) size (dx, dy, dz)`"))
+        .help(format!(
+            "add `reach {name} box center (x, y, z) size (dx, dy, dz)`"
+        ))
 }
 
 /// `reach` on something whose reach comes from elsewhere.
 pub fn misplaced_reach(name: &str, why: &str, origin: Origin, declared: Origin) -> Diagnostic {
-    Diagnostic::error(MISPLACED_REACH, format!("`{name}` cannot take a reach box: {why}"))
-        .primary(origin.file, origin.span, "reach box here")
-        .secondary(declared.file, declared.name_span, format!("`{name}` declared here"))
-        .help("remove this `reach` line")
+    Diagnostic::error(
+        MISPLACED_REACH,
+        format!("`{name}` cannot take a reach box: {why}"),
+    )
+    .primary(origin.file, origin.span, "reach box here")
+    .secondary(
+        declared.file,
+        declared.name_span,
+        format!("`{name}` declared here"),
+    )
+    .help("remove this `reach` line")
 }
 
 /// `adjacent w w`.
 pub fn self_adjacency(name: &str, origin: Origin) -> Diagnostic {
-    Diagnostic::error(SELF_ADJACENCY, format!("workspace `{name}` is declared adjacent to itself"))
-        .primary(origin.file, origin.span, "both sides are the same")
-        .help("name two different workspaces")
+    Diagnostic::error(
+        SELF_ADJACENCY,
+        format!("workspace `{name}` is declared adjacent to itself"),
+    )
+    .primary(origin.file, origin.span, "both sides are the same")
+    .help("name two different workspaces")
 }
 
 /// `workspaces from reach` with nothing to derive from, or twice.
@@ -429,9 +514,12 @@ pub fn placement_grasp_mismatch(holder: &str, grasp: &str, file: FileId, span: S
 
 /// A URDF that can't be read.
 pub fn urdf_unreadable(path: &str, reason: &str, file: FileId, span: Span) -> Diagnostic {
-    Diagnostic::error(URDF_UNREADABLE, format!("cannot read URDF `{path}`: {reason}"))
-        .primary(file, span, "referenced here")
-        .help("check the path: it is relative to the file that declares the robot")
+    Diagnostic::error(
+        URDF_UNREADABLE,
+        format!("cannot read URDF `{path}`: {reason}"),
+    )
+    .primary(file, span, "referenced here")
+    .help("check the path: it is relative to the file that declares the robot")
 }
 
 /// A URDF urdf-rs rejects.
@@ -455,16 +543,22 @@ pub fn urdf_unknown_link(
         Some(s) => format!("did you mean `{s}`?"),
         None => format!("name a {what} of `{path}`"),
     };
-    Diagnostic::error(URDF_UNKNOWN_LINK, format!("`{path}` has no {what} `{name}`"))
-        .primary(file, span, format!("not a {what} of this URDF"))
-        .help(help)
+    Diagnostic::error(
+        URDF_UNKNOWN_LINK,
+        format!("`{path}` has no {what} `{name}`"),
+    )
+    .primary(file, span, format!("not a {what} of this URDF"))
+    .help(help)
 }
 
 /// No chain from base to tip.
 pub fn urdf_no_chain(base: &str, tip: &str, path: &str, file: FileId, span: Span) -> Diagnostic {
-    Diagnostic::error(URDF_NO_CHAIN, format!("in `{path}`, `{tip}` is not below `{base}`"))
-        .primary(file, span, "no chain of joints from the base to the tip")
-        .help("the tip must be a descendant of the base: swap them or pick other links")
+    Diagnostic::error(
+        URDF_NO_CHAIN,
+        format!("in `{path}`, `{tip}` is not below `{base}`"),
+    )
+    .primary(file, span, "no chain of joints from the base to the tip")
+    .help("the tip must be a descendant of the base: swap them or pick other links")
 }
 
 /// `a -> b` without `b -> a`.
@@ -474,7 +568,9 @@ pub fn asymmetric_transition(from: &str, to: &str, origin: Origin) -> Diagnostic
         format!("transition `{from}` -> `{to}` has no way back"),
     )
     .primary(origin.file, origin.span, "declared one way only")
-    .help(format!("write `transition {from} <-> {to}` if the exchange works both ways"))
+    .help(format!(
+        "write `transition {from} <-> {to}` if the exchange works both ways"
+    ))
 }
 
 /// A state that can't be entered or left.

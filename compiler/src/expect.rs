@@ -14,7 +14,11 @@ use crate::model::*;
 pub fn check(cell: &Cell, graphs: &[ObjectGraph], diagnostics: &mut Vec<Diagnostic>) {
     for expectation in &cell.expectations {
         if let Err(why) = holds(cell, graphs, &expectation.requirement) {
-            diagnostics.push(diagnostics::expectation_failed(&expectation.text, expectation.origin, &why));
+            diagnostics.push(diagnostics::expectation_failed(
+                &expectation.text,
+                expectation.origin,
+                &why,
+            ));
         }
     }
 }
@@ -54,11 +58,17 @@ pub fn holds(cell: &Cell, graphs: &[ObjectGraph], requirement: &Requirement) -> 
                 .ok_or_else(|| "the object has no graph".to_string())?;
             let starts = matching(graph, cell, from);
             if starts.is_empty() {
-                return Err(format!("there is no state with the object held by {}", describe_placement(cell, from)));
+                return Err(format!(
+                    "there is no state with the object held by {}",
+                    describe_placement(cell, from)
+                ));
             }
             let goals = matching(graph, cell, to);
             if goals.is_empty() {
-                return Err(format!("there is no state with the object held by {}", describe_placement(cell, to)));
+                return Err(format!(
+                    "there is no state with the object held by {}",
+                    describe_placement(cell, to)
+                ));
             }
             let mut reached = vec![false; graph.graph.node_count()];
             for &start in &starts {
@@ -85,7 +95,9 @@ pub fn holds(cell: &Cell, graphs: &[ObjectGraph], requirement: &Requirement) -> 
             let reachers: Vec<&str> = cell
                 .end_effectors
                 .iter()
-                .filter(|(_, e)| e.reaches.contains(workspace) && mobility.is_none_or(|m| m == e.mobility))
+                .filter(|(_, e)| {
+                    e.reaches.contains(workspace) && mobility.is_none_or(|m| m == e.mobility)
+                })
                 .map(|(_, e)| e.name.as_str())
                 .collect();
             if reachers.len() as u64 >= u64::from(*at_least) {
@@ -99,7 +111,11 @@ pub fn holds(cell: &Cell, graphs: &[ObjectGraph], requirement: &Requirement) -> 
             let list = if reachers.is_empty() {
                 "none".to_string()
             } else {
-                reachers.iter().map(|r| format!("`{r}`")).collect::<Vec<_>>().join(", ")
+                reachers
+                    .iter()
+                    .map(|r| format!("`{r}`"))
+                    .collect::<Vec<_>>()
+                    .join(", ")
             };
             Err(format!(
                 "`{}` is reached by {} {which} ({list}), fewer than {at_least}",
@@ -109,10 +125,21 @@ pub fn holds(cell: &Cell, graphs: &[ObjectGraph], requirement: &Requirement) -> 
         }
         Requirement::NoIsolatedStates { object } => {
             let mut isolated = Vec::new();
-            for graph in graphs.iter().filter(|g| object.is_none_or(|o| o == g.object)) {
+            for graph in graphs
+                .iter()
+                .filter(|g| object.is_none_or(|o| o == g.object))
+            {
                 for n in graph.graph.node_indices() {
-                    let no_in = graph.graph.neighbors_directed(n, Direction::Incoming).next().is_none();
-                    let no_out = graph.graph.neighbors_directed(n, Direction::Outgoing).next().is_none();
+                    let no_in = graph
+                        .graph
+                        .neighbors_directed(n, Direction::Incoming)
+                        .next()
+                        .is_none();
+                    let no_out = graph
+                        .graph
+                        .neighbors_directed(n, Direction::Outgoing)
+                        .next()
+                        .is_none();
                     if no_in && no_out {
                         isolated.push(format!(
                             "{} of `{}`",
@@ -125,7 +152,10 @@ pub fn holds(cell: &Cell, graphs: &[ObjectGraph], requirement: &Requirement) -> 
             match isolated.len() {
                 0 => Ok(()),
                 1 => Err(format!("state {} has no arcs", isolated[0])),
-                n => Err(format!("{n} states have no arcs, e.g. {}", isolated[..n.min(3)].join(", "))),
+                n => Err(format!(
+                    "{n} states have no arcs, e.g. {}",
+                    isolated[..n.min(3)].join(", ")
+                )),
             }
         }
     }

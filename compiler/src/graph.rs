@@ -153,8 +153,16 @@ fn build_object(
                     let Some(adj) = adjacency[wi.index() * n_ws + wj.index()] else {
                         continue;
                     };
-                    let from = index[&State { end_effector: e, grasp: g, workspace: wi }];
-                    let to = index[&State { end_effector: e, grasp: g, workspace: wj }];
+                    let from = index[&State {
+                        end_effector: e,
+                        grasp: g,
+                        workspace: wi,
+                    }];
+                    let to = index[&State {
+                        end_effector: e,
+                        grasp: g,
+                        workspace: wj,
+                    }];
                     graph.add_edge(
                         from,
                         to,
@@ -168,11 +176,18 @@ fn build_object(
         }
     }
     for (t, transition) in cell.transitions.iter().enumerate() {
-        if cell.grasps[transition.from].object != object || cell.grasps[transition.to].object != object {
+        if cell.grasps[transition.from].object != object
+            || cell.grasps[transition.to].object != object
+        {
             continue;
         }
-        let explicit = matches!(cell.grasps[transition.from].holder, Some(Holder::EndEffector(_)))
-            && matches!(cell.grasps[transition.to].holder, Some(Holder::EndEffector(_)));
+        let explicit = matches!(
+            cell.grasps[transition.from].holder,
+            Some(Holder::EndEffector(_))
+        ) && matches!(
+            cell.grasps[transition.to].holder,
+            Some(Holder::EndEffector(_))
+        );
         for &ei in &holders[transition.from.index()] {
             for &ej in &holders[transition.to.index()] {
                 // A hand kind's grasps expand to every hand of that kind, but no hand
@@ -189,8 +204,16 @@ fn build_object(
                     if !b.reaches.contains(&w) {
                         continue;
                     }
-                    let from = index[&State { end_effector: ei, grasp: transition.from, workspace: w }];
-                    let to = index[&State { end_effector: ej, grasp: transition.to, workspace: w }];
+                    let from = index[&State {
+                        end_effector: ei,
+                        grasp: transition.from,
+                        workspace: w,
+                    }];
+                    let to = index[&State {
+                        end_effector: ej,
+                        grasp: transition.to,
+                        workspace: w,
+                    }];
                     graph.add_edge(
                         from,
                         to,
@@ -203,5 +226,9 @@ fn build_object(
             }
         }
     }
-    ObjectGraph { object, graph, index }
+    ObjectGraph {
+        object,
+        graph,
+        index,
+    }
 }

@@ -56,8 +56,10 @@ pub fn compile(world: &dyn World, path: &str) -> Compilation {
     // Items that failed to parse are missing from the trees, so resolving anyway would
     // report every reference to them as unknown: syntax errors are reported alone.
     let main_parsed = loaded.files.first().is_some_and(|f| f.ast.is_some())
-        && !diagnostics.iter().any(|d| d.code == cellc_lang::phrases::codes::SYNTAX
-            || d.code == cellc_lang::phrases::codes::TOO_DEEP);
+        && !diagnostics.iter().any(|d| {
+            d.code == cellc_lang::phrases::codes::SYNTAX
+                || d.code == cellc_lang::phrases::codes::TOO_DEEP
+        });
     let mut cell = None;
     let mut graphs = Vec::new();
     if main_parsed {
@@ -85,7 +87,9 @@ pub fn compile(world: &dyn World, path: &str) -> Compilation {
 /// Source order: by file, then position, then code; diagnostics without a place last.
 fn sort(diagnostics: &mut [Diagnostic]) {
     diagnostics.sort_by_key(|d| {
-        let place = d.primary_label().map(|l| (l.file, l.span.start, l.span.end));
+        let place = d
+            .primary_label()
+            .map(|l| (l.file, l.span.start, l.span.end));
         (place.is_none(), place, d.code)
     });
 }

@@ -69,7 +69,10 @@ pub const EPS: f64 = 1e-6;
 /// True when `target` is covered by the union of `boxes`. Exact: the target is cut along
 /// every box face that crosses it, and each resulting cell must lie in some box.
 pub fn covered_by_union(target: &Aabb, boxes: &[Aabb]) -> bool {
-    let relevant: Vec<&Aabb> = boxes.iter().filter(|b| b.intersection(target).is_some()).collect();
+    let relevant: Vec<&Aabb> = boxes
+        .iter()
+        .filter(|b| b.intersection(target).is_some())
+        .collect();
     if relevant.iter().any(|b| b.contains(target)) {
         return true;
     }
@@ -89,7 +92,11 @@ pub fn covered_by_union(target: &Aabb, boxes: &[Aabb]) -> bool {
     for x in cuts[0].windows(2) {
         for y in cuts[1].windows(2) {
             for z in cuts[2].windows(2) {
-                let center = [(x[0] + x[1]) / 2.0, (y[0] + y[1]) / 2.0, (z[0] + z[1]) / 2.0];
+                let center = [
+                    (x[0] + x[1]) / 2.0,
+                    (y[0] + y[1]) / 2.0,
+                    (z[0] + z[1]) / 2.0,
+                ];
                 if !relevant.iter().any(|b| b.contains_point(center)) {
                     return false;
                 }

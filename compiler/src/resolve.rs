@@ -111,8 +111,9 @@ impl Resolver<'_, '_> {
     fn add_name(&mut self, name: &ast::Name, entry: Entry, origin: Origin) -> bool {
         if let Some(first) = self.origins.get(&name.text) {
             let sort = self.names[&name.text].sort();
-            self.diagnostics
-                .push(diagnostics::duplicate_name(sort, &name.text, *first, origin));
+            self.diagnostics.push(diagnostics::duplicate_name(
+                sort, &name.text, *first, origin,
+            ));
             return false;
         }
         self.names.insert(name.text.clone(), entry);
@@ -191,12 +192,15 @@ impl Resolver<'_, '_> {
                     self.add_name(&r.name, Entry::Robot(RobotId(0)), o);
                     return;
                 }
-                if let Some(robot) = urdf::load_robot(self.world, path, file, r, o, self.diagnostics) {
+                if let Some(robot) =
+                    urdf::load_robot(self.world, path, file, r, o, self.diagnostics)
+                {
                     let id = self.cell.robots.insert(robot);
                     self.add_name(&r.name, Entry::Robot(id), o);
                 } else {
                     // Keep the name so that arms using it do not also report it unknown.
-                    self.names.insert(r.name.text.clone(), Entry::Robot(RobotId(u32::MAX)));
+                    self.names
+                        .insert(r.name.text.clone(), Entry::Robot(RobotId(u32::MAX)));
                     self.origins.insert(r.name.text.clone(), o);
                 }
             }
@@ -214,7 +218,11 @@ impl Resolver<'_, '_> {
                             o,
                             "keep one `workspaces from reach` line",
                         )
-                        .secondary(first.file, first.span, "first written here"),
+                        .secondary(
+                            first.file,
+                            first.span,
+                            "first written here",
+                        ),
                     );
                 } else {
                     self.cell.derive_workspaces = Some(o);
@@ -223,8 +231,11 @@ impl Resolver<'_, '_> {
             ast::Item::Weights(w) => {
                 for weight in &w.weights {
                     if !(weight.value.is_finite() && weight.value >= 0.0) {
-                        self.diagnostics
-                            .push(diagnostics::bad_weight(weight.value, file, weight.span));
+                        self.diagnostics.push(diagnostics::bad_weight(
+                            weight.value,
+                            file,
+                            weight.span,
+                        ));
                         continue;
                     }
                     match weight.kind {
@@ -243,7 +254,13 @@ impl Resolver<'_, '_> {
         }
     }
 
-    fn declare_end_effector(&mut self, name: &ast::Name, mobility: Mobility, body: Body, o: Origin) {
+    fn declare_end_effector(
+        &mut self,
+        name: &ast::Name,
+        mobility: Mobility,
+        body: Body,
+        o: Origin,
+    ) {
         if self.names.contains_key(&name.text) {
             self.add_name(name, Entry::EndEffector(EndEffectorId(0)), o);
             return;
@@ -260,7 +277,13 @@ impl Resolver<'_, '_> {
         self.add_name(name, Entry::EndEffector(id), o);
     }
 
-    fn declare_kind(&mut self, name: &ast::Name, class: HolderClass, solids: Vec<Solid>, o: Origin) {
+    fn declare_kind(
+        &mut self,
+        name: &ast::Name,
+        class: HolderClass,
+        solids: Vec<Solid>,
+        o: Origin,
+    ) {
         if self.names.contains_key(&name.text) {
             self.add_name(name, Entry::HolderKind(HolderKindId(0)), o);
             return;
@@ -274,7 +297,13 @@ impl Resolver<'_, '_> {
         self.add_name(name, Entry::HolderKind(id), o);
     }
 
-    fn declare_object(&mut self, file: FileId, path: &str, units: FileUnits, obj: &ast::ObjectItem) {
+    fn declare_object(
+        &mut self,
+        file: FileId,
+        path: &str,
+        units: FileUnits,
+        obj: &ast::ObjectItem,
+    ) {
         let o = origin(file, obj.span, &obj.name);
         if self.names.contains_key(&obj.name.text) {
             self.add_name(&obj.name, Entry::Object(ObjectId(0)), o);
@@ -322,14 +351,20 @@ impl Resolver<'_, '_> {
                         ast::Axis::Y => [0.0, 1.0, 0.0],
                         ast::Axis::Z => [0.0, 0.0, 1.0],
                     };
-                    self.cell.objects[id].symmetries.push(Symmetry { axis, order });
+                    self.cell.objects[id]
+                        .symmetries
+                        .push(Symmetry { axis, order });
                 }
                 ast::ObjectMember::Grasp(g) => {
                     let go = origin(file, g.span, &g.name);
                     if let Some(&first) = self.grasp_names.get(&(id, g.name.text.clone())) {
                         let first = self.cell.grasps[first].origin;
-                        self.diagnostics
-                            .push(diagnostics::duplicate_name(Sort::Grasp, &g.name.text, first, go));
+                        self.diagnostics.push(diagnostics::duplicate_name(
+                            Sort::Grasp,
+                            &g.name.text,
+                            first,
+                            go,
+                        ));
                         continue;
                     }
                     let pose = g.pose.as_ref().and_then(|p| self.eval(file, units).pose(p));
@@ -351,7 +386,13 @@ impl Resolver<'_, '_> {
         }
     }
 
-    fn shape(&mut self, file: FileId, path: &str, units: FileUnits, shape: &ast::Shape) -> Option<Shape> {
+    fn shape(
+        &mut self,
+        file: FileId,
+        path: &str,
+        units: FileUnits,
+        shape: &ast::Shape,
+    ) -> Option<Shape> {
         let mut eval = self.eval(file, units);
         Some(match shape {
             ast::Shape::Box { size } => Shape::Box {
@@ -374,18 +415,33 @@ impl Resolver<'_, '_> {
         })
     }
 
-    fn solid(&mut self, file: FileId, path: &str, units: FileUnits, solid: &ast::Solid) -> Option<Solid> {
+    fn solid(
+        &mut self,
+        file: FileId,
+        path: &str,
+        units: FileUnits,
+        solid: &ast::Solid,
+    ) -> Option<Solid> {
         let shape = self.shape(file, path, units, &solid.shape);
         let pose = match &solid.pose {
             Some(p) => self.eval(file, units).pose(p)?,
             None => crate::math::Pose::identity(),
         };
-        Some(Solid { shape: shape?, pose })
+        Some(Solid {
+            shape: shape?,
+            pose,
+        })
     }
 
     /// Looks a name up, wanting one sort. Reports unknown names (with a suggestion among
     /// names of the wanted sort) and names of the wrong sort.
-    fn lookup(&mut self, file: FileId, name: &ast::Name, want: Sort, context: &str) -> Option<Entry> {
+    fn lookup(
+        &mut self,
+        file: FileId,
+        name: &ast::Name,
+        want: Sort,
+        context: &str,
+    ) -> Option<Entry> {
         match self.names.get(&name.text) {
             Some(entry) if entry.sort() == want => Some(*entry),
             Some(entry) => {
@@ -475,8 +531,11 @@ impl Resolver<'_, '_> {
                 if self.cell.end_effectors[id].origin.span != e.span {
                     return; // a duplicate, already reported
                 }
-                let mut reaches: Vec<WorkspaceId> =
-                    e.reaches.iter().filter_map(|w| self.workspace(file, w)).collect();
+                let mut reaches: Vec<WorkspaceId> = e
+                    .reaches
+                    .iter()
+                    .filter_map(|w| self.workspace(file, w))
+                    .collect();
                 reaches.sort();
                 reaches.dedup();
                 self.cell.end_effectors[id].reaches = reaches;
@@ -488,7 +547,12 @@ impl Resolver<'_, '_> {
                 if self.cell.end_effectors[id].origin.span != a.span {
                     return;
                 }
-                let robot = match self.lookup(file, &a.robot, Sort::Robot, " with `robot NAME urdf \"...\" tip LINK`") {
+                let robot = match self.lookup(
+                    file,
+                    &a.robot,
+                    Sort::Robot,
+                    " with `robot NAME urdf \"...\" tip LINK`",
+                ) {
                     // A robot whose URDF failed to load is known by name but has no model.
                     Some(Entry::Robot(r)) if self.cell.robots.get(r).is_some() => Some(r),
                     _ => None,
@@ -523,13 +587,17 @@ impl Resolver<'_, '_> {
                 let why = match self.cell.end_effectors[id].body {
                     Body::Arm { .. } => None,
                     Body::Abstract => Some("it is declared with `reaches`; list workspaces there"),
-                    Body::Surface { .. } => {
-                        Some("a surface reaches the space above it; set `reach height` on the surface")
-                    }
+                    Body::Surface { .. } => Some(
+                        "a surface reaches the space above it; set `reach height` on the surface",
+                    ),
                 };
                 if let Some(why) = why {
-                    self.diagnostics
-                        .push(diagnostics::misplaced_reach(&r.end_effector.text, why, o, declared));
+                    self.diagnostics.push(diagnostics::misplaced_reach(
+                        &r.end_effector.text,
+                        why,
+                        o,
+                        declared,
+                    ));
                     return;
                 }
                 if let Some(b) = self.eval(file, units).aabb(&r.aabb) {
@@ -594,10 +662,13 @@ impl Resolver<'_, '_> {
                             let candidates: Vec<&str> = self
                                 .names
                                 .iter()
-                                .filter(|(_, e)| matches!(e, Entry::EndEffector(_) | Entry::HolderKind(_)))
+                                .filter(|(_, e)| {
+                                    matches!(e, Entry::EndEffector(_) | Entry::HolderKind(_))
+                                })
                                 .map(|(n, _)| n.as_str())
                                 .collect();
-                            let suggestion = did_you_mean(&g.holder.text, candidates.iter().copied());
+                            let suggestion =
+                                did_you_mean(&g.holder.text, candidates.iter().copied());
                             self.diagnostics.push(diagnostics::unknown_name(
                                 Sort::EndEffector,
                                 &g.holder.text,
@@ -614,8 +685,11 @@ impl Resolver<'_, '_> {
                             self.cell.grasps[gid].holder = Some(holder);
                             if g.keyword == GraspKeyword::Rest && self.is_hand(holder) {
                                 let o = self.cell.grasps[gid].origin;
-                                self.diagnostics
-                                    .push(diagnostics::rest_on_hand(&g.holder.text, o, g.holder.span));
+                                self.diagnostics.push(diagnostics::rest_on_hand(
+                                    &g.holder.text,
+                                    o,
+                                    g.holder.span,
+                                ));
                             }
                         }
                         None => self.cell.grasps[gid].holder = None,
@@ -634,7 +708,11 @@ impl Resolver<'_, '_> {
                         let Some(to) = self.qualified_grasp(file, id, to) else {
                             continue;
                         };
-                        self.cell.transitions.push(Transition { from, to, origin: o });
+                        self.cell.transitions.push(Transition {
+                            from,
+                            to,
+                            origin: o,
+                        });
                         if t.direction == ast::Direction::Both {
                             self.cell.transitions.push(Transition {
                                 from: to,
@@ -659,7 +737,12 @@ impl Resolver<'_, '_> {
 
     /// `g` (a grasp of `object`) or `other.g` (a grasp of another object: an error, but
     /// resolved first so the message can say whose grasp it is).
-    fn qualified_grasp(&mut self, file: FileId, object: ObjectId, q: &ast::Qualified) -> Option<GraspId> {
+    fn qualified_grasp(
+        &mut self,
+        file: FileId,
+        object: ObjectId,
+        q: &ast::Qualified,
+    ) -> Option<GraspId> {
         match &q.object {
             None => self.grasp_of(file, object, &q.name),
             Some(other) => {
@@ -688,10 +771,14 @@ impl Resolver<'_, '_> {
         let text = describe_requirement(&e.requirement);
         let requirement = match &e.requirement {
             ast::Requirement::Reach { object, from, to } => {
-                let Some(object) = self.object(file, object) else { return };
+                let Some(object) = self.object(file, object) else {
+                    return;
+                };
                 let from = self.placement(file, object, from);
                 let to = self.placement(file, object, to);
-                let (Some(from), Some(to)) = (from, to) else { return };
+                let (Some(from), Some(to)) = (from, to) else {
+                    return;
+                };
                 Requirement::Reach { object, from, to }
             }
             ast::Requirement::Coverage {
@@ -723,16 +810,18 @@ impl Resolver<'_, '_> {
         });
     }
 
-    fn placement(&mut self, file: FileId, object: ObjectId, p: &ast::Placement) -> Option<Placement> {
+    fn placement(
+        &mut self,
+        file: FileId,
+        object: ObjectId,
+        p: &ast::Placement,
+    ) -> Option<Placement> {
         let (holder_name, grasp_name) = match &p.holder.object {
             Some(holder) => (holder, Some(&p.holder.name)),
             None => (&p.holder.name, None),
         };
         let end_effector = self.end_effector(file, holder_name);
-        let grasp = match grasp_name {
-            Some(g) => Some(self.grasp_of(file, object, g)),
-            None => None,
-        };
+        let grasp = grasp_name.map(|g| self.grasp_of(file, object, g));
         let workspace = self.workspace(file, &p.workspace);
         let grasp = match grasp {
             Some(g) => Some(g?),
@@ -769,7 +858,10 @@ fn describe_requirement(r: &ast::Requirement) -> String {
                 Some(Mobility::Fixed) => " fixed",
                 None => "",
             };
-            format!("{} reached by at least {}{which}", workspace.text, at_least.0)
+            format!(
+                "{} reached by at least {}{which}",
+                workspace.text, at_least.0
+            )
         }
         ast::Requirement::NoIsolatedStates { object } => match object {
             Some(o) => format!("no isolated states for {}", o.text),

@@ -24,7 +24,9 @@ impl FileUnits {
         let mut length_span = None;
         let mut angle_span = None;
         for item in items {
-            let ast::Item::Units(item) = item else { continue };
+            let ast::Item::Units(item) = item else {
+                continue;
+            };
             for &(unit, span) in &item.units {
                 let (slot, seen, what) = if unit.is_length() {
                     (&mut units.length, &mut length_span, "length")
@@ -58,8 +60,12 @@ impl Eval<'_> {
         let unit = match (q.unit, dimension) {
             (None, Dimension::Number) => return Some(q.value),
             (Some(unit), Dimension::Number) => {
-                self.diagnostics
-                    .push(diagnostics::wrong_unit(dimension, unit.as_str(), self.file, q.span));
+                self.diagnostics.push(diagnostics::wrong_unit(
+                    dimension,
+                    unit.as_str(),
+                    self.file,
+                    q.span,
+                ));
                 return None;
             }
             (Some(unit), _) => unit,
@@ -85,8 +91,12 @@ impl Eval<'_> {
             _ => !unit.is_length(),
         };
         if !right {
-            self.diagnostics
-                .push(diagnostics::wrong_unit(dimension, unit.as_str(), self.file, q.span));
+            self.diagnostics.push(diagnostics::wrong_unit(
+                dimension,
+                unit.as_str(),
+                self.file,
+                q.span,
+            ));
             return None;
         }
         Some(q.value * unit.to_si())

@@ -28,7 +28,12 @@ pub fn load_robot(
     let text = match world.read(&path) {
         Ok(text) => text,
         Err(reason) => {
-            diagnostics.push(diagnostics::urdf_unreadable(&path, &reason, file, item.urdf.span));
+            diagnostics.push(diagnostics::urdf_unreadable(
+                &path,
+                &reason,
+                file,
+                item.urdf.span,
+            ));
             return None;
         }
     };
@@ -38,11 +43,21 @@ pub fn load_robot(
     let model = match parsed {
         Ok(Ok(model)) => model,
         Ok(Err(error)) => {
-            diagnostics.push(diagnostics::urdf_invalid(&path, &error.to_string(), file, item.urdf.span));
+            diagnostics.push(diagnostics::urdf_invalid(
+                &path,
+                &error.to_string(),
+                file,
+                item.urdf.span,
+            ));
             return None;
         }
         Err(_) => {
-            diagnostics.push(diagnostics::urdf_invalid(&path, "the reader failed on this file", file, item.urdf.span));
+            diagnostics.push(diagnostics::urdf_invalid(
+                &path,
+                "the reader failed on this file",
+                file,
+                item.urdf.span,
+            ));
             return None;
         }
     };
@@ -90,7 +105,13 @@ pub fn load_robot(
                 steps += 1;
             }
             _ => {
-                diagnostics.push(diagnostics::urdf_no_chain(&base, &item.tip.text, &path, file, item.span));
+                diagnostics.push(diagnostics::urdf_no_chain(
+                    &base,
+                    &item.tip.text,
+                    &path,
+                    file,
+                    item.span,
+                ));
                 return None;
             }
         }

@@ -51,7 +51,9 @@ pub fn assign(cell: &mut Cell, diagnostics: &mut Vec<Diagnostic>) {
         let mut reaches: Vec<WorkspaceId> = cell
             .workspaces
             .iter()
-            .filter(|(_, w)| !w.boxes.is_empty() && w.boxes.iter().all(|b| covered_by_union(b, boxes)))
+            .filter(|(_, w)| {
+                !w.boxes.is_empty() && w.boxes.iter().all(|b| covered_by_union(b, boxes))
+            })
             .map(|(id, _)| id)
             .collect();
         reaches.extend(cell.end_effectors[*e].reaches.iter().copied());
@@ -151,7 +153,9 @@ fn merge_boxes(mut boxes: Vec<Aabb>) -> Vec<Aabb> {
                     let others_equal = (0..3)
                         .filter(|&k| k != axis)
                         .all(|k| same(a.min[k], b.min[k]) && same(a.max[k], b.max[k]));
-                    if others_equal && (same(a.max[axis], b.min[axis]) || same(b.max[axis], a.min[axis])) {
+                    if others_equal
+                        && (same(a.max[axis], b.min[axis]) || same(b.max[axis], a.min[axis]))
+                    {
                         let mut union = a;
                         union.min[axis] = a.min[axis].min(b.min[axis]);
                         union.max[axis] = a.max[axis].max(b.max[axis]);

@@ -84,7 +84,10 @@ mod tests {
 
     #[test]
     fn joins_relative_to_the_including_file() {
-        assert_eq!(join("cells/vito.cell", "robots/lwr.cell"), "cells/robots/lwr.cell");
+        assert_eq!(
+            join("cells/vito.cell", "robots/lwr.cell"),
+            "cells/robots/lwr.cell"
+        );
         assert_eq!(join("cells/robots/a.cell", "../b.cell"), "cells/b.cell");
         assert_eq!(join("a.cell", "./b.cell"), "b.cell");
         assert_eq!(join("/x/a.cell", "/y/b.cell"), "/y/b.cell");

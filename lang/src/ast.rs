@@ -185,6 +185,9 @@ pub enum FileKind {
 }
 
 /// One top-level item.
+// Items are built once per parse and walked a few times; boxing the large variants would
+// cost more readability than the memory it saves.
+#[allow(clippy::large_enum_variant)]
 #[derive(Clone, Debug, PartialEq)]
 pub enum Item {
     /// `units m, deg`.
@@ -434,6 +437,7 @@ pub struct ObjectItem {
 }
 
 /// One line inside an object block.
+#[allow(clippy::large_enum_variant)]
 #[derive(Clone, Debug, PartialEq)]
 pub enum ObjectMember {
     /// `shape ...`.
@@ -597,6 +601,7 @@ pub struct ExpectItem {
 }
 
 /// Kinds of requirement.
+#[allow(clippy::large_enum_variant)]
 #[derive(Clone, Debug, PartialEq)]
 pub enum Requirement {
     /// `expect OBJECT: HOLDER[.GRASP] in WS -> HOLDER[.GRASP] in WS`.

@@ -153,7 +153,8 @@ pub fn did_you_mean<'a>(
 ) -> Option<&'a str> {
     let mut best: Option<(usize, &str)> = None;
     for candidate in candidates {
-        let distance = strsim::levenshtein(wanted, candidate);
+        // Optimal string alignment: a swapped pair of letters (`tabel`) is one edit.
+        let distance = strsim::osa_distance(wanted, candidate);
         let limit = (wanted.chars().count().max(candidate.chars().count()) / 3).max(1);
         if distance <= limit
             && best.is_none_or(|(d, c)| distance < d || (distance == d && candidate < c))

@@ -27,7 +27,10 @@ pub fn run(files: &[PathBuf], check: bool) -> ExitCode {
             (_, _) => {
                 let mut sources = SourceMap::new();
                 sources.add(display.clone(), text.clone());
-                eprint!("{}", render::human(&parsed.diagnostics, &sources, Color::Never));
+                eprint!(
+                    "{}",
+                    render::human(&parsed.diagnostics, &sources, Color::Never)
+                );
                 eprintln!("not formatted: `{display}` has syntax errors");
                 failed = true;
                 continue;
