@@ -13,6 +13,23 @@ use crate::model::*;
 /// Reports every requirement that does not hold.
 pub fn check(cell: &Cell, graphs: &[ObjectGraph], diagnostics: &mut Vec<Diagnostic>) {
     for expectation in &cell.expectations {
+        if let Requirement::Reach { from, to, .. } = &expectation.requirement {
+            let mut mismatch = false;
+            for p in [from, to] {
+                if let Some(g) = p.grasp.filter(|&g| !cell.holds(p.end_effector, g)) {
+                    mismatch = true;
+                    diagnostics.push(diagnostics::placement_grasp_mismatch(
+                        &cell.end_effectors[p.end_effector].name,
+                        &cell.grasps[g].name,
+                        expectation.origin.file,
+                        expectation.origin.span,
+                    ));
+                }
+            }
+            if mismatch {
+                continue;
+            }
+        }
         if let Err(why) = holds(cell, graphs, &expectation.requirement) {
             diagnostics.push(diagnostics::expectation_failed(
                 &expectation.text,

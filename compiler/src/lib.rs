@@ -63,8 +63,7 @@ pub fn compile(world: &dyn World, path: &str) -> Compilation {
     let mut cell = None;
     let mut graphs = Vec::new();
     if main_parsed {
-        let mut resolved = resolve::resolve(world, &loaded, &mut diagnostics);
-        workspaces::assign(&mut resolved, &mut diagnostics);
+        let resolved = resolve::resolve(world, &loaded, &mut diagnostics);
         checks::check_cell(&resolved, &mut diagnostics);
         // Graph-level findings on a cell that already has errors would mostly repeat
         // them in other words, so they wait until the cell is clean.

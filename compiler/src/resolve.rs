@@ -44,7 +44,8 @@ impl Entry {
     }
 }
 
-/// Resolves every loaded file into one cell. Diagnostics are appended to `diagnostics`.
+/// Resolves every loaded file into one cell, deriving workspaces on the way (see
+/// [`crate::workspaces`]). Diagnostics are appended to `diagnostics`.
 pub fn resolve(world: &dyn World, loaded: &Loaded, diagnostics: &mut Vec<Diagnostic>) -> Cell {
     let mut r = Resolver {
         world,
@@ -74,6 +75,26 @@ pub fn resolve(world: &dyn World, loaded: &Loaded, diagnostics: &mut Vec<Diagnos
     for (i, (id, _, file)) in files.iter().enumerate() {
         for item in &file.items {
             r.resolve_item(*id, units[i], item);
+        }
+    }
+    // Requirements may name derived workspaces, so they are resolved after derivation.
+    crate::workspaces::assign(&mut r.cell, r.diagnostics);
+    let derived: Vec<(String, WorkspaceId, Origin)> = r
+        .cell
+        .workspaces
+        .iter()
+        .filter(|(_, w)| w.derived)
+        .map(|(id, w)| (w.name.clone(), id, w.origin))
+        .collect();
+    for (name, id, origin) in derived {
+        r.names.insert(name.clone(), Entry::Workspace(id));
+        r.origins.insert(name, origin);
+    }
+    for (id, _, file) in &files {
+        for item in &file.items {
+            if let ast::Item::Expect(e) = item {
+                r.resolve_expect(*id, e);
+            }
         }
     }
     r.cell
@@ -622,7 +643,6 @@ impl Resolver<'_, '_> {
                 }
             }
             ast::Item::Object(obj) => self.resolve_object(file, obj),
-            ast::Item::Expect(e) => self.resolve_expect(file, e),
             _ => {}
         }
     }

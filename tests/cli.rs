@@ -1,0 +1,163 @@
+//! End-to-end tests of the `cellc` binary: exit codes, output formats, `fmt`, `explain`.
+
+use std::process::{Command, Output};
+
+fn cellc(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_cellc"))
+        .args(args)
+        .output()
+        .expect("the cellc binary runs")
+}
+
+fn temp_file(name: &str, text: &str) -> std::path::PathBuf {
+    let dir = std::env::temp_dir().join(format!("cellc-cli-{}-{name}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    let path = dir.join(name);
+    std::fs::write(&path, text).expect("write temp file");
+    path
+}
+
+const WARNING_CELL: &str = "cell w {\n  workspace a\n  movable arm1 reaches a\n  object o {\n    grasp g by arm1\n  }\n}\n";
+
+#[test]
+fn clean_cells_exit_zero_silently() {
+    let out = cellc(&["check", "cells/fig3.cell", "cells/vito.cell"]);
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(out.stdout.is_empty() && out.stderr.is_empty());
+}
+
+#[test]
+fn errors_exit_one_with_short_lines() {
+    let path = temp_file(
+        "bad.cell",
+        "cell bad {\n  workspace w1\n  fixed t reaches w9\n}\n",
+    );
+    let out = cellc(&["check", "--format", "short", path.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(1));
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let expected = format!(
+        "{}:3:19: error[E0101]: unknown workspace `w9`",
+        path.display()
+    );
+    assert!(stdout.lines().any(|l| l == expected), "{stdout}");
+}
+
+#[test]
+fn human_output_shows_code_snippet_and_help() {
+    let path = temp_file(
+        "typo.cell",
+        "cell typo {\n  workspace w1\n  fixed table reaches w2\n}\n",
+    );
+    let out = cellc(&["check", "--color", "never", path.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(1));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(stderr.contains("error[E0101]"), "{stderr}");
+    assert!(stderr.contains("fixed table reaches w2"), "{stderr}");
+    assert!(stderr.contains("help: did you mean `w1`?"), "{stderr}");
+    assert!(stderr.contains("2 errors, 0 warnings"), "{stderr}");
+}
+
+#[test]
+fn json_output_follows_the_schema() {
+    let path = temp_file(
+        "json.cell",
+        "cell j {\n  workspace w1\n  workspace w1\n  fixed t reaches w1\n}\n",
+    );
+    let out = cellc(&["check", "--format", "json", path.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(1));
+    let doc: serde_json::Value = serde_json::from_slice(&out.stdout).expect("valid JSON");
+    assert_eq!(doc["version"], 1);
+    assert_eq!(doc["errors"], 1);
+    let d = &doc["diagnostics"][0];
+    assert_eq!(d["code"], "E0102");
+    assert_eq!(d["severity"], "error");
+    assert_eq!(d["line"], 3);
+    assert_eq!(d["column"], 13);
+    assert_eq!(
+        d["span"]["end"].as_u64().unwrap() - d["span"]["start"].as_u64().unwrap(),
+        2
+    );
+    let labels = d["labels"].as_array().expect("labels");
+    assert_eq!(labels.len(), 2);
+    assert_eq!(labels[0]["primary"], true);
+    assert_eq!(labels[1]["line"], 2);
+    assert!(d["help"].as_str().is_some());
+}
+
+#[test]
+fn warnings_pass_unless_denied() {
+    let path = temp_file("warn.cell", WARNING_CELL);
+    let path = path.to_str().unwrap();
+    assert_eq!(cellc(&["check", path]).status.code(), Some(0));
+    assert_eq!(
+        cellc(&["check", "--deny-warnings", path]).status.code(),
+        Some(1)
+    );
+}
+
+#[test]
+fn usage_errors_exit_two() {
+    assert_eq!(cellc(&["check"]).status.code(), Some(2));
+    assert_eq!(cellc(&["frobnicate"]).status.code(), Some(2));
+    assert_eq!(
+        cellc(&["check", "--format", "xml", "cells/fig3.cell"])
+            .status
+            .code(),
+        Some(2)
+    );
+}
+
+#[test]
+fn missing_file_is_a_coded_error() {
+    let out = cellc(&["check", "--format", "short", "no/such.cell"]);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&out.stdout).contains("error[E0308]"));
+}
+
+#[test]
+fn explain_prints_the_page() {
+    let out = cellc(&["explain", "E0101"]);
+    assert_eq!(out.status.code(), Some(0));
+    assert!(String::from_utf8_lossy(&out.stdout).starts_with("# E0101"));
+    assert_eq!(cellc(&["explain", "E9999"]).status.code(), Some(2));
+}
+
+#[test]
+fn fmt_rewrites_checks_and_refuses_broken_files() {
+    let messy = temp_file(
+        "messy.cell",
+        "cell   m{workspace w1 \"A\"   fixed t reaches w1,\n}",
+    );
+    let messy = messy.to_str().unwrap();
+    assert_eq!(cellc(&["fmt", "--check", messy]).status.code(), Some(1));
+    assert_eq!(cellc(&["fmt", messy]).status.code(), Some(0));
+    assert_eq!(
+        std::fs::read_to_string(messy).unwrap(),
+        "cell m {\n  workspace w1 \"A\"\n  fixed t reaches w1\n}\n"
+    );
+    assert_eq!(cellc(&["fmt", "--check", messy]).status.code(), Some(0));
+
+    let broken_text = "cell b {\n  workspace\n}\n";
+    let broken = temp_file("broken.cell", broken_text);
+    assert_eq!(
+        cellc(&["fmt", broken.to_str().unwrap()]).status.code(),
+        Some(1)
+    );
+    assert_eq!(std::fs::read_to_string(&broken).unwrap(), broken_text);
+}
+
+#[test]
+fn shipped_cells_are_formatted() {
+    let out = cellc(&["fmt", "--check", "cells/fig3.cell", "cells/vito.cell"]);
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stdout)
+    );
+}

@@ -1,0 +1,45 @@
+//! Every diagnostic code has a documentation page and at least one UI test, and every
+//! documented code exists (no stale pages).
+
+#[test]
+fn every_code_has_a_page_and_a_ui_test() {
+    let ui_files: Vec<String> = std::fs::read_dir("tests/ui")
+        .expect("tests/ui exists")
+        .filter_map(Result::ok)
+        .map(|e| e.file_name().to_string_lossy().to_string())
+        .collect();
+    let mut missing = Vec::new();
+    for code in cellc::all_codes() {
+        let code = code.as_str();
+        if cellc::docs::page(code).is_none() {
+            missing.push(format!("{code}: no docs/diagnostics/{code}.md"));
+        }
+        if !ui_files
+            .iter()
+            .any(|f| f.starts_with(&format!("{code}_")) && f.ends_with(".cell"))
+        {
+            missing.push(format!("{code}: no tests/ui/{code}_*.cell"));
+        }
+    }
+    assert!(missing.is_empty(), "{}", missing.join("\n"));
+}
+
+#[test]
+fn every_page_belongs_to_a_code() {
+    let codes: Vec<&str> = cellc::all_codes().iter().map(|c| c.as_str()).collect();
+    for documented in cellc::docs::documented_codes() {
+        assert!(
+            codes.contains(&documented),
+            "docs/diagnostics/{documented}.md has no code"
+        );
+    }
+}
+
+#[test]
+fn codes_are_unique() {
+    let mut codes: Vec<&str> = cellc::all_codes().iter().map(|c| c.as_str()).collect();
+    let n = codes.len();
+    codes.sort();
+    codes.dedup();
+    assert_eq!(codes.len(), n, "a code is defined twice");
+}
