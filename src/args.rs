@@ -26,6 +26,15 @@ pub enum ColorChoice {
     Never,
 }
 
+/// Artifact encodings.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum ArtifactFormat {
+    /// JSON (readable, the default).
+    Json,
+    /// Compact binary.
+    Bin,
+}
+
 /// Flags shared by the commands that report diagnostics.
 #[derive(clap::Args, Debug, Clone)]
 pub struct ReportFlags {
@@ -60,6 +69,39 @@ pub enum Command {
         /// Do not write; exit 1 if any file is not formatted.
         #[arg(long)]
         check: bool,
+    },
+    /// Compile a cell into an artifact (the object-state graphs and the resolved cell).
+    Build {
+        /// The cell.
+        cell: PathBuf,
+        /// Output file (default: the cell's path with `.artifact.json` or `.artifact.bin`).
+        #[arg(short, long)]
+        output: Option<PathBuf>,
+        /// Artifact encoding.
+        #[arg(long, value_enum, default_value = "json")]
+        format: ArtifactFormat,
+        /// Also print the workspaces, their boxes and who reaches them.
+        #[arg(long)]
+        explain: bool,
+        /// Treat warnings as errors.
+        #[arg(long)]
+        deny_warnings: bool,
+    },
+    /// Summarise a cell or an artifact: workspaces, end-effectors, graph sizes per object.
+    Info {
+        /// A `.cell` file or an artifact.
+        file: PathBuf,
+    },
+    /// Print the object-state graph of one object.
+    Graph {
+        /// A `.cell` file or an artifact.
+        file: PathBuf,
+        /// The object.
+        #[arg(long)]
+        object: String,
+        /// Output format.
+        #[arg(long, value_enum, default_value = "dot")]
+        format: crate::commands::graph::GraphFormat,
     },
     /// Explain a diagnostic code, e.g. `cellc explain E0101`.
     Explain {

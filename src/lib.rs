@@ -3,6 +3,7 @@
 //! UI tests in `tests/` render diagnostics exactly as the binary does.
 
 pub mod args;
+pub mod artifact_io;
 pub mod commands;
 pub mod docs;
 pub mod fs_world;
@@ -16,6 +17,7 @@ use clap::Parser;
 pub fn all_codes() -> Vec<cellc_lang::Code> {
     let mut codes: Vec<cellc_lang::Code> = cellc_lang::phrases::codes::ALL.to_vec();
     codes.extend_from_slice(cellc_compiler::diagnostics::codes::ALL);
+    codes.extend_from_slice(artifact_io::codes::ALL);
     codes
 }
 
@@ -41,5 +43,22 @@ pub fn dispatch() -> ExitCode {
         } => commands::check::run(files, *deny_warnings, report),
         args::Command::Fmt { files, check } => commands::fmt::run(files, *check),
         args::Command::Explain { code } => commands::explain::run(code),
+        args::Command::Build {
+            cell,
+            output,
+            format,
+            explain,
+            deny_warnings,
+        } => {
+            let encoding = match format {
+                args::ArtifactFormat::Json => cellc_schema::Encoding::Json,
+                args::ArtifactFormat::Bin => cellc_schema::Encoding::Binary,
+            };
+            commands::build::run(cell, output.as_deref(), encoding, *explain, *deny_warnings)
+        }
+        args::Command::Info { file } => commands::info::run(&file.to_string_lossy()),
+        args::Command::Graph { file, object, format } => {
+            commands::graph::run(&file.to_string_lossy(), object, *format)
+        }
     }
 }

@@ -3,11 +3,25 @@
 
 #[test]
 fn every_code_has_a_page_and_a_ui_test() {
-    let ui_files: Vec<String> = std::fs::read_dir("tests/ui")
-        .expect("tests/ui exists")
-        .filter_map(Result::ok)
-        .map(|e| e.file_name().to_string_lossy().to_string())
-        .collect();
+    // UI inputs: cells in tests/ui, and other inputs (artifacts, databases) in its
+    // sub-folders, each named CODE_what.
+    let mut ui_files: Vec<String> = Vec::new();
+    let mut folders = vec![std::path::PathBuf::from("tests/ui")];
+    while let Some(folder) = folders.pop() {
+        for entry in std::fs::read_dir(&folder)
+            .expect("tests/ui exists")
+            .filter_map(Result::ok)
+        {
+            let path = entry.path();
+            if path.is_dir() {
+                if !path.ends_with("support") {
+                    folders.push(path);
+                }
+            } else {
+                ui_files.push(entry.file_name().to_string_lossy().to_string());
+            }
+        }
+    }
     let mut missing = Vec::new();
     for code in cellc::all_codes() {
         let code = code.as_str();

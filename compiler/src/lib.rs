@@ -8,6 +8,7 @@
 //! [`World`].
 #![warn(missing_docs)]
 
+pub mod artifact;
 pub mod checks;
 pub mod diagnostics;
 pub mod expect;

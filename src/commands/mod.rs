@@ -1,5 +1,8 @@
 //! One module per subcommand, each with a `run` returning the exit code.
 
+pub mod build;
 pub mod check;
 pub mod explain;
 pub mod fmt;
+pub mod graph;
+pub mod info;

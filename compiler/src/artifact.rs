@@ -1,0 +1,275 @@
+//! Lowers a compiled cell into the artifact schema.
+//!
+//! The artifact is the compiler/runtime boundary: everything the runtime needs, with ids
+//! turned into indices and spans into a table, and nothing of the compiler's own types.
+
+use std::collections::HashMap;
+
+use cellc_lang::ast::GraspKeyword;
+use cellc_lang::{FileId, SourceMap, Span};
+use cellc_schema as schema;
+use sha2::{Digest, Sha256};
+
+use crate::graph::{ArcSource, ObjectGraph};
+use crate::math::{Aabb, Pose};
+use crate::model::*;
+
+/// Lowercase hex SHA-256 of `bytes`.
+pub fn sha256_hex(bytes: &[u8]) -> String {
+    Sha256::digest(bytes)
+        .iter()
+        .map(|b| format!("{b:02x}"))
+        .collect()
+}
+
+/// Builds the artifact of a compiled cell.
+pub fn lower(cell: &Cell, graphs: &[ObjectGraph], sources: &SourceMap) -> schema::Artifact {
+    let mut spans = SpanTable::new(sources);
+    let robots = cell
+        .robots
+        .iter()
+        .map(|(_, r)| schema::Robot {
+            name: r.name.clone(),
+            urdf_path: r.urdf_path.clone(),
+            urdf_sha256: sha256_hex(r.urdf_text.as_bytes()),
+            base_link: r.base_link.clone(),
+            tip_link: r.tip_link.clone(),
+            joints: r.chain_joints.clone(),
+            span: spans.get(r.origin.file, r.origin.span),
+        })
+        .collect();
+    let holder_kinds = cell
+        .holder_kinds
+        .iter()
+        .map(|(_, k)| schema::HolderKind {
+            name: k.name.clone(),
+            class: match k.class {
+                HolderClass::Hand => schema::HolderClass::Hand,
+                HolderClass::Support => schema::HolderClass::Support,
+            },
+            solids: k
+                .solids
+                .iter()
+                .map(|s| schema::Solid {
+                    shape: shape(&s.shape),
+                    pose: pose(&s.pose),
+                })
+                .collect(),
+        })
+        .collect();
+    let workspaces = cell
+        .workspaces
+        .iter()
+        .map(|(_, w)| schema::Workspace {
+            name: w.name.clone(),
+            label: w.label.clone(),
+            boxes: w.boxes.iter().map(aabb).collect(),
+            derived: w.derived,
+            span: spans.get(w.origin.file, w.origin.span),
+        })
+        .collect();
+    let end_effectors = cell
+        .end_effectors
+        .iter()
+        .map(|(_, e)| schema::EndEffector {
+            name: e.name.clone(),
+            movable: e.is_movable(),
+            kind: e.kind.map(|k| k.0),
+            body: match &e.body {
+                Body::Abstract => schema::Body::Abstract,
+                Body::Arm { robot, base } => match robot {
+                    Some(robot) => schema::Body::Arm {
+                        robot: robot.0,
+                        base: pose(base),
+                    },
+                    None => schema::Body::Abstract,
+                },
+                Body::Surface { slab, reach_height } => schema::Body::Surface {
+                    slab: aabb(slab),
+                    reach_height: *reach_height,
+                },
+            },
+            reach_boxes: e.reach_boxes.iter().map(aabb).collect(),
+            reaches: e.reaches.iter().map(|w| w.0).collect(),
+            span: spans.get(e.origin.file, e.origin.span),
+        })
+        .collect();
+    let objects = graphs
+        .iter()
+        .map(|g| lower_object(cell, g, &mut spans))
+        .collect();
+    schema::Artifact {
+        format: schema::FORMAT.to_string(),
+        format_version: schema::FORMAT_VERSION,
+        compiler_version: env!("CARGO_PKG_VERSION").to_string(),
+        cell: cell.name.clone(),
+        sources: sources
+            .iter()
+            .map(|(_, f)| schema::SourceFile {
+                path: f.path.clone(),
+                sha256: sha256_hex(f.text.as_bytes()),
+            })
+            .collect(),
+        weights: schema::Weights {
+            move_weight: cell.weights.move_weight,
+            transition_weight: cell.weights.transition_weight,
+        },
+        robots,
+        holder_kinds,
+        workspaces,
+        end_effectors,
+        objects,
+        spans: spans.table,
+    }
+}
+
+fn lower_object(cell: &Cell, g: &ObjectGraph, spans: &mut SpanTable) -> schema::Object {
+    let object = &cell.objects[g.object];
+    let grasp_index: HashMap<crate::ids::GraspId, u32> = object
+        .grasps
+        .iter()
+        .enumerate()
+        .map(|(i, &gid)| (gid, i as u32))
+        .collect();
+    let grasps = object
+        .grasps
+        .iter()
+        .map(|&gid| {
+            let grasp = &cell.grasps[gid];
+            schema::Grasp {
+                name: grasp.name.clone(),
+                label: grasp.label.clone(),
+                holder: match grasp.holder {
+                    Some(Holder::Kind(k)) => schema::Holder::Kind(k.0),
+                    Some(Holder::EndEffector(e)) => schema::Holder::EndEffector(e.0),
+                    None => schema::Holder::EndEffector(u32::MAX),
+                },
+                rest: grasp.keyword == GraspKeyword::Rest,
+                pose: grasp.pose.as_ref().map(pose),
+                span: spans.get(grasp.origin.file, grasp.origin.span),
+            }
+        })
+        .collect();
+    let nodes = g
+        .graph
+        .node_weights()
+        .map(|s| schema::Node {
+            end_effector: s.end_effector.0,
+            grasp: grasp_index[&s.grasp],
+            workspace: s.workspace.0,
+        })
+        .collect();
+    let arcs = g
+        .graph
+        .edge_indices()
+        .filter_map(|e| {
+            let (from, to) = g.graph.edge_endpoints(e)?;
+            let arc = g.graph[e];
+            let (kind, source, via) = match arc.source {
+                ArcSource::Move { adjacency } => {
+                    let state = g.graph[from];
+                    let grasp = &cell.grasps[state.grasp];
+                    let source = spans.get(grasp.origin.file, grasp.origin.span);
+                    let via = adjacency.map(|i| {
+                        let adj = &cell.adjacencies[i];
+                        spans.get(adj.origin.file, adj.origin.span)
+                    });
+                    (schema::ArcKind::Move, source, via)
+                }
+                ArcSource::Transition { transition } => {
+                    let t = &cell.transitions[transition];
+                    (
+                        schema::ArcKind::Transition,
+                        spans.get(t.origin.file, t.origin.span),
+                        None,
+                    )
+                }
+            };
+            Some(schema::Arc {
+                from: from.index() as u32,
+                to: to.index() as u32,
+                kind,
+                weight: arc.weight,
+                source,
+                via,
+            })
+        })
+        .collect();
+    schema::Object {
+        name: object.name.clone(),
+        shape: object.shape.as_ref().map(shape),
+        symmetries: object
+            .symmetries
+            .iter()
+            .map(|s| schema::Symmetry {
+                axis: s.axis,
+                order: s.order,
+            })
+            .collect(),
+        grasps,
+        graph: schema::Graph { nodes, arcs },
+        span: spans.get(object.origin.file, object.origin.span),
+    }
+}
+
+/// Interns spans so that a million arcs made by a few hundred declarations share a few
+/// hundred entries.
+struct SpanTable<'s> {
+    sources: &'s SourceMap,
+    table: Vec<schema::SourceSpan>,
+    index: HashMap<(FileId, Span), u32>,
+}
+
+impl<'s> SpanTable<'s> {
+    fn new(sources: &'s SourceMap) -> Self {
+        SpanTable {
+            sources,
+            table: Vec::new(),
+            index: HashMap::new(),
+        }
+    }
+
+    fn get(&mut self, file: FileId, span: Span) -> u32 {
+        if let Some(&i) = self.index.get(&(file, span)) {
+            return i;
+        }
+        let (line, _) = self.sources.get(file).line_col(span.start);
+        let i = self.table.len() as u32;
+        self.table.push(schema::SourceSpan {
+            file: file.0,
+            start: span.start,
+            end: span.end,
+            line: line as u32,
+        });
+        self.index.insert((file, span), i);
+        i
+    }
+}
+
+fn pose(p: &Pose) -> schema::Pose {
+    let t = p.translation.vector;
+    let q = p.rotation.coords;
+    schema::Pose {
+        translation: [t.x, t.y, t.z],
+        rotation: [q.x, q.y, q.z, q.w],
+    }
+}
+
+fn aabb(b: &Aabb) -> schema::Aabb {
+    schema::Aabb {
+        min: b.min,
+        max: b.max,
+    }
+}
+
+fn shape(s: &Shape) -> schema::Shape {
+    match s {
+        Shape::Box { size } => schema::Shape::Box { size: *size },
+        Shape::Cylinder { radius, height } => schema::Shape::Cylinder {
+            radius: *radius,
+            height: *height,
+        },
+        Shape::Sphere { radius } => schema::Shape::Sphere { radius: *radius },
+        Shape::Mesh { path } => schema::Shape::Mesh { path: path.clone() },
+    }
+}

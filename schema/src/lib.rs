@@ -1,0 +1,472 @@
+//! The cellc artifact: what `cellc build` writes and the runtime reads.
+//!
+//! These are the only serialisable types of the project. The compiler lowers its
+//! internal model into an [`Artifact`]; the runtime reads nothing else. Ids here are
+//! plain indices into the artifact's own lists (`end_effectors[i]`, ...), so the file is
+//! self-describing and language-neutral.
+//!
+//! Two encodings carry the same value: JSON (the default, readable) and a compact binary
+//! form (`MAGIC`, the format version as little-endian `u32`, then postcard). Both are
+//! deterministic: the same artifact value always gives the same bytes.
+#![warn(missing_docs)]
+
+use serde::{Deserialize, Serialize};
+
+/// The value of [`Artifact::format`], identifying the file type.
+pub const FORMAT: &str = "cellc-artifact";
+/// Bumped on every incompatible change of these types.
+pub const FORMAT_VERSION: u32 = 1;
+/// First bytes of the binary encoding.
+pub const MAGIC: &[u8; 8] = b"CELLCART";
+
+/// A compiled cell.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Artifact {
+    /// Always [`FORMAT`].
+    pub format: String,
+    /// [`FORMAT_VERSION`] of the writer.
+    pub format_version: u32,
+    /// Version of the compiler that wrote it.
+    pub compiler_version: String,
+    /// Name of the cell.
+    pub cell: String,
+    /// Every source file read, with its hash.
+    pub sources: Vec<SourceFile>,
+    /// Arc weights used.
+    pub weights: Weights,
+    /// Robot models.
+    pub robots: Vec<Robot>,
+    /// Hand and support kinds.
+    pub holder_kinds: Vec<HolderKind>,
+    /// Workspaces.
+    pub workspaces: Vec<Workspace>,
+    /// End-effectors.
+    pub end_effectors: Vec<EndEffector>,
+    /// Objects with their grasps and graphs.
+    pub objects: Vec<Object>,
+    /// Source places that arcs and elements point to (indices into this list).
+    pub spans: Vec<SourceSpan>,
+}
+
+/// A source file and its SHA-256.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct SourceFile {
+    /// Path as given to the compiler.
+    pub path: String,
+    /// Lowercase hex SHA-256 of the text.
+    pub sha256: String,
+}
+
+/// A place in a source file.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct SourceSpan {
+    /// Index into [`Artifact::sources`].
+    pub file: u32,
+    /// First byte.
+    pub start: u32,
+    /// One past the last byte.
+    pub end: u32,
+    /// 1-based line of `start`.
+    pub line: u32,
+}
+
+/// Arc weights.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Weights {
+    /// Per move arc.
+    pub move_weight: f64,
+    /// Per transition arc.
+    pub transition_weight: f64,
+}
+
+/// A rigid transform: translation in metres, rotation as a unit quaternion `[x, y, z, w]`.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Pose {
+    /// Translation.
+    pub translation: [f64; 3],
+    /// Rotation `[x, y, z, w]`.
+    pub rotation: [f64; 4],
+}
+
+/// An axis-aligned box in metres.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Aabb {
+    /// Smallest corner.
+    pub min: [f64; 3],
+    /// Largest corner.
+    pub max: [f64; 3],
+}
+
+/// A robot model.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Robot {
+    /// Name.
+    pub name: String,
+    /// URDF path as resolved by the compiler.
+    pub urdf_path: String,
+    /// SHA-256 of the URDF text, so a stale artifact can be refused.
+    pub urdf_sha256: String,
+    /// Base link.
+    pub base_link: String,
+    /// Tip link.
+    pub tip_link: String,
+    /// Movable joints from base to tip.
+    pub joints: Vec<String>,
+    /// Declaration.
+    pub span: u32,
+}
+
+/// A shape in metres.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Shape {
+    /// Box with edge lengths.
+    Box {
+        /// Edge lengths.
+        size: [f64; 3],
+    },
+    /// Cylinder along z, centred.
+    Cylinder {
+        /// Radius.
+        radius: f64,
+        /// Height.
+        height: f64,
+    },
+    /// Sphere.
+    Sphere {
+        /// Radius.
+        radius: f64,
+    },
+    /// Mesh file.
+    Mesh {
+        /// Path.
+        path: String,
+    },
+}
+
+/// A shape placed in a frame.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Solid {
+    /// Shape.
+    pub shape: Shape,
+    /// Placement.
+    pub pose: Pose,
+}
+
+/// Hand or support.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum HolderClass {
+    /// Grasps.
+    Hand,
+    /// Resting poses.
+    Support,
+}
+
+/// A hand model or support kind.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct HolderKind {
+    /// Name.
+    pub name: String,
+    /// Hand or support.
+    pub class: HolderClass,
+    /// Collision shapes in the holder frame.
+    pub solids: Vec<Solid>,
+}
+
+/// A workspace.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Workspace {
+    /// Name.
+    pub name: String,
+    /// Label.
+    pub label: Option<String>,
+    /// Geometry (empty in abstract cells).
+    pub boxes: Vec<Aabb>,
+    /// Derived from reach rather than declared.
+    pub derived: bool,
+    /// Declaration (for derived ones, the `workspaces from reach` line).
+    pub span: u32,
+}
+
+/// The physical body of an end-effector.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Body {
+    /// Abstract (no geometry).
+    Abstract,
+    /// At the tip of a robot.
+    Arm {
+        /// Index into [`Artifact::robots`].
+        robot: u32,
+        /// Base placement in the cell.
+        base: Pose,
+    },
+    /// A fixed surface.
+    Surface {
+        /// The slab; objects rest on its top face.
+        slab: Aabb,
+        /// Height of the reach extrusion.
+        reach_height: f64,
+    },
+}
+
+/// An end-effector.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct EndEffector {
+    /// Name.
+    pub name: String,
+    /// Movable or fixed.
+    pub movable: bool,
+    /// Index into [`Artifact::holder_kinds`].
+    pub kind: Option<u32>,
+    /// Body.
+    pub body: Body,
+    /// Reach cuboids.
+    pub reach_boxes: Vec<Aabb>,
+    /// Indices into [`Artifact::workspaces`], sorted.
+    pub reaches: Vec<u32>,
+    /// Declaration.
+    pub span: u32,
+}
+
+/// A symmetry of an object.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Symmetry {
+    /// Axis in the object frame.
+    pub axis: [f64; 3],
+    /// `None`: any angle; `Some(n)`: multiples of 360°/n.
+    pub order: Option<u32>,
+}
+
+/// Who a grasp is declared for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Holder {
+    /// Index into [`Artifact::end_effectors`].
+    EndEffector(u32),
+    /// Index into [`Artifact::holder_kinds`].
+    Kind(u32),
+}
+
+/// A grasp or resting pose.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Grasp {
+    /// Name, unique within the object.
+    pub name: String,
+    /// Label.
+    pub label: Option<String>,
+    /// Holder.
+    pub holder: Holder,
+    /// True for resting poses (`rest`).
+    pub rest: bool,
+    /// Object pose in the holder frame.
+    pub pose: Option<Pose>,
+    /// Declaration.
+    pub span: u32,
+}
+
+/// An object with its graph.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Object {
+    /// Name.
+    pub name: String,
+    /// Shape.
+    pub shape: Option<Shape>,
+    /// Symmetries.
+    pub symmetries: Vec<Symmetry>,
+    /// Grasps; graph nodes index into this list.
+    pub grasps: Vec<Grasp>,
+    /// The object-state graph.
+    pub graph: Graph,
+    /// Declaration.
+    pub span: u32,
+}
+
+/// A state S(end-effector, grasp, workspace).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+pub struct Node {
+    /// Index into [`Artifact::end_effectors`].
+    pub end_effector: u32,
+    /// Index into the object's `grasps`.
+    pub grasp: u32,
+    /// Index into [`Artifact::workspaces`].
+    pub workspace: u32,
+}
+
+/// Move or transition.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ArcKind {
+    /// Same grasp, adjacent workspace.
+    Move,
+    /// Grasp change inside one workspace.
+    Transition,
+}
+
+/// A directed arc.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Arc {
+    /// Index into `nodes`.
+    pub from: u32,
+    /// Index into `nodes`.
+    pub to: u32,
+    /// Kind.
+    pub kind: ArcKind,
+    /// Cost.
+    pub weight: f64,
+    /// The declaration that made the arc (index into [`Artifact::spans`]): for a
+    /// transition its `transition` line, for a move the grasp's line.
+    pub source: u32,
+    /// For a move over a declared adjacency, the `adjacent` line.
+    pub via: Option<u32>,
+}
+
+/// The graph of one object.
+#[derive(Clone, Debug, PartialEq, Default, Serialize, Deserialize)]
+pub struct Graph {
+    /// States.
+    pub nodes: Vec<Node>,
+    /// Arcs.
+    pub arcs: Vec<Arc>,
+}
+
+impl Graph {
+    /// Number of move arcs.
+    pub fn n_moves(&self) -> usize {
+        self.arcs.iter().filter(|a| a.kind == ArcKind::Move).count()
+    }
+
+    /// Number of transition arcs.
+    pub fn n_transitions(&self) -> usize {
+        self.arcs.len() - self.n_moves()
+    }
+}
+
+/// Encoding of an artifact file.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Encoding {
+    /// Compact JSON.
+    Json,
+    /// `MAGIC`, version, postcard.
+    Binary,
+}
+
+/// Why bytes are not a usable artifact.
+#[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
+pub enum ReadError {
+    /// Neither a cellc JSON artifact nor the binary magic.
+    NotAnArtifact,
+    /// Written by an incompatible version of the format.
+    WrongVersion {
+        /// Version in the file.
+        found: u32,
+        /// Version this reader understands.
+        expected: u32,
+    },
+    /// The header is right but the content does not decode (truncated or corrupted).
+    Corrupt {
+        /// What the decoder said.
+        detail: String,
+    },
+}
+
+impl std::fmt::Display for ReadError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            ReadError::NotAnArtifact => f.write_str("not a cellc artifact"),
+            ReadError::WrongVersion { found, expected } => {
+                write!(
+                    f,
+                    "artifact format version {found}, this cellc reads version {expected}"
+                )
+            }
+            ReadError::Corrupt { detail } => {
+                write!(f, "the artifact is truncated or corrupted: {detail}")
+            }
+        }
+    }
+}
+
+impl std::error::Error for ReadError {}
+
+impl Artifact {
+    /// Encodes the artifact.
+    pub fn to_bytes(&self, encoding: Encoding) -> Vec<u8> {
+        match encoding {
+            Encoding::Json => {
+                // Serialising plain data with string keys cannot fail.
+                let mut bytes = serde_json::to_vec(self).unwrap_or_default();
+                bytes.push(b'\n');
+                bytes
+            }
+            Encoding::Binary => {
+                let mut bytes = MAGIC.to_vec();
+                bytes.extend_from_slice(&FORMAT_VERSION.to_le_bytes());
+                bytes.extend(postcard::to_stdvec(self).unwrap_or_default());
+                bytes
+            }
+        }
+    }
+
+    /// Decodes an artifact in either encoding, checking its format and version first so
+    /// that an old file is reported as old, not as corrupt.
+    pub fn from_bytes(bytes: &[u8]) -> Result<(Artifact, Encoding), ReadError> {
+        if let Some(rest) = bytes.strip_prefix(MAGIC.as_slice()) {
+            let version = rest
+                .get(..4)
+                .and_then(|v| v.try_into().ok())
+                .map(u32::from_le_bytes)
+                .ok_or_else(|| ReadError::Corrupt {
+                    detail: "the file ends inside its header".into(),
+                })?;
+            if version != FORMAT_VERSION {
+                return Err(ReadError::WrongVersion {
+                    found: version,
+                    expected: FORMAT_VERSION,
+                });
+            }
+            let (artifact, left) =
+                postcard::take_from_bytes::<Artifact>(&rest[4..]).map_err(|e| {
+                    ReadError::Corrupt {
+                        detail: e.to_string(),
+                    }
+                })?;
+            if !left.is_empty() {
+                return Err(ReadError::Corrupt {
+                    detail: format!("{} bytes after the end of the artifact", left.len()),
+                });
+            }
+            return Ok((artifact, Encoding::Binary));
+        }
+        #[derive(Deserialize)]
+        struct Header {
+            format: String,
+            format_version: u32,
+        }
+        let header: Header = match serde_json::from_slice(bytes) {
+            Ok(h) => h,
+            Err(e) if e.is_eof() && bytes.starts_with(b"{\"format\":\"cellc-artifact\"") => {
+                return Err(ReadError::Corrupt {
+                    detail: e.to_string(),
+                })
+            }
+            Err(_) => return Err(ReadError::NotAnArtifact),
+        };
+        if header.format != FORMAT {
+            return Err(ReadError::NotAnArtifact);
+        }
+        if header.format_version != FORMAT_VERSION {
+            return Err(ReadError::WrongVersion {
+                found: header.format_version,
+                expected: FORMAT_VERSION,
+            });
+        }
+        serde_json::from_slice(bytes)
+            .map(|a| (a, Encoding::Json))
+            .map_err(|e| ReadError::Corrupt {
+                detail: e.to_string(),
+            })
+    }
+}

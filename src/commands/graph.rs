@@ -1,0 +1,161 @@
+//! `cellc graph CELL_OR_ARTIFACT --object O --format dot|json`
+
+use std::fmt::Write;
+use std::process::ExitCode;
+
+use cellc_schema::{ArcKind, Artifact, Object};
+use serde::Serialize;
+
+/// Output of `cellc graph`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum GraphFormat {
+    /// Graphviz DOT: a cluster per workspace, solid transitions, dashed moves.
+    Dot,
+    /// JSON with names.
+    Json,
+}
+
+/// Prints the object-state graph of one object.
+pub fn run(path: &str, object: &str, format: GraphFormat) -> ExitCode {
+    let Some(artifact) = crate::artifact_io::cell_or_artifact(path) else {
+        return ExitCode::from(1);
+    };
+    let Some(obj) = artifact.objects.iter().find(|o| o.name == object) else {
+        let known: Vec<&str> = artifact.objects.iter().map(|o| o.name.as_str()).collect();
+        eprintln!("error[E0101]: unknown object `{object}`");
+        match cellc_lang::diagnostic::did_you_mean(object, known.iter().copied()) {
+            Some(s) => eprintln!("help: did you mean `{s}`?"),
+            None => eprintln!("help: the objects are: {}", known.join(", ")),
+        }
+        return ExitCode::from(1);
+    };
+    match format {
+        GraphFormat::Dot => print!("{}", dot(&artifact, obj)),
+        GraphFormat::Json => print!("{}", json(&artifact, obj)),
+    }
+    ExitCode::SUCCESS
+}
+
+fn quote(text: &str) -> String {
+    let escaped = text
+        .replace('\\', "\\\\")
+        .replace('"', "\\\"")
+        .replace('\n', "\\n");
+    format!("\"{escaped}\"")
+}
+
+/// DOT in the style of the paper's Fig. 6.
+pub fn dot(a: &Artifact, o: &Object) -> String {
+    let mut out = String::new();
+    let _ = writeln!(out, "digraph {} {{", quote(&o.name));
+    let _ = writeln!(
+        out,
+        "  compound=true;\n  node [shape=box, style=rounded, fontsize=10];"
+    );
+    for (w, ws) in a.workspaces.iter().enumerate() {
+        let nodes: Vec<usize> = (0..o.graph.nodes.len())
+            .filter(|&n| o.graph.nodes[n].workspace as usize == w)
+            .collect();
+        if nodes.is_empty() {
+            continue;
+        }
+        let label = match &ws.label {
+            Some(l) if !ws.derived => format!("{} ({l})", ws.name),
+            _ => ws.name.clone(),
+        };
+        let _ = writeln!(
+            out,
+            "  subgraph {} {{",
+            quote(&format!("cluster_{}", ws.name))
+        );
+        let _ = writeln!(out, "    label={};", quote(&label));
+        for n in nodes {
+            let node = o.graph.nodes[n];
+            let ee = a
+                .end_effectors
+                .get(node.end_effector as usize)
+                .map_or("?", |e| e.name.as_str());
+            let grasp = o
+                .grasps
+                .get(node.grasp as usize)
+                .map_or("?", |g| g.name.as_str());
+            let _ = writeln!(
+                out,
+                "    n{n} [label={}];",
+                quote(&format!("{ee}\n{grasp}"))
+            );
+        }
+        let _ = writeln!(out, "  }}");
+    }
+    for arc in &o.graph.arcs {
+        let style = match arc.kind {
+            ArcKind::Move => "dashed",
+            ArcKind::Transition => "solid",
+        };
+        let _ = writeln!(out, "  n{} -> n{} [style={style}];", arc.from, arc.to);
+    }
+    out.push_str("}\n");
+    out
+}
+
+#[derive(Serialize)]
+struct JsonGraph<'a> {
+    object: &'a str,
+    nodes: Vec<JsonNode<'a>>,
+    arcs: Vec<JsonArc>,
+}
+
+#[derive(Serialize)]
+struct JsonNode<'a> {
+    id: usize,
+    end_effector: &'a str,
+    grasp: &'a str,
+    workspace: &'a str,
+}
+
+#[derive(Serialize)]
+struct JsonArc {
+    from: u32,
+    to: u32,
+    kind: ArcKind,
+    weight: f64,
+    line: Option<u32>,
+}
+
+/// The graph with names, for programs.
+pub fn json(a: &Artifact, o: &Object) -> String {
+    let doc = JsonGraph {
+        object: &o.name,
+        nodes: o
+            .graph
+            .nodes
+            .iter()
+            .enumerate()
+            .map(|(id, n)| JsonNode {
+                id,
+                end_effector: a
+                    .end_effectors
+                    .get(n.end_effector as usize)
+                    .map_or("?", |e| &e.name),
+                grasp: o.grasps.get(n.grasp as usize).map_or("?", |g| &g.name),
+                workspace: a
+                    .workspaces
+                    .get(n.workspace as usize)
+                    .map_or("?", |w| &w.name),
+            })
+            .collect(),
+        arcs: o
+            .graph
+            .arcs
+            .iter()
+            .map(|arc| JsonArc {
+                from: arc.from,
+                to: arc.to,
+                kind: arc.kind,
+                weight: arc.weight,
+                line: a.spans.get(arc.source as usize).map(|s| s.line),
+            })
+            .collect(),
+    };
+    serde_json::to_string_pretty(&doc).unwrap_or_default() + "\n"
+}

@@ -1,0 +1,152 @@
+//! `cellc info CELL_OR_ARTIFACT`: what a compiled cell holds.
+
+use std::fmt::Write;
+use std::process::ExitCode;
+
+use cellc_schema::{Artifact, Body, Holder};
+
+/// Prints the summary of a cell (compiled now) or of an artifact file.
+pub fn run(path: &str) -> ExitCode {
+    match crate::artifact_io::cell_or_artifact(path) {
+        Some(artifact) => {
+            print!("{}", describe(&artifact));
+            ExitCode::SUCCESS
+        }
+        None => ExitCode::from(1),
+    }
+}
+
+fn names(
+    artifact: &Artifact,
+    indices: impl Iterator<Item = u32>,
+    of: impl Fn(&Artifact, u32) -> String,
+) -> String {
+    let list: Vec<String> = indices.map(|i| of(artifact, i)).collect();
+    if list.is_empty() {
+        "nothing".to_string()
+    } else {
+        list.join(", ")
+    }
+}
+
+fn ee_name(a: &Artifact, i: u32) -> String {
+    a.end_effectors
+        .get(i as usize)
+        .map_or_else(|| format!("#{i}"), |e| e.name.clone())
+}
+
+fn ws_name(a: &Artifact, i: u32) -> String {
+    a.workspaces
+        .get(i as usize)
+        .map_or_else(|| format!("#{i}"), |w| w.name.clone())
+}
+
+fn m(v: f64) -> String {
+    let rounded = (v * 1000.0).round() / 1000.0;
+    format!("{}", if rounded == 0.0 { 0.0 } else { rounded })
+}
+
+/// The human summary: workspaces with their boxes and reachers, end-effectors, and per
+/// object its nodes and arcs by kind.
+pub fn describe(a: &Artifact) -> String {
+    let mut out = String::new();
+    let _ = writeln!(
+        out,
+        "cell {} (artifact format {}, cellc {})",
+        a.cell, a.format_version, a.compiler_version
+    );
+    let _ = writeln!(
+        out,
+        "weights: move {}, transition {}",
+        a.weights.move_weight, a.weights.transition_weight
+    );
+    let _ = writeln!(out, "\nworkspaces ({})", a.workspaces.len());
+    for (i, w) in a.workspaces.iter().enumerate() {
+        let reachers = names(
+            a,
+            a.end_effectors
+                .iter()
+                .enumerate()
+                .filter(|(_, e)| e.reaches.contains(&(i as u32)))
+                .map(|(j, _)| j as u32),
+            ee_name,
+        );
+        let label = w
+            .label
+            .as_ref()
+            .map(|l| format!(" \"{l}\""))
+            .unwrap_or_default();
+        let derived = if w.derived { " (derived)" } else { "" };
+        let _ = writeln!(out, "  {}{label}{derived}: reached by {reachers}", w.name);
+        for b in &w.boxes {
+            let _ = writeln!(
+                out,
+                "    box x {}..{}, y {}..{}, z {}..{} m",
+                m(b.min[0]),
+                m(b.max[0]),
+                m(b.min[1]),
+                m(b.max[1]),
+                m(b.min[2]),
+                m(b.max[2])
+            );
+        }
+    }
+    let _ = writeln!(out, "\nend-effectors ({})", a.end_effectors.len());
+    for e in &a.end_effectors {
+        let kind = e
+            .kind
+            .and_then(|k| a.holder_kinds.get(k as usize))
+            .map(|k| format!(" {}", k.name))
+            .unwrap_or_default();
+        let body = match &e.body {
+            Body::Abstract => String::new(),
+            Body::Arm { robot, .. } => a
+                .robots
+                .get(*robot as usize)
+                .map(|r| format!(", robot {}", r.name))
+                .unwrap_or_default(),
+            Body::Surface { .. } => ", surface".to_string(),
+        };
+        let mobility = if e.movable { "movable" } else { "fixed" };
+        let reaches = names(a, e.reaches.iter().copied(), ws_name);
+        let _ = writeln!(
+            out,
+            "  {} ({mobility}{kind}{body}): reaches {reaches}",
+            e.name
+        );
+    }
+    let _ = writeln!(out, "\nobjects ({})", a.objects.len());
+    for o in &a.objects {
+        let g = &o.graph;
+        let mut holders: Vec<u32> = g.nodes.iter().map(|n| n.end_effector).collect();
+        holders.sort();
+        holders.dedup();
+        let mut workspaces: Vec<u32> = g.nodes.iter().map(|n| n.workspace).collect();
+        workspaces.sort();
+        workspaces.dedup();
+        let _ = writeln!(
+            out,
+            "  {}: {} nodes, {} arcs ({} moves, {} transitions); {} grasps, {} end-effectors, {} workspaces",
+            o.name,
+            g.nodes.len(),
+            g.arcs.len(),
+            g.n_moves(),
+            g.n_transitions(),
+            o.grasps.len(),
+            holders.len(),
+            workspaces.len()
+        );
+        let by_kind = o
+            .grasps
+            .iter()
+            .filter(|gr| matches!(gr.holder, Holder::Kind(_)))
+            .count();
+        if by_kind > 0 {
+            let _ = writeln!(
+                out,
+                "    {by_kind} of the grasps are declared per holder kind"
+            );
+        }
+    }
+    out
+}

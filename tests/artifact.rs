@@ -1,0 +1,162 @@
+//! The artifact: deterministic bytes, both encodings carry the same value, damaged files
+//! are refused with coded diagnostics (never a panic), and arcs point back at the lines
+//! that made them.
+
+use cellc::fs_world::FsWorld;
+use cellc_schema::{ArcKind, Artifact, Encoding, ReadError};
+
+fn build(path: &str) -> Artifact {
+    let compilation = cellc_compiler::compile(&FsWorld, path);
+    assert!(!compilation.has_errors(), "{path} has errors");
+    let cell = compilation.cell.as_ref().expect("resolved");
+    cellc_compiler::artifact::lower(cell, &compilation.graphs, &compilation.sources)
+}
+
+#[test]
+fn same_cell_same_bytes() {
+    for cell in ["cells/fig3.cell", "cells/vito.cell"] {
+        for encoding in [Encoding::Json, Encoding::Binary] {
+            assert_eq!(
+                build(cell).to_bytes(encoding),
+                build(cell).to_bytes(encoding),
+                "{cell}"
+            );
+        }
+    }
+}
+
+#[test]
+fn both_encodings_round_trip() {
+    for cell in ["cells/fig3.cell", "cells/vito.cell"] {
+        let artifact = build(cell);
+        for encoding in [Encoding::Json, Encoding::Binary] {
+            let (back, found) =
+                Artifact::from_bytes(&artifact.to_bytes(encoding)).expect("decodes");
+            assert_eq!(found, encoding);
+            assert_eq!(back, artifact);
+        }
+    }
+}
+
+#[test]
+fn every_truncation_is_refused_without_panic() {
+    let artifact = build("cells/fig3.cell");
+    for encoding in [Encoding::Json, Encoding::Binary] {
+        let bytes = artifact.to_bytes(encoding);
+        // The JSON artifact ends with a newline, which a reader may do without.
+        let whole = if encoding == Encoding::Json {
+            bytes.len() - 1
+        } else {
+            bytes.len()
+        };
+        for cut in 0..whole {
+            let result = Artifact::from_bytes(&bytes[..cut]);
+            assert!(
+                result.is_err(),
+                "{encoding:?} cut at {cut} of {} decoded",
+                bytes.len()
+            );
+        }
+    }
+}
+
+#[test]
+fn other_versions_and_other_files_are_told_apart() {
+    let mut artifact = build("cells/fig3.cell");
+    artifact.format_version = 999;
+    for encoding in [Encoding::Json, Encoding::Binary] {
+        let mut bytes = artifact.to_bytes(encoding);
+        if encoding == Encoding::Binary {
+            bytes[8..12].copy_from_slice(&999u32.to_le_bytes());
+        }
+        assert!(matches!(
+            Artifact::from_bytes(&bytes),
+            Err(ReadError::WrongVersion { found: 999, .. })
+        ));
+    }
+    assert_eq!(
+        Artifact::from_bytes(b"cell x {}"),
+        Err(ReadError::NotAnArtifact)
+    );
+    assert_eq!(Artifact::from_bytes(b""), Err(ReadError::NotAnArtifact));
+}
+
+#[test]
+fn fig3_artifact_has_the_fig6_graph_with_provenance() {
+    let artifact = build("cells/fig3.cell");
+    let source = std::fs::read_to_string("cells/fig3.cell").expect("fig3 exists");
+    let graph = &artifact.objects[0].graph;
+    assert_eq!(
+        (graph.nodes.len(), graph.n_moves(), graph.n_transitions()),
+        (21, 12, 52)
+    );
+    for arc in &graph.arcs {
+        let span = artifact.spans[arc.source as usize];
+        let text = &source[span.start as usize..span.end as usize];
+        match arc.kind {
+            ArcKind::Transition => assert!(text.starts_with("transition"), "{text}"),
+            ArcKind::Move => {
+                assert!(text.starts_with("grasp"), "{text}");
+                let via = artifact.spans[arc.via.expect("fig3 declares adjacency") as usize];
+                assert!(source[via.start as usize..via.end as usize].starts_with("adjacent"));
+            }
+        }
+        // Moves keep the grasp and change the workspace; transitions the reverse.
+        let (a, b) = (graph.nodes[arc.from as usize], graph.nodes[arc.to as usize]);
+        match arc.kind {
+            ArcKind::Move => assert!(
+                a.grasp == b.grasp
+                    && a.end_effector == b.end_effector
+                    && a.workspace != b.workspace
+            ),
+            ArcKind::Transition => assert!(a.grasp != b.grasp && a.workspace == b.workspace),
+        }
+    }
+    assert_eq!(artifact.sources.len(), 1);
+    assert_eq!(artifact.sources[0].sha256.len(), 64);
+}
+
+#[test]
+fn vito_artifact_hashes_its_urdf() {
+    let artifact = build("cells/vito.cell");
+    let urdf = std::fs::read("cells/robots/kuka_lwr4.urdf").expect("urdf exists");
+    assert_eq!(
+        artifact.robots[0].urdf_sha256,
+        cellc_compiler::artifact::sha256_hex(&urdf)
+    );
+    assert!(artifact
+        .sources
+        .iter()
+        .any(|s| s.path == "cells/robots/kuka_lwr4.cell"));
+}
+
+#[test]
+fn dot_output_has_a_cluster_per_workspace() {
+    let artifact = build("cells/fig3.cell");
+    let dot = cellc::commands::graph::dot(&artifact, &artifact.objects[0]);
+    assert_eq!(dot.matches("subgraph").count(), 3);
+    assert_eq!(dot.matches("[style=solid]").count(), 52);
+    assert_eq!(dot.matches("[style=dashed]").count(), 12);
+}
+
+/// UI tests for artifact files: `tests/ui/artifact/CODE_what.*` must be refused with
+/// exactly that code; the rendered diagnostic is snapshotted.
+#[test]
+fn damaged_artifacts_ui() {
+    let mut checked = 0;
+    insta::glob!("ui/artifact/*", |path| {
+        let name = path.file_name().unwrap().to_string_lossy().to_string();
+        let code = name.split('_').next().unwrap_or_default().to_string();
+        let shown = format!("tests/ui/artifact/{name}");
+        let diagnostic = cellc::artifact_io::read(&shown).expect_err("damaged artifact is refused");
+        assert_eq!(diagnostic.code.as_str(), code, "{name}");
+        let rendered = cellc::render::human(
+            std::slice::from_ref(&diagnostic),
+            &cellc_lang::SourceMap::new(),
+            cellc::render::Color::Never,
+        );
+        insta::assert_snapshot!(rendered);
+        checked += 1;
+    });
+    assert_eq!(checked, 3);
+}
