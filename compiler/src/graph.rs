@@ -129,8 +129,13 @@ fn build_object(
 ) -> ObjectGraph {
     let mut graph = DiGraph::new();
     let mut index = HashMap::new();
+    // first[(e, g)] = node of S(e, g, reaches(e)[0]); the states of one (e, g) are
+    // consecutive, in the order of e's sorted reach, so a state's node is found by a
+    // binary search instead of hashing every arc's endpoints.
+    let mut first: HashMap<(EndEffectorId, GraspId), u32> = HashMap::new();
     for &g in &obj.grasps {
         for &e in &holders[g.index()] {
+            first.insert((e, g), graph.node_count() as u32);
             for &w in &cell.end_effectors[e].reaches {
                 let state = State {
                     end_effector: e,
@@ -141,6 +146,11 @@ fn build_object(
             }
         }
     }
+    let node = |e: EndEffectorId, g: GraspId, w: WorkspaceId| -> Option<NodeIndex> {
+        let start = *first.get(&(e, g))?;
+        let position = cell.end_effectors[e].reaches.binary_search(&w).ok()?;
+        Some(NodeIndex::new(start as usize + position))
+    };
     let weights = cell.weights;
     for &g in &obj.grasps {
         for &e in &holders[g.index()] {
@@ -153,82 +163,61 @@ fn build_object(
                     let Some(adj) = adjacency[wi.index() * n_ws + wj.index()] else {
                         continue;
                     };
-                    let from = index[&State {
-                        end_effector: e,
-                        grasp: g,
-                        workspace: wi,
-                    }];
-                    let to = index[&State {
-                        end_effector: e,
-                        grasp: g,
-                        workspace: wj,
-                    }];
-                    graph.add_edge(
-                        from,
-                        to,
-                        StateArc {
-                            weight: weights.move_weight,
-                            source: ArcSource::Move { adjacency: adj },
-                        },
-                    );
+                    if let (Some(from), Some(to)) = (node(e, g, wi), node(e, g, wj)) {
+                        graph.add_edge(
+                            from,
+                            to,
+                            StateArc {
+                                weight: weights.move_weight,
+                                source: ArcSource::Move { adjacency: adj },
+                            },
+                        );
+                    }
                 }
             }
+        }
+    }
+    // Who reaches each workspace: usually two or three end-effectors, so transitions are
+    // expanded per workspace rather than per pair of holders.
+    let mut reachers: Vec<Vec<EndEffectorId>> = vec![Vec::new(); n_ws];
+    for (e, ee) in cell.end_effectors.iter() {
+        for &w in &ee.reaches {
+            reachers[w.index()].push(e);
         }
     }
     for (t, transition) in cell.transitions.iter().enumerate() {
-        if cell.grasps[transition.from].object != object
-            || cell.grasps[transition.to].object != object
-        {
+        if cell.grasps[transition.from].object != object || cell.grasps[transition.to].object != object {
             continue;
         }
-        let explicit = matches!(
-            cell.grasps[transition.from].holder,
-            Some(Holder::EndEffector(_))
-        ) && matches!(
-            cell.grasps[transition.to].holder,
-            Some(Holder::EndEffector(_))
-        );
-        for &ei in &holders[transition.from.index()] {
-            for &ej in &holders[transition.to.index()] {
-                // A hand kind's grasps expand to every hand of that kind, but no hand
-                // passes an object to itself; explicit same-holder rows (imported
-                // databases) are kept and warned about.
-                if ei == ej && !explicit {
-                    continue;
-                }
-                let (a, b) = (&cell.end_effectors[ei], &cell.end_effectors[ej]);
-                if !a.is_movable() && !b.is_movable() {
-                    continue;
-                }
-                for &w in &a.reaches {
-                    if !b.reaches.contains(&w) {
+        let explicit = matches!(cell.grasps[transition.from].holder, Some(Holder::EndEffector(_)))
+            && matches!(cell.grasps[transition.to].holder, Some(Holder::EndEffector(_)));
+        let (from_holders, to_holders) = (&holders[transition.from.index()], &holders[transition.to.index()]);
+        for (w, here) in reachers.iter().enumerate() {
+            let w = WorkspaceId(w as u32);
+            for &ei in here.iter().filter(|e| from_holders.binary_search(e).is_ok()) {
+                for &ej in here.iter().filter(|e| to_holders.binary_search(e).is_ok()) {
+                    // A hand kind's grasps expand to every hand of that kind, but no hand
+                    // passes an object to itself; explicit same-holder rows (imported
+                    // databases) are kept and warned about.
+                    if ei == ej && !explicit {
                         continue;
                     }
-                    let from = index[&State {
-                        end_effector: ei,
-                        grasp: transition.from,
-                        workspace: w,
-                    }];
-                    let to = index[&State {
-                        end_effector: ej,
-                        grasp: transition.to,
-                        workspace: w,
-                    }];
-                    graph.add_edge(
-                        from,
-                        to,
-                        StateArc {
-                            weight: weights.transition_weight,
-                            source: ArcSource::Transition { transition: t },
-                        },
-                    );
+                    if !cell.end_effectors[ei].is_movable() && !cell.end_effectors[ej].is_movable() {
+                        continue;
+                    }
+                    if let (Some(from), Some(to)) = (node(ei, transition.from, w), node(ej, transition.to, w)) {
+                        graph.add_edge(
+                            from,
+                            to,
+                            StateArc {
+                                weight: weights.transition_weight,
+                                source: ArcSource::Transition { transition: t },
+                            },
+                        );
+                    }
                 }
             }
         }
     }
-    ObjectGraph {
-        object,
-        graph,
-        index,
-    }
+    ObjectGraph { object, graph, index }
 }
