@@ -59,22 +59,34 @@ pub fn short(diagnostics: &[Diagnostic], sources: &SourceMap) -> String {
                 let file = sources.get(label.file);
                 let (line, col) = file.line_col(label.span.start);
                 out.push_str(&format!(
-                    "{}:{line}:{col}: {}[{}]: {}\n",
+                    "{}:{line}:{col}: {}[{}]: {}{}\n",
                     file.path,
                     d.severity.as_str(),
                     d.code,
-                    d.message
+                    d.message,
+                    notes_suffix(d)
                 ));
             }
             None => out.push_str(&format!(
-                "{}[{}]: {}\n",
+                "{}[{}]: {}{}\n",
                 d.severity.as_str(),
                 d.code,
-                d.message
+                d.message,
+                notes_suffix(d)
             )),
         }
     }
     out
+}
+
+/// Notes in parentheses, so the one-line form still says why (e.g. why a requirement
+/// fails).
+fn notes_suffix(d: &Diagnostic) -> String {
+    if d.notes.is_empty() {
+        String::new()
+    } else {
+        format!(" ({})", d.notes.join("; "))
+    }
 }
 
 /// The JSON document for a run of `cellc check`.

@@ -194,7 +194,7 @@ pub fn check_graphs(cell: &Cell, graphs: &[ObjectGraph], diagnostics: &mut Vec<D
 /// `(holder, grasp, workspace)` with names, for messages.
 pub fn describe_state(cell: &Cell, state: crate::graph::State) -> String {
     format!(
-        "({}, {}, {})",
+        "(`{}`, `{}`, `{}`)",
         cell.end_effectors[state.end_effector].name,
         cell.grasps[state.grasp].name,
         cell.workspaces[state.workspace].name

@@ -30,8 +30,12 @@ pub mod codes {
     pub const BAD_WEIGHT: Code = Code("E0205");
     /// A symmetry of order 0.
     pub const BAD_SYMMETRY_ORDER: Code = Code("E0206");
-    /// Two `units` lines in one file, or two length (angle) units in one line.
+    /// A length (or angle) unit set twice in one file.
     pub const CONFLICTING_UNITS: Code = Code("E0207");
+    /// A number too large to be finite (`1e999`).
+    pub const NOT_FINITE: Code = Code("E0208");
+    /// An arc weight set twice.
+    pub const WEIGHT_SET_TWICE: Code = Code("E0209");
 
     /// A transition between two non-movable end-effectors.
     pub const FIXED_TO_FIXED: Code = Code("E0301");
@@ -84,6 +88,8 @@ pub mod codes {
     pub const UNUSED_GRASP: Code = Code("W0003");
     /// A transition between two grasps of one end-effector.
     pub const SAME_HOLDER_TRANSITION: Code = Code("W0004");
+    /// The same directed transition declared twice.
+    pub const DUPLICATE_TRANSITION: Code = Code("W0005");
 
     /// Every code of the compiler.
     pub const ALL: &[Code] = &[
@@ -97,6 +103,8 @@ pub mod codes {
         BAD_WEIGHT,
         BAD_SYMMETRY_ORDER,
         CONFLICTING_UNITS,
+        NOT_FINITE,
+        WEIGHT_SET_TWICE,
         FIXED_TO_FIXED,
         KIND_WITHOUT_HOLDER,
         CROSS_OBJECT_TRANSITION,
@@ -121,6 +129,7 @@ pub mod codes {
         DEAD_END_STATE,
         UNUSED_GRASP,
         SAME_HOLDER_TRANSITION,
+        DUPLICATE_TRANSITION,
     ];
 }
 
@@ -298,7 +307,7 @@ pub fn not_a_rotation(norm: f64, file: FileId, span: Span) -> Diagnostic {
 pub fn not_positive(what: &str, value: f64, file: FileId, span: Span) -> Diagnostic {
     Diagnostic::error(NOT_POSITIVE, format!("{what} must be positive"))
         .primary(file, span, format!("this is {value}"))
-        .help(format!("give a {what} greater than zero"))
+        .help(format!("use {what} greater than zero"))
 }
 
 /// A negative or non-finite weight.
@@ -313,6 +322,38 @@ pub fn bad_symmetry_order(file: FileId, span: Span) -> Diagnostic {
     Diagnostic::error(BAD_SYMMETRY_ORDER, "a symmetry order must be at least 1")
         .primary(file, span, "order 0")
         .help("write `order N` for a symmetry under rotations by 360°/N, or drop `order` for any angle")
+}
+
+/// `1e999`.
+pub fn not_finite(file: FileId, span: Span) -> Diagnostic {
+    Diagnostic::error(NOT_FINITE, "this number is too large")
+        .primary(file, span, "beyond the range of a 64-bit float")
+        .help("write a number below 1e308 (cell dimensions are metres and radians)")
+}
+
+/// `weights move 0.1` twice (also across included files).
+pub fn weight_set_twice(what: &str, file: FileId, span: Span, first: Origin) -> Diagnostic {
+    Diagnostic::error(WEIGHT_SET_TWICE, format!("the {what} weight is set twice"))
+        .primary(file, span, "set again here")
+        .secondary(first.file, first.span, "first set here")
+        .help(format!(
+            "set the {what} weight once, in the cell (not in a library it includes)"
+        ))
+}
+
+/// The same directed transition twice.
+pub fn duplicate_transition(from: &str, to: &str, again: Origin, first: Origin) -> Diagnostic {
+    let d = Diagnostic::warning(
+        DUPLICATE_TRANSITION,
+        format!("transition `{from}` -> `{to}` is declared twice"),
+    )
+    .primary(again.file, again.span, "declared again here");
+    let d = if first.span != again.span {
+        d.secondary(first.file, first.span, "first declared here")
+    } else {
+        d
+    };
+    d.help("remove the repeated transition; a transition adds its arcs once")
 }
 
 /// Two length units or two angle units.
@@ -348,7 +389,7 @@ pub fn kind_without_holder(kind: &str, grasp: Origin, kind_origin: Origin) -> Di
         "kind declared here",
     )
     .help(format!(
-        "add an arm or surface `with`/`:` `{kind}`, or declare this pose for a kind the cell has"
+        "add an end-effector of kind `{kind}` (`arm NAME = ROBOT at (x, y, z) with {kind}` or `surface NAME : {kind} box ...`), or declare this pose for a kind the cell has"
     ))
 }
 

@@ -22,7 +22,7 @@ pub fn check(cell: &Cell, graphs: &[ObjectGraph], diagnostics: &mut Vec<Diagnost
                         &cell.end_effectors[p.end_effector].name,
                         &cell.grasps[g].name,
                         expectation.origin.file,
-                        expectation.origin.span,
+                        p.span,
                     ));
                 }
             }
@@ -133,6 +133,11 @@ pub fn holds(cell: &Cell, graphs: &[ObjectGraph], requirement: &Requirement) -> 
                     .map(|r| format!("`{r}`"))
                     .collect::<Vec<_>>()
                     .join(", ")
+            };
+            let which = if reachers.len() == 1 {
+                which.trim_end_matches('s')
+            } else {
+                which
             };
             Err(format!(
                 "`{}` is reached by {} {which} ({list}), fewer than {at_least}",

@@ -186,15 +186,28 @@ fn build_object(
         }
     }
     for (t, transition) in cell.transitions.iter().enumerate() {
-        if cell.grasps[transition.from].object != object || cell.grasps[transition.to].object != object {
+        if cell.grasps[transition.from].object != object
+            || cell.grasps[transition.to].object != object
+        {
             continue;
         }
-        let explicit = matches!(cell.grasps[transition.from].holder, Some(Holder::EndEffector(_)))
-            && matches!(cell.grasps[transition.to].holder, Some(Holder::EndEffector(_)));
-        let (from_holders, to_holders) = (&holders[transition.from.index()], &holders[transition.to.index()]);
+        let explicit = matches!(
+            cell.grasps[transition.from].holder,
+            Some(Holder::EndEffector(_))
+        ) && matches!(
+            cell.grasps[transition.to].holder,
+            Some(Holder::EndEffector(_))
+        );
+        let (from_holders, to_holders) = (
+            &holders[transition.from.index()],
+            &holders[transition.to.index()],
+        );
         for (w, here) in reachers.iter().enumerate() {
             let w = WorkspaceId(w as u32);
-            for &ei in here.iter().filter(|e| from_holders.binary_search(e).is_ok()) {
+            for &ei in here
+                .iter()
+                .filter(|e| from_holders.binary_search(e).is_ok())
+            {
                 for &ej in here.iter().filter(|e| to_holders.binary_search(e).is_ok()) {
                     // A hand kind's grasps expand to every hand of that kind, but no hand
                     // passes an object to itself; explicit same-holder rows (imported
@@ -202,10 +215,13 @@ fn build_object(
                     if ei == ej && !explicit {
                         continue;
                     }
-                    if !cell.end_effectors[ei].is_movable() && !cell.end_effectors[ej].is_movable() {
+                    if !cell.end_effectors[ei].is_movable() && !cell.end_effectors[ej].is_movable()
+                    {
                         continue;
                     }
-                    if let (Some(from), Some(to)) = (node(ei, transition.from, w), node(ej, transition.to, w)) {
+                    if let (Some(from), Some(to)) =
+                        (node(ei, transition.from, w), node(ej, transition.to, w))
+                    {
                         graph.add_edge(
                             from,
                             to,
@@ -219,5 +235,9 @@ fn build_object(
             }
         }
     }
-    ObjectGraph { object, graph, index }
+    ObjectGraph {
+        object,
+        graph,
+        index,
+    }
 }

@@ -292,6 +292,8 @@ pub struct Placement {
     pub grasp: Option<GraspId>,
     /// Workspace.
     pub workspace: WorkspaceId,
+    /// The placement as written.
+    pub span: Span,
 }
 
 /// A resolved `expect` with its origin.

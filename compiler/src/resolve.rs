@@ -53,6 +53,8 @@ pub fn resolve(world: &dyn World, loaded: &Loaded, diagnostics: &mut Vec<Diagnos
         names: HashMap::new(),
         origins: HashMap::new(),
         grasp_names: HashMap::new(),
+        weight_origins: [None, None],
+        transition_origins: HashMap::new(),
         diagnostics,
     };
     if let Some(main) = loaded.files.first().and_then(|f| f.ast.as_ref()) {
@@ -77,7 +79,7 @@ pub fn resolve(world: &dyn World, loaded: &Loaded, diagnostics: &mut Vec<Diagnos
             r.resolve_item(*id, units[i], item);
         }
     }
-    // Requirements may name derived workspaces, so they are resolved after derivation.
+    // Workspaces are derived before anything that may name them is resolved.
     crate::workspaces::assign(&mut r.cell, r.diagnostics);
     let derived: Vec<(String, WorkspaceId, Origin)> = r
         .cell
@@ -89,6 +91,16 @@ pub fn resolve(world: &dyn World, loaded: &Loaded, diagnostics: &mut Vec<Diagnos
     for (name, id, origin) in derived {
         r.names.insert(name.clone(), Entry::Workspace(id));
         r.origins.insert(name, origin);
+    }
+    // Abstract reach lists, adjacencies and requirements may name derived workspaces.
+    for (id, _, file) in &files {
+        for item in &file.items {
+            match item {
+                ast::Item::EndEffector(e) => r.resolve_reaches(*id, e),
+                ast::Item::Adjacent(adj) => r.resolve_adjacent(*id, adj),
+                _ => {}
+            }
+        }
     }
     for (id, _, file) in &files {
         for item in &file.items {
@@ -106,6 +118,10 @@ struct Resolver<'w, 'd> {
     names: HashMap<String, Entry>,
     origins: HashMap<String, Origin>,
     grasp_names: HashMap<(ObjectId, String), GraspId>,
+    /// Where the move and transition weights were set, to refuse setting them twice.
+    weight_origins: [Option<Origin>; 2],
+    /// First declaration of each directed transition.
+    transition_origins: HashMap<(GraspId, GraspId), Origin>,
     diagnostics: &'d mut Vec<Diagnostic>,
 }
 
@@ -259,6 +275,24 @@ impl Resolver<'_, '_> {
                         ));
                         continue;
                     }
+                    let (slot, what) = match weight.kind {
+                        ast::ArcKind::Move => (0, "move"),
+                        ast::ArcKind::Transition => (1, "transition"),
+                    };
+                    if let Some(first) = self.weight_origins[slot] {
+                        self.diagnostics.push(diagnostics::weight_set_twice(
+                            what,
+                            file,
+                            weight.span,
+                            first,
+                        ));
+                        continue;
+                    }
+                    self.weight_origins[slot] = Some(Origin {
+                        file,
+                        span: weight.span,
+                        name_span: weight.span,
+                    });
                     match weight.kind {
                         ast::ArcKind::Move => self.cell.weights.move_weight = weight.value,
                         ast::ArcKind::Transition => {
@@ -545,22 +579,6 @@ impl Resolver<'_, '_> {
 
     fn resolve_item(&mut self, file: FileId, units: FileUnits, item: &ast::Item) {
         match item {
-            ast::Item::EndEffector(e) => {
-                let Some(Entry::EndEffector(id)) = self.names.get(&e.name.text).copied() else {
-                    return;
-                };
-                if self.cell.end_effectors[id].origin.span != e.span {
-                    return; // a duplicate, already reported
-                }
-                let mut reaches: Vec<WorkspaceId> = e
-                    .reaches
-                    .iter()
-                    .filter_map(|w| self.workspace(file, w))
-                    .collect();
-                reaches.sort();
-                reaches.dedup();
-                self.cell.end_effectors[id].reaches = reaches;
-            }
             ast::Item::Arm(a) => {
                 let Some(Entry::EndEffector(id)) = self.names.get(&a.name.text).copied() else {
                     return;
@@ -593,6 +611,24 @@ impl Resolver<'_, '_> {
                     return;
                 }
                 let kind = self.kind(file, &s.kind);
+                if let Some(k) = kind {
+                    let k = &self.cell.holder_kinds[k];
+                    if k.class == HolderClass::Hand {
+                        self.diagnostics.push(
+                            Diagnostic::error(
+                                diagnostics::codes::WRONG_SORT,
+                                format!("`{}` is a hand kind, not a support kind", k.name),
+                            )
+                            .primary(file, s.kind.span, "a surface needs a support kind")
+                            .secondary(
+                                k.origin.file,
+                                k.origin.name_span,
+                                "declared with `hand` here",
+                            )
+                            .help("declare a support kind (`support NAME`) for the surface"),
+                        );
+                    }
+                }
                 self.cell.end_effectors[id].kind = kind;
             }
             ast::Item::Reach(r) => {
@@ -625,25 +661,43 @@ impl Resolver<'_, '_> {
                     self.cell.end_effectors[id].reach_boxes.push(b);
                 }
             }
-            ast::Item::Adjacent(adj) => {
-                let a = self.workspace(file, &adj.a);
-                let b = self.workspace(file, &adj.b);
-                let o = Origin {
-                    file,
-                    span: adj.span,
-                    name_span: adj.a.span,
-                };
-                if let (Some(a), Some(b)) = (a, b) {
-                    if a == b {
-                        self.diagnostics
-                            .push(diagnostics::self_adjacency(&adj.a.text, o));
-                        return;
-                    }
-                    self.cell.adjacencies.push(Adjacency { a, b, origin: o });
-                }
-            }
             ast::Item::Object(obj) => self.resolve_object(file, obj),
             _ => {}
+        }
+    }
+
+    fn resolve_reaches(&mut self, file: FileId, e: &ast::EndEffectorItem) {
+        let Some(Entry::EndEffector(id)) = self.names.get(&e.name.text).copied() else {
+            return;
+        };
+        if self.cell.end_effectors[id].origin.span != e.span {
+            return; // a duplicate, already reported
+        }
+        let mut reaches: Vec<WorkspaceId> = e
+            .reaches
+            .iter()
+            .filter_map(|w| self.workspace(file, w))
+            .collect();
+        reaches.sort();
+        reaches.dedup();
+        self.cell.end_effectors[id].reaches = reaches;
+    }
+
+    fn resolve_adjacent(&mut self, file: FileId, adj: &ast::AdjacentItem) {
+        let a = self.workspace(file, &adj.a);
+        let b = self.workspace(file, &adj.b);
+        let o = Origin {
+            file,
+            span: adj.span,
+            name_span: adj.a.span,
+        };
+        if let (Some(a), Some(b)) = (a, b) {
+            if a == b {
+                self.diagnostics
+                    .push(diagnostics::self_adjacency(&adj.a.text, o));
+                return;
+            }
+            self.cell.adjacencies.push(Adjacency { a, b, origin: o });
         }
     }
 
@@ -728,23 +782,29 @@ impl Resolver<'_, '_> {
                         let Some(to) = self.qualified_grasp(file, id, to) else {
                             continue;
                         };
-                        self.cell.transitions.push(Transition {
-                            from,
-                            to,
-                            origin: o,
-                        });
-                        if t.direction == ast::Direction::Both {
-                            self.cell.transitions.push(Transition {
-                                from: to,
-                                to: from,
-                                origin: o,
-                            });
+                        self.add_transition(from, to, o);
+                        // `g <-> g` (one hand kind's grasp passed between two hands of
+                        // that kind) is one directed transition, not two.
+                        if t.direction == ast::Direction::Both && from != to {
+                            self.add_transition(to, from, o);
                         }
                     }
                 }
                 _ => {}
             }
         }
+    }
+
+    /// Adds a directed transition once; a repeat is reported and adds no arcs.
+    fn add_transition(&mut self, from: GraspId, to: GraspId, origin: Origin) {
+        if let Some(&first) = self.transition_origins.get(&(from, to)) {
+            let (a, b) = (&self.cell.grasps[from].name, &self.cell.grasps[to].name);
+            self.diagnostics
+                .push(diagnostics::duplicate_transition(a, b, origin, first));
+            return;
+        }
+        self.transition_origins.insert((from, to), origin);
+        self.cell.transitions.push(Transition { from, to, origin });
     }
 
     fn is_hand(&self, holder: Holder) -> bool {
@@ -791,12 +851,10 @@ impl Resolver<'_, '_> {
         let text = describe_requirement(&e.requirement);
         let requirement = match &e.requirement {
             ast::Requirement::Reach { object, from, to } => {
-                let Some(object) = self.object(file, object) else {
-                    return;
-                };
+                let object = self.object(file, object);
                 let from = self.placement(file, object, from);
                 let to = self.placement(file, object, to);
-                let (Some(from), Some(to)) = (from, to) else {
+                let (Some(object), Some(from), Some(to)) = (object, from, to) else {
                     return;
                 };
                 Requirement::Reach { object, from, to }
@@ -833,15 +891,20 @@ impl Resolver<'_, '_> {
     fn placement(
         &mut self,
         file: FileId,
-        object: ObjectId,
+        object: Option<ObjectId>,
         p: &ast::Placement,
     ) -> Option<Placement> {
         let (holder_name, grasp_name) = match &p.holder.object {
             Some(holder) => (holder, Some(&p.holder.name)),
             None => (&p.holder.name, None),
         };
+        // Every name is looked up (and reported) even when an earlier one failed.
         let end_effector = self.end_effector(file, holder_name);
-        let grasp = grasp_name.map(|g| self.grasp_of(file, object, g));
+        let grasp = match (grasp_name, object) {
+            (Some(g), Some(object)) => Some(self.grasp_of(file, object, g)),
+            (Some(_), None) => Some(None),
+            (None, _) => None,
+        };
         let workspace = self.workspace(file, &p.workspace);
         let grasp = match grasp {
             Some(g) => Some(g?),
@@ -851,6 +914,7 @@ impl Resolver<'_, '_> {
             end_effector: end_effector?,
             grasp,
             workspace: workspace?,
+            span: p.span,
         })
     }
 }

@@ -58,7 +58,7 @@ pub struct Eval<'d> {
 impl Eval<'_> {
     fn value(&mut self, q: &ast::Quantity, dimension: Dimension) -> Option<f64> {
         let unit = match (q.unit, dimension) {
-            (None, Dimension::Number) => return Some(q.value),
+            (None, Dimension::Number) => return self.finite(q, q.value),
             (Some(unit), Dimension::Number) => {
                 self.diagnostics.push(diagnostics::wrong_unit(
                     dimension,
@@ -99,7 +99,17 @@ impl Eval<'_> {
             ));
             return None;
         }
-        Some(q.value * unit.to_si())
+        self.finite(q, q.value * unit.to_si())
+    }
+
+    fn finite(&mut self, q: &ast::Quantity, value: f64) -> Option<f64> {
+        if value.is_finite() {
+            Some(value)
+        } else {
+            self.diagnostics
+                .push(diagnostics::not_finite(self.file, q.span));
+            None
+        }
     }
 
     /// A length in metres.

@@ -43,9 +43,16 @@ pub fn load_robot(
     let model = match parsed {
         Ok(Ok(model)) => model,
         Ok(Err(error)) => {
+            // The reader prefixes serde's own category ("custom: "), which means nothing
+            // to a cell engineer.
+            let reason = error.to_string();
+            let reason = reason
+                .strip_prefix("custom: ")
+                .unwrap_or(&reason)
+                .to_string();
             diagnostics.push(diagnostics::urdf_invalid(
                 &path,
-                &error.to_string(),
+                &reason,
                 file,
                 item.urdf.span,
             ));
@@ -117,11 +124,22 @@ pub fn load_robot(
         }
     }
     chain.reverse();
-    let chain_joints = chain
+    let chain_joints: Vec<String> = chain
         .into_iter()
         .filter(|&j| !matches!(model.joints[j].joint_type, urdf_rs::JointType::Fixed))
         .map(|j| model.joints[j].name.clone())
         .collect();
+    if chain_joints.is_empty() {
+        diagnostics.push(
+            Diagnostic::error(
+                diagnostics::codes::URDF_NO_CHAIN,
+                format!("in `{path}`, no movable joint lies between `{base}` and `{}`", item.tip.text),
+            )
+            .primary(file, item.span, "this robot cannot move its tip")
+            .help("pick a base and tip with at least one revolute, continuous or prismatic joint between them"),
+        );
+        return None;
+    }
     Some(Robot {
         name: item.name.text.clone(),
         urdf_path: path,

@@ -70,9 +70,12 @@ fn derive(cell: &mut Cell, reach: &[(EndEffectorId, Vec<Aabb>)], origin: Origin)
         .flat_map(|(_, w)| w.boxes.iter().copied())
         .collect();
     let cuts: [Vec<f64>; 3] = [0, 1, 2].map(|axis| {
+        // Declared workspaces cut space too, so that no derived cell straddles one.
         let mut cuts: Vec<f64> = reach
             .iter()
-            .flat_map(|(_, boxes)| boxes.iter().flat_map(|b| [b.min[axis], b.max[axis]]))
+            .flat_map(|(_, boxes)| boxes.iter())
+            .chain(declared.iter())
+            .flat_map(|b| [b.min[axis], b.max[axis]])
             .collect();
         cuts.sort_by(f64::total_cmp);
         cuts.dedup_by(|a, b| (*a - *b).abs() <= EPS);

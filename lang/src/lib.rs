@@ -24,25 +24,62 @@ pub const MAX_NESTING: usize = 64;
 /// Parses one file's text. Never panics: every problem is a diagnostic.
 pub fn parse(file: FileId, text: &str) -> Parsed {
     pest::set_error_detail(true);
+    if let Some(offset) = too_deep_at(text) {
+        return Parsed {
+            file: None,
+            diagnostics: vec![phrases::too_deep(
+                file,
+                Span::new(offset, offset + 1),
+                MAX_NESTING,
+            )],
+        };
+    }
+    parser::parse(file, text)
+}
+
+/// The offset of the first `{` nested deeper than [`MAX_NESTING`], ignoring braces in
+/// comments, strings and quoted names.
+fn too_deep_at(text: &str) -> Option<usize> {
+    let bytes = text.as_bytes();
     let mut depth = 0usize;
-    for (offset, byte) in text.bytes().enumerate() {
-        match byte {
+    let mut i = 0;
+    while i < bytes.len() {
+        match bytes[i] {
+            b'/' if bytes.get(i + 1) == Some(&b'/') => {
+                while i < bytes.len() && bytes[i] != b'\n' {
+                    i += 1;
+                }
+            }
+            b'/' if bytes.get(i + 1) == Some(&b'*') => {
+                i += 2;
+                while i < bytes.len() && !(bytes[i] == b'*' && bytes.get(i + 1) == Some(&b'/')) {
+                    i += 1;
+                }
+                i += 2;
+            }
+            quote @ (b'"' | b'`') => {
+                i += 1;
+                while i < bytes.len() && bytes[i] != quote && bytes[i] != b'\n' {
+                    if quote == b'"' && bytes[i] == b'\\' {
+                        i += 1;
+                    }
+                    i += 1;
+                }
+                i += 1;
+            }
             b'{' => {
                 depth += 1;
                 if depth > MAX_NESTING {
-                    return Parsed {
-                        file: None,
-                        diagnostics: vec![phrases::too_deep(
-                            file,
-                            Span::new(offset, offset + 1),
-                            MAX_NESTING,
-                        )],
-                    };
+                    return Some(i);
                 }
+                i += 1;
             }
-            b'}' => depth = depth.saturating_sub(1),
-            _ => {}
+            b'}' => {
+                depth = depth.saturating_sub(1);
+                i += 1;
+            }
+            _ => i += 1,
         }
     }
-    parser::parse(file, text)
+    None
 }

@@ -41,6 +41,15 @@ fn ws_name(a: &Artifact, i: u32) -> String {
         .map_or_else(|| format!("#{i}"), |w| w.name.clone())
 }
 
+/// `1 node`, `2 nodes`.
+fn count(n: usize, noun: &str) -> String {
+    if n == 1 {
+        format!("1 {noun}")
+    } else {
+        format!("{n} {noun}s")
+    }
+}
+
 fn m(v: f64) -> String {
     let rounded = (v * 1000.0).round() / 1000.0;
     format!("{}", if rounded == 0.0 { 0.0 } else { rounded })
@@ -126,15 +135,15 @@ pub fn describe(a: &Artifact) -> String {
         workspaces.dedup();
         let _ = writeln!(
             out,
-            "  {}: {} nodes, {} arcs ({} moves, {} transitions); {} grasps, {} end-effectors, {} workspaces",
+            "  {}: {}, {} ({}, {}); {}, {}, {}",
             o.name,
-            g.nodes.len(),
-            g.arcs.len(),
-            g.n_moves(),
-            g.n_transitions(),
-            o.grasps.len(),
-            holders.len(),
-            workspaces.len()
+            count(g.nodes.len(), "node"),
+            count(g.arcs.len(), "arc"),
+            count(g.n_moves(), "move"),
+            count(g.n_transitions(), "transition"),
+            count(o.grasps.len(), "grasp"),
+            count(holders.len(), "end-effector"),
+            count(workspaces.len(), "workspace")
         );
         let by_kind = o
             .grasps
@@ -142,9 +151,10 @@ pub fn describe(a: &Artifact) -> String {
             .filter(|gr| matches!(gr.holder, Holder::Kind(_)))
             .count();
         if by_kind > 0 {
+            let verb = if by_kind == 1 { "is" } else { "are" };
             let _ = writeln!(
                 out,
-                "    {by_kind} of the grasps are declared per holder kind"
+                "    {by_kind} of the grasps {verb} declared per holder kind"
             );
         }
     }
