@@ -34,7 +34,16 @@ pub fn lower(cell: &Cell, graphs: &[ObjectGraph], sources: &SourceMap) -> schema
             urdf_sha256: sha256_hex(r.urdf_text.as_bytes()),
             base_link: r.base_link.clone(),
             tip_link: r.tip_link.clone(),
-            joints: r.chain_joints.clone(),
+            joints: r
+                .chain_joints
+                .iter()
+                .map(|j| schema::Joint {
+                    name: j.name.clone(),
+                    prismatic: j.prismatic,
+                    lower: j.lower.is_finite().then_some(j.lower),
+                    upper: j.upper.is_finite().then_some(j.upper),
+                })
+                .collect(),
             span: spans.get(r.origin.file, r.origin.span),
         })
         .collect();
@@ -77,10 +86,11 @@ pub fn lower(cell: &Cell, graphs: &[ObjectGraph], sources: &SourceMap) -> schema
             kind: e.kind.map(|k| k.0),
             body: match &e.body {
                 Body::Abstract => schema::Body::Abstract,
-                Body::Arm { robot, base } => match robot {
+                Body::Arm { robot, base, home } => match robot {
                     Some(robot) => schema::Body::Arm {
                         robot: robot.0,
                         base: pose(base),
+                        home: home.clone(),
                     },
                     None => schema::Body::Abstract,
                 },

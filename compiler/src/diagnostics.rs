@@ -79,6 +79,8 @@ pub mod codes {
     pub const URDF_UNKNOWN_LINK: Code = Code("E0403");
     /// No kinematic chain from the base link to the tip link.
     pub const URDF_NO_CHAIN: Code = Code("E0404");
+    /// A home joint value outside the joint's limits.
+    pub const HOME_OUT_OF_LIMITS: Code = Code("E0405");
 
     /// A transition declared one way only.
     pub const ASYMMETRIC_TRANSITION: Code = Code("W0001");
@@ -125,6 +127,7 @@ pub mod codes {
         URDF_INVALID,
         URDF_UNKNOWN_LINK,
         URDF_NO_CHAIN,
+        HOME_OUT_OF_LIMITS,
         ASYMMETRIC_TRANSITION,
         DEAD_END_STATE,
         UNUSED_GRASP,
@@ -592,6 +595,26 @@ pub fn urdf_unknown_link(
     .help(help)
 }
 
+/// A `home` joint that is not a movable joint of the chain.
+pub fn unknown_home_joint(
+    joint: &str,
+    robot: &str,
+    file: FileId,
+    span: Span,
+    suggestion: Option<&str>,
+) -> Diagnostic {
+    let help = match suggestion {
+        Some(s) => format!("did you mean `{s}`?"),
+        None => format!("name a revolute or prismatic joint between the base and tip of `{robot}`"),
+    };
+    Diagnostic::error(
+        URDF_UNKNOWN_LINK,
+        format!("`{joint}` is not a movable joint of robot `{robot}`"),
+    )
+    .primary(file, span, "no such joint between base and tip")
+    .help(help)
+}
+
 /// No chain from base to tip.
 pub fn urdf_no_chain(base: &str, tip: &str, path: &str, file: FileId, span: Span) -> Diagnostic {
     Diagnostic::error(
@@ -600,6 +623,44 @@ pub fn urdf_no_chain(base: &str, tip: &str, path: &str, file: FileId, span: Span
     )
     .primary(file, span, "no chain of joints from the base to the tip")
     .help("the tip must be a descendant of the base: swap them or pick other links")
+}
+
+/// A home value beyond a joint limit.
+pub fn home_out_of_limits(
+    joint: &str,
+    value: f64,
+    lower: f64,
+    upper: f64,
+    unit: &str,
+    file: FileId,
+    span: Span,
+) -> Diagnostic {
+    let show = |v: f64| {
+        if unit == "deg" {
+            format!("{:.1} deg", v.to_degrees())
+        } else {
+            format!("{v:.3} m")
+        }
+    };
+    Diagnostic::error(
+        HOME_OUT_OF_LIMITS,
+        format!("home value of `{joint}` is outside its limits"),
+    )
+    .primary(
+        file,
+        span,
+        format!(
+            "{} is not in {} .. {}",
+            show(value),
+            show(lower),
+            show(upper)
+        ),
+    )
+    .help(format!(
+        "give `{joint}` a value between {} and {}",
+        show(lower),
+        show(upper)
+    ))
 }
 
 /// `a -> b` without `b -> a`.

@@ -128,10 +128,23 @@ pub struct Robot {
     pub base_link: String,
     /// Tip link.
     pub tip_link: String,
-    /// Names of the movable joints from base to tip, in order.
-    pub chain_joints: Vec<String>,
+    /// The movable joints from base to tip, in order.
+    pub chain_joints: Vec<Joint>,
     /// Declaration.
     pub origin: Origin,
+}
+
+/// A movable joint of a robot's chain.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Joint {
+    /// URDF name.
+    pub name: String,
+    /// Revolute (radians) or prismatic (metres).
+    pub prismatic: bool,
+    /// Lower limit (`-inf` for continuous joints).
+    pub lower: f64,
+    /// Upper limit (`inf` for continuous joints).
+    pub upper: f64,
 }
 
 /// How an end-effector exists physically.
@@ -145,6 +158,8 @@ pub enum Body {
         robot: Option<RobotId>,
         /// Pose of the robot base in the cell.
         base: Pose,
+        /// Home configuration, one value per chain joint.
+        home: Vec<f64>,
     },
     /// A fixed surface: objects rest on the slab's top face.
     Surface {

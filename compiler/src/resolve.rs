@@ -191,6 +191,7 @@ impl Resolver<'_, '_> {
                 let body = Body::Arm {
                     robot: None,
                     base: base.unwrap_or_default(),
+                    home: Vec::new(),
                 };
                 self.declare_end_effector(&a.name, Mobility::Movable, body, o);
             }
@@ -597,10 +598,19 @@ impl Resolver<'_, '_> {
                     _ => None,
                 };
                 let kind = self.kind(file, &a.kind);
+                let home = robot
+                    .map(|r| self.home(file, units, r, &a.home))
+                    .unwrap_or_default();
                 let ee = &mut self.cell.end_effectors[id];
                 ee.kind = kind;
-                if let Body::Arm { robot: slot, .. } = &mut ee.body {
+                if let Body::Arm {
+                    robot: slot,
+                    home: home_slot,
+                    ..
+                } = &mut ee.body
+                {
                     *slot = robot;
+                    *home_slot = home;
                 }
             }
             ast::Item::Surface(s) => {
@@ -793,6 +803,60 @@ impl Resolver<'_, '_> {
                 _ => {}
             }
         }
+    }
+
+    /// The home configuration of an arm: zero for every chain joint (clamped into its
+    /// limits), then the values written in `home (...)`, each checked against the URDF.
+    fn home(
+        &mut self,
+        file: FileId,
+        units: FileUnits,
+        robot: RobotId,
+        values: &[ast::JointValue],
+    ) -> Vec<f64> {
+        let joints = self.cell.robots[robot].chain_joints.clone();
+        let mut home: Vec<f64> = joints
+            .iter()
+            .map(|j| 0.0f64.clamp(j.lower, j.upper))
+            .collect();
+        for value in values {
+            let Some(i) = joints.iter().position(|j| j.name == value.joint.text) else {
+                let suggestion =
+                    did_you_mean(&value.joint.text, joints.iter().map(|j| j.name.as_str()));
+                let robot_name = self.cell.robots[robot].name.clone();
+                self.diagnostics.push(diagnostics::unknown_home_joint(
+                    &value.joint.text,
+                    &robot_name,
+                    file,
+                    value.joint.span,
+                    suggestion,
+                ));
+                continue;
+            };
+            let joint = &joints[i];
+            let mut eval = self.eval(file, units);
+            let v = if joint.prismatic {
+                eval.length(&value.value)
+            } else {
+                eval.angle(&value.value)
+            };
+            let Some(v) = v else { continue };
+            if v < joint.lower - 1e-9 || v > joint.upper + 1e-9 {
+                let unit = if joint.prismatic { "m" } else { "deg" };
+                self.diagnostics.push(diagnostics::home_out_of_limits(
+                    &joint.name,
+                    v,
+                    joint.lower,
+                    joint.upper,
+                    unit,
+                    file,
+                    value.span,
+                ));
+                continue;
+            }
+            home[i] = v;
+        }
+        home
     }
 
     /// Adds a directed transition once; a repeat is reported and adds no arcs.

@@ -117,6 +117,11 @@ impl Eval<'_> {
         self.value(q, Dimension::Length)
     }
 
+    /// An angle in radians.
+    pub fn angle(&mut self, q: &ast::Quantity) -> Option<f64> {
+        self.value(q, Dimension::Angle)
+    }
+
     /// A strictly positive length in metres.
     pub fn positive_length(&mut self, q: &ast::Quantity, what: &str) -> Option<f64> {
         let value = self.length(q)?;

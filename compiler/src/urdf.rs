@@ -11,7 +11,7 @@ use cellc_lang::diagnostic::did_you_mean;
 use cellc_lang::{Diagnostic, FileId};
 
 use crate::diagnostics;
-use crate::model::{Origin, Robot};
+use crate::model::{Joint, Origin, Robot};
 use crate::world::{join, World};
 
 /// Loads the URDF of a `robot` item, reporting every problem; `None` when the model is
@@ -124,10 +124,23 @@ pub fn load_robot(
         }
     }
     chain.reverse();
-    let chain_joints: Vec<String> = chain
+    let chain_joints: Vec<Joint> = chain
         .into_iter()
-        .filter(|&j| !matches!(model.joints[j].joint_type, urdf_rs::JointType::Fixed))
-        .map(|j| model.joints[j].name.clone())
+        .filter_map(|j| {
+            let joint = &model.joints[j];
+            let (prismatic, lower, upper) = match joint.joint_type {
+                urdf_rs::JointType::Revolute => (false, joint.limit.lower, joint.limit.upper),
+                urdf_rs::JointType::Prismatic => (true, joint.limit.lower, joint.limit.upper),
+                urdf_rs::JointType::Continuous => (false, f64::NEG_INFINITY, f64::INFINITY),
+                _ => return None,
+            };
+            Some(Joint {
+                name: joint.name.clone(),
+                prismatic,
+                lower,
+                upper,
+            })
+        })
         .collect();
     if chain_joints.is_empty() {
         diagnostics.push(

@@ -395,7 +395,20 @@ pub struct ArmItem {
     pub pose: Pose,
     /// Holder kind mounted at the tip.
     pub kind: Name,
+    /// Joint values of the arm's home configuration (joints not named stay at zero).
+    pub home: Vec<JointValue>,
     /// Whole item.
+    pub span: Span,
+}
+
+/// `joint_2 30 deg` in a `home (...)` clause.
+#[derive(Clone, Debug, PartialEq)]
+pub struct JointValue {
+    /// URDF joint name.
+    pub joint: Name,
+    /// Angle (revolute joints) or length (prismatic joints).
+    pub value: Quantity,
+    /// The pair.
     pub span: Span,
 }
 

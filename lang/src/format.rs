@@ -616,13 +616,24 @@ fn item_text(item: &Item) -> String {
             out.push_str(&format!(" tip {}", name(&r.tip)));
             out
         }
-        Item::Arm(a) => format!(
-            "arm {} = {} {} with {}",
-            name(&a.name),
-            name(&a.robot),
-            pose(&a.pose),
-            name(&a.kind)
-        ),
+        Item::Arm(a) => {
+            let mut out = format!(
+                "arm {} = {} {} with {}",
+                name(&a.name),
+                name(&a.robot),
+                pose(&a.pose),
+                name(&a.kind)
+            );
+            if !a.home.is_empty() {
+                let values: Vec<String> = a
+                    .home
+                    .iter()
+                    .map(|j| format!("{} {}", name(&j.joint), quantity(&j.value)))
+                    .collect();
+                out.push_str(&format!(" home ({})", values.join(", ")));
+            }
+            out
+        }
         Item::Surface(s) => {
             let mut out = format!(
                 "surface {} : {} {}",

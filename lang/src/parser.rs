@@ -295,11 +295,26 @@ impl Builder<'_, '_> {
                 let pose = self.pose(inner.next()?)?;
                 let _with = inner.next();
                 let kind = self.name(inner.next()?)?;
+                let mut home = Vec::new();
+                if let Some(clause) = inner.next() {
+                    for pair in clause.into_inner().skip(1) {
+                        let pspan = span_of(&pair);
+                        let mut parts = pair.into_inner();
+                        let joint = self.name(parts.next()?)?;
+                        let value = self.quantity(parts.next()?)?;
+                        home.push(JointValue {
+                            joint,
+                            value,
+                            span: pspan,
+                        });
+                    }
+                }
                 Item::Arm(ArmItem {
                     name,
                     robot,
                     pose,
                     kind,
+                    home,
                     span,
                 })
             }

@@ -111,9 +111,22 @@ pub struct Robot {
     /// Tip link.
     pub tip_link: String,
     /// Movable joints from base to tip.
-    pub joints: Vec<String>,
+    pub joints: Vec<Joint>,
     /// Declaration.
     pub span: u32,
+}
+
+/// A movable joint of a robot's chain.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Joint {
+    /// URDF name.
+    pub name: String,
+    /// Prismatic (metres) rather than revolute (radians).
+    pub prismatic: bool,
+    /// Lower limit; `None` for continuous joints (JSON has no infinity).
+    pub lower: Option<f64>,
+    /// Upper limit; `None` for continuous joints.
+    pub upper: Option<f64>,
 }
 
 /// A shape in metres.
@@ -201,6 +214,8 @@ pub enum Body {
         robot: u32,
         /// Base placement in the cell.
         base: Pose,
+        /// Home configuration, one value per joint of the robot's chain.
+        home: Vec<f64>,
     },
     /// A fixed surface.
     Surface {
