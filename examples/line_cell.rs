@@ -5,7 +5,10 @@
 mod line;
 
 fn main() {
-    let args: Vec<usize> = std::env::args().skip(1).filter_map(|a| a.parse().ok()).collect();
+    let args: Vec<usize> = std::env::args()
+        .skip(1)
+        .filter_map(|a| a.parse().ok())
+        .collect();
     let arms = args.first().copied().unwrap_or(50);
     let grasps = args.get(1).copied().unwrap_or(100);
     let rests = args.get(2).copied().unwrap_or(4);

@@ -108,4 +108,24 @@ pub enum Command {
         /// The code.
         code: String,
     },
+    /// Import another system's description of a cell as a cell file.
+    Import {
+        /// What to import.
+        #[command(subcommand)]
+        source: ImportSource,
+    },
+}
+
+/// What `cellc import` reads.
+#[derive(Subcommand, Debug)]
+pub enum ImportSource {
+    /// The SQLite grasp database of the dual_manipulation planner (Marino et al.), as an
+    /// abstract-form cell; run `cellc check` on the output to see its warnings.
+    Dualmanip {
+        /// The database file.
+        db: PathBuf,
+        /// The cell file to write (written only when the import succeeds).
+        #[arg(short, long)]
+        output: PathBuf,
+    },
 }

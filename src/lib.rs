@@ -7,6 +7,7 @@ pub mod artifact_io;
 pub mod commands;
 pub mod docs;
 pub mod fs_world;
+pub mod import;
 pub mod render;
 
 use std::process::ExitCode;
@@ -18,6 +19,7 @@ pub fn all_codes() -> Vec<cellc_lang::Code> {
     let mut codes: Vec<cellc_lang::Code> = cellc_lang::phrases::codes::ALL.to_vec();
     codes.extend_from_slice(cellc_compiler::diagnostics::codes::ALL);
     codes.extend_from_slice(artifact_io::codes::ALL);
+    codes.extend_from_slice(import::diagnostics::codes::ALL);
     codes
 }
 
@@ -57,8 +59,11 @@ pub fn dispatch() -> ExitCode {
             commands::build::run(cell, output.as_deref(), encoding, *explain, *deny_warnings)
         }
         args::Command::Info { file } => commands::info::run(&file.to_string_lossy()),
-        args::Command::Graph { file, object, format } => {
-            commands::graph::run(&file.to_string_lossy(), object, *format)
-        }
+        args::Command::Graph {
+            file,
+            object,
+            format,
+        } => commands::graph::run(&file.to_string_lossy(), object, *format),
+        args::Command::Import { source } => commands::import::run(source),
     }
 }

@@ -30,9 +30,9 @@ fn every_code_has_a_page_and_a_ui_test() {
         }
         if !ui_files
             .iter()
-            .any(|f| f.starts_with(&format!("{code}_")) && f.ends_with(".cell"))
+            .any(|f| f.starts_with(&format!("{code}_")) && !f.ends_with(".snap"))
         {
-            missing.push(format!("{code}: no tests/ui/{code}_*.cell"));
+            missing.push(format!("{code}: no tests/ui/**/{code}_*"));
         }
     }
     assert!(missing.is_empty(), "{}", missing.join("\n"));
