@@ -130,6 +130,7 @@ pub fn lower(cell: &Cell, graphs: &[ObjectGraph], sources: &SourceMap) -> schema
         end_effectors,
         objects,
         spans: spans.table,
+        verification: None,
     }
 }
 
@@ -202,6 +203,7 @@ fn lower_object(cell: &Cell, g: &ObjectGraph, spans: &mut SpanTable) -> schema::
                 weight: arc.weight,
                 source,
                 via,
+                witness: None,
             })
         })
         .collect();
@@ -217,7 +219,12 @@ fn lower_object(cell: &Cell, g: &ObjectGraph, spans: &mut SpanTable) -> schema::
             })
             .collect(),
         grasps,
-        graph: schema::Graph { nodes, arcs },
+        graph: schema::Graph {
+            nodes,
+            arcs,
+            pruned: Vec::new(),
+            witnesses: Vec::new(),
+        },
         span: spans.get(object.origin.file, object.origin.span),
     }
 }

@@ -46,6 +46,79 @@ pub struct Artifact {
     pub objects: Vec<Object>,
     /// Source places that arcs and elements point to (indices into this list).
     pub spans: Vec<SourceSpan>,
+    /// Present when every arc was checked kinematically (`cellc build --verify`).
+    pub verification: Option<Verification>,
+}
+
+/// How the arcs were verified.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Verification {
+    /// Seed of the randomized solvers; the same cell and seed give the same witnesses.
+    pub seed: u64,
+    /// Arcs checked, over all objects.
+    pub n_checked: u64,
+    /// Arcs found infeasible and removed.
+    pub n_pruned: u64,
+}
+
+/// Evidence that an arc is feasible: an object pose and a joint configuration of every
+/// arm involved, collision-free and within limits.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Witness {
+    /// Object pose in the cell.
+    pub object: Pose,
+    /// One configuration per arm involved (a move: the holding arm; a handoff: both; a
+    /// transition with a surface: the arm).
+    pub configurations: Vec<ArmConfiguration>,
+}
+
+/// Joint values of one arm.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ArmConfiguration {
+    /// Index into [`Artifact::end_effectors`].
+    pub end_effector: u32,
+    /// One value per joint of its robot's chain.
+    pub joints: Vec<f64>,
+}
+
+/// Why an arc was found infeasible.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+#[non_exhaustive]
+pub enum Infeasibility {
+    /// No joint configuration reaches the needed pose.
+    NoIkSolution {
+        /// The arm (index into [`Artifact::end_effectors`]) that could not reach.
+        end_effector: u32,
+        /// Attempts made.
+        tries: u32,
+        /// Smallest position error reached, metres.
+        position_error: f64,
+        /// Smallest rotation error reached, radians.
+        rotation_error: f64,
+    },
+    /// Every reachable configuration found collides; the pair of the last attempt.
+    Collision {
+        /// One body.
+        a: String,
+        /// The other.
+        b: String,
+    },
+    /// No object pose satisfies the arc's placement (e.g. the surface does not extend
+    /// into the workspace).
+    NoPlacement {
+        /// Why.
+        detail: String,
+    },
+}
+
+/// An arc removed by verification, kept with its reason for explanations.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct PrunedArc {
+    /// The arc as it was.
+    pub arc: Arc,
+    /// Why it was removed.
+    pub reason: Infeasibility,
 }
 
 /// A source file and its SHA-256.
@@ -335,6 +408,8 @@ pub struct Arc {
     pub source: u32,
     /// For a move over a declared adjacency, the `adjacent` line.
     pub via: Option<u32>,
+    /// Index into the object's `witnesses`, when verified.
+    pub witness: Option<u32>,
 }
 
 /// The graph of one object.
@@ -344,6 +419,10 @@ pub struct Graph {
     pub nodes: Vec<Node>,
     /// Arcs.
     pub arcs: Vec<Arc>,
+    /// Arcs removed by verification, with reasons.
+    pub pruned: Vec<PrunedArc>,
+    /// Witnesses of verified arcs.
+    pub witnesses: Vec<Witness>,
 }
 
 impl Graph {
