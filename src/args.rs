@@ -83,6 +83,12 @@ pub enum Command {
         /// Also print the workspaces, their boxes and who reaches them.
         #[arg(long)]
         explain: bool,
+        /// Skip the kinematic check of every arc (done by default when the cell has arms).
+        #[arg(long)]
+        no_verify: bool,
+        /// Seed of the randomized solvers used to verify arcs.
+        #[arg(long, default_value_t = 0)]
+        seed: u64,
         /// Treat warnings as errors.
         #[arg(long)]
         deny_warnings: bool,

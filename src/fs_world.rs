@@ -21,3 +21,16 @@ impl World for FsWorld {
         })
     }
 }
+
+/// Reads robot models and meshes from disk for the runtime.
+pub struct FsFiles;
+
+impl cellc_runtime::Files for FsFiles {
+    fn read(&self, path: &str) -> Result<Vec<u8>, String> {
+        std::fs::read(path).map_err(|e| match e.kind() {
+            std::io::ErrorKind::NotFound => "no such file".to_string(),
+            std::io::ErrorKind::PermissionDenied => "permission denied".to_string(),
+            _ => e.to_string(),
+        })
+    }
+}

@@ -9,6 +9,7 @@ pub mod docs;
 pub mod fs_world;
 pub mod import;
 pub mod render;
+pub mod verify_report;
 
 use std::process::ExitCode;
 
@@ -19,6 +20,7 @@ pub fn all_codes() -> Vec<cellc_lang::Code> {
     let mut codes: Vec<cellc_lang::Code> = cellc_lang::phrases::codes::ALL.to_vec();
     codes.extend_from_slice(cellc_compiler::diagnostics::codes::ALL);
     codes.extend_from_slice(artifact_io::codes::ALL);
+    codes.extend_from_slice(verify_report::codes::ALL);
     codes.extend_from_slice(import::diagnostics::codes::ALL);
     codes
 }
@@ -51,12 +53,21 @@ pub fn dispatch() -> ExitCode {
             format,
             explain,
             deny_warnings,
+            no_verify,
+            seed,
         } => {
             let encoding = match format {
                 args::ArtifactFormat::Json => cellc_schema::Encoding::Json,
                 args::ArtifactFormat::Bin => cellc_schema::Encoding::Binary,
             };
-            commands::build::run(cell, output.as_deref(), encoding, *explain, *deny_warnings)
+            let options = commands::build::BuildOptions {
+                encoding,
+                explain: *explain,
+                deny_warnings: *deny_warnings,
+                verify: !*no_verify,
+                seed: *seed,
+            };
+            commands::build::run(cell, output.as_deref(), &options)
         }
         args::Command::Info { file } => commands::info::run(&file.to_string_lossy()),
         args::Command::Graph {

@@ -129,6 +129,11 @@ pub fn lower(cell: &Cell, graphs: &[ObjectGraph], sources: &SourceMap) -> schema
         workspaces,
         end_effectors,
         objects,
+        allowed_contacts: cell
+            .allowed_contacts
+            .iter()
+            .map(|(a, b, _)| (a.clone(), b.clone()))
+            .collect(),
         spans: spans.table,
         verification: None,
     }

@@ -130,6 +130,8 @@ pub struct Robot {
     pub tip_link: String,
     /// The movable joints from base to tip, in order.
     pub chain_joints: Vec<Joint>,
+    /// Every link of the URDF (for `allow contact` names).
+    pub links: Vec<String>,
     /// Declaration.
     pub origin: Origin,
 }
@@ -349,6 +351,9 @@ pub struct Cell {
     pub expectations: Vec<Expectation>,
     /// True when the cell says `workspaces from reach`.
     pub derive_workspaces: Option<Origin>,
+    /// Pairs of bodies that may touch (`allow contact`), by collision-body name
+    /// (`left`, `left/lwr_link_7`, `table`).
+    pub allowed_contacts: Vec<(String, String, Origin)>,
 }
 
 impl Cell {

@@ -160,6 +160,7 @@ pub fn load_robot(
         base_link: base,
         tip_link: item.tip.text.clone(),
         chain_joints,
+        links: links.iter().map(|l| l.to_string()).collect(),
         origin,
     })
 }

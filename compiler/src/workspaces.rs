@@ -69,12 +69,22 @@ fn derive(cell: &mut Cell, reach: &[(EndEffectorId, Vec<Aabb>)], origin: Origin)
         .iter()
         .flat_map(|(_, w)| w.boxes.iter().copied())
         .collect();
+    // Surfaces are solid: space inside a slab is no place for an object.
+    let solids: Vec<Aabb> = cell
+        .end_effectors
+        .iter()
+        .filter_map(|(_, e)| match &e.body {
+            Body::Surface { slab, .. } => Some(*slab),
+            _ => None,
+        })
+        .collect();
     let cuts: [Vec<f64>; 3] = [0, 1, 2].map(|axis| {
         // Declared workspaces cut space too, so that no derived cell straddles one.
         let mut cuts: Vec<f64> = reach
             .iter()
             .flat_map(|(_, boxes)| boxes.iter())
             .chain(declared.iter())
+            .chain(solids.iter())
             .flat_map(|b| [b.min[axis], b.max[axis]])
             .collect();
         cuts.sort_by(f64::total_cmp);
@@ -92,7 +102,11 @@ fn derive(cell: &mut Cell, reach: &[(EndEffectorId, Vec<Aabb>)], origin: Origin)
                     max: [x[1], y[1], z[1]],
                 };
                 let center = cell_box.center();
-                if declared.iter().any(|b| b.contains_point(center)) {
+                if declared
+                    .iter()
+                    .chain(&solids)
+                    .any(|b| b.contains_point(center))
+                {
                     continue;
                 }
                 let label: Vec<EndEffectorId> = reach

@@ -220,6 +220,8 @@ pub enum Item {
     Object(ObjectItem),
     /// `expect ...`.
     Expect(ExpectItem),
+    /// `allow contact A B`.
+    Allow(AllowItem),
 }
 
 impl Item {
@@ -241,6 +243,7 @@ impl Item {
             Item::Reach(i) => i.span,
             Item::Object(i) => i.span,
             Item::Expect(i) => i.span,
+            Item::Allow(i) => i.span,
         }
     }
 }
@@ -423,6 +426,19 @@ pub struct SurfaceItem {
     pub slab: Aabb,
     /// Height of the reach extrusion above the top face.
     pub reach_height: Option<Quantity>,
+    /// Whole item.
+    pub span: Span,
+}
+
+/// `allow contact A B`: two bodies that may touch without it counting as a collision.
+/// A body is an end-effector (`left`: the whole arm and its hand), a link or hand of an
+/// arm (`left.lwr_link_7`, `left.softhand`), a surface or an object.
+#[derive(Clone, Debug, PartialEq)]
+pub struct AllowItem {
+    /// One body.
+    pub a: Qualified,
+    /// The other.
+    pub b: Qualified,
     /// Whole item.
     pub span: Span,
 }

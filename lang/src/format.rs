@@ -36,7 +36,10 @@
 //! members or own-line comments, so that users can group items; there is never a blank
 //! line right after a `{` or right before a `}`.
 
+// Words that start items or members: the grammar refuses them as plain names, so a name
+// spelled like one was quoted in the source and must be quoted again.
 use crate::ast::*;
+use crate::phrases::RESERVED;
 use crate::span::Span;
 
 /// Formats a file in the canonical layout, keeping the comments of `source`.
@@ -436,32 +439,6 @@ impl<'s> Printer<'s> {
 
 // ---- tokens ----------------------------------------------------------------------------
 
-/// Words that start items or members: the grammar refuses them as plain names, so a name
-/// spelled like one was quoted in the source and must be quoted again.
-const RESERVED: &[&str] = &[
-    "units",
-    "weights",
-    "include",
-    "workspaces",
-    "workspace",
-    "adjacent",
-    "fixed",
-    "movable",
-    "hand",
-    "support",
-    "robot",
-    "arm",
-    "surface",
-    "reach",
-    "object",
-    "expect",
-    "shape",
-    "symmetry",
-    "grasp",
-    "rest",
-    "transition",
-];
-
 fn name(name: &Name) -> String {
     if name.needs_quotes() || RESERVED.contains(&name.text.as_str()) {
         format!("`{}`", name.text)
@@ -647,6 +624,7 @@ fn item_text(item: &Item) -> String {
             out
         }
         Item::Reach(r) => format!("reach {} {}", name(&r.end_effector), aabb(&r.aabb)),
+        Item::Allow(a) => format!("allow contact {} {}", qualified(&a.a), qualified(&a.b)),
         Item::Object(o) => {
             // Objects are printed by the block printer; this one-line form only keeps the
             // function total.

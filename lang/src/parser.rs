@@ -358,6 +358,14 @@ impl Builder<'_, '_> {
                     span,
                 })
             }
+            Rule::allow_item => {
+                let _contact = inner.next();
+                Item::Allow(AllowItem {
+                    a: self.qualified(inner.next()?)?,
+                    b: self.qualified(inner.next()?)?,
+                    span,
+                })
+            }
             Rule::expect_item => Item::Expect(ExpectItem {
                 requirement: self.requirement(inner.next()?)?,
                 span,

@@ -44,6 +44,7 @@ const ITEM_STARTS: &[Rule] = &[
     Rule::kw_reach,
     Rule::kw_object,
     Rule::kw_expect,
+    Rule::kw_allow,
 ];
 
 const MEMBER_STARTS: &[Rule] = &[
@@ -73,6 +74,7 @@ pub const RESERVED: &[&str] = &[
     "reach",
     "object",
     "expect",
+    "allow",
     "shape",
     "symmetry",
     "grasp",
@@ -192,6 +194,9 @@ pub fn phrase(rule: Rule) -> &'static str {
         Rule::kw_arm => "`arm`",
         Rule::kw_with => "`with`",
         Rule::kw_home => "`home`",
+        Rule::kw_allow => "`allow`",
+        Rule::kw_contact => "`contact`",
+        Rule::allow_item => "an allowed contact like `allow contact left.lwr_link_7 table`",
         Rule::home_clause => "a home configuration like `home (joint_2 30 deg, joint_4 -60 deg)`",
         Rule::joint_value => "a joint and its value like `joint_2 30 deg`",
         Rule::kw_surface => "`surface`",

@@ -46,6 +46,9 @@ pub struct Artifact {
     pub objects: Vec<Object>,
     /// Source places that arcs and elements point to (indices into this list).
     pub spans: Vec<SourceSpan>,
+    /// Pairs of collision bodies that may touch (`allow contact`): `left`,
+    /// `left/lwr_link_7`, `left/softhand`, `table`, an object.
+    pub allowed_contacts: Vec<(String, String)>,
     /// Present when every arc was checked kinematically (`cellc build --verify`).
     pub verification: Option<Verification>,
 }
@@ -95,6 +98,20 @@ pub enum Infeasibility {
         /// Smallest position error reached, metres.
         position_error: f64,
         /// Smallest rotation error reached, radians.
+        rotation_error: f64,
+    },
+    /// No configuration of two arms holds the object at once in the workspace (the closed
+    /// chain of a handoff does not close).
+    NoClosedChain {
+        /// One arm (index into [`Artifact::end_effectors`]).
+        a: u32,
+        /// The other.
+        b: u32,
+        /// Attempts made.
+        tries: u32,
+        /// Smallest loop-closure position error reached, metres.
+        position_error: f64,
+        /// Smallest loop-closure rotation error reached, radians.
         rotation_error: f64,
     },
     /// Every reachable configuration found collides; the pair of the last attempt.

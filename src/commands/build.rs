@@ -1,23 +1,32 @@
-//! `cellc build CELL [-o OUT] [--format json|bin] [--explain]`
+//! `cellc build CELL [-o OUT] [--format json|bin] [--explain] [--no-verify] [--seed N]`
 
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
-use cellc_schema::Encoding;
+use cellc_lang::Diagnostic;
+use cellc_schema::{Artifact, Body, Encoding};
 
-use crate::fs_world::FsWorld;
+use crate::fs_world::{FsFiles, FsWorld};
 use crate::render::{self, Color};
 
-/// Compiles a cell and writes its artifact; with `--explain` also prints the workspaces
-/// and who reaches them.
-pub fn run(
-    cell: &Path,
-    output: Option<&Path>,
-    encoding: Encoding,
-    explain: bool,
-    deny_warnings: bool,
-) -> ExitCode {
+/// What `cellc build` was asked to do.
+#[derive(Clone, Debug)]
+pub struct BuildOptions {
+    /// Artifact encoding.
+    pub encoding: Encoding,
+    /// Print the workspaces and who reaches them.
+    pub explain: bool,
+    /// Warnings fail the build.
+    pub deny_warnings: bool,
+    /// Check every arc kinematically (when the cell has arms).
+    pub verify: bool,
+    /// Seed of the randomized solvers.
+    pub seed: u64,
+}
+
+/// Compiles a cell, verifies its arcs when it has arms, and writes its artifact.
+pub fn run(cell: &Path, output: Option<&Path>, options: &BuildOptions) -> ExitCode {
     let path = cell.to_string_lossy().to_string();
     let compilation = cellc_compiler::compile(&FsWorld, &path);
     let color = if std::io::stderr().is_terminal() {
@@ -25,39 +34,96 @@ pub fn run(
     } else {
         Color::Never
     };
-    if !compilation.diagnostics.is_empty() {
+    let mut diagnostics = compilation.diagnostics.clone();
+    let mut artifact = match compilation
+        .cell
+        .as_ref()
+        .filter(|_| !compilation.has_errors())
+    {
+        Some(resolved) => Some(cellc_compiler::artifact::lower(
+            resolved,
+            &compilation.graphs,
+            &compilation.sources,
+        )),
+        None => None,
+    };
+    if let Some(artifact) = artifact.as_mut().filter(|a| options.verify && has_arms(a)) {
+        match verify(artifact, options.seed) {
+            Ok(warnings) => diagnostics.extend(warnings),
+            Err(error) => diagnostics.push(error),
+        }
+    }
+    if !diagnostics.is_empty() {
         eprint!(
             "{}",
-            render::human(&compilation.diagnostics, &compilation.sources, color)
+            render::human(&diagnostics, &compilation.sources, color)
         );
-        eprintln!("{}", render::summary(&compilation.diagnostics));
+        eprintln!("{}", render::summary(&diagnostics));
     }
-    let failed = compilation
-        .diagnostics
+    let failed = diagnostics
         .iter()
-        .any(|d| d.is_error() || deny_warnings);
-    let Some(cell) = compilation.cell.as_ref().filter(|_| !failed) else {
+        .any(|d| d.is_error() || options.deny_warnings);
+    let Some(artifact) = artifact.filter(|_| !failed) else {
         eprintln!("no artifact written");
         return ExitCode::from(1);
     };
-    let artifact = cellc_compiler::artifact::lower(cell, &compilation.graphs, &compilation.sources);
     let output: PathBuf = match output {
         Some(o) => o.to_path_buf(),
-        None => default_output(cell_path(&path), encoding),
+        None => default_output(Path::new(&path), options.encoding),
     };
-    if let Err(e) = std::fs::write(&output, artifact.to_bytes(encoding)) {
+    if let Err(e) = std::fs::write(&output, artifact.to_bytes(options.encoding)) {
         eprintln!("error: cannot write `{}`: {e}", output.display());
         return ExitCode::from(1);
     }
-    if explain {
+    if options.explain {
         print!("{}", crate::commands::info::describe(&artifact));
+    }
+    if let Some(v) = &artifact.verification {
+        eprintln!(
+            "verified {} arcs (seed {}): {} pruned",
+            v.n_checked, v.seed, v.n_pruned
+        );
     }
     eprintln!("wrote {}", output.display());
     ExitCode::SUCCESS
 }
 
-fn cell_path(path: &str) -> &Path {
-    Path::new(path)
+fn has_arms(artifact: &Artifact) -> bool {
+    artifact
+        .end_effectors
+        .iter()
+        .any(|e| matches!(e.body, Body::Arm { .. }))
+}
+
+/// Loads the scene and checks every arc; pruned arcs come back as warnings.
+fn verify(artifact: &mut Artifact, seed: u64) -> Result<Vec<Diagnostic>, Diagnostic> {
+    let scene = cellc_runtime::scene::Scene::load(artifact, &FsFiles)
+        .map_err(|e| crate::verify_report::scene_error_at(&e, artifact))?;
+    let options = cellc_runtime::verify::VerifyOptions {
+        seed,
+        ..Default::default()
+    };
+    let bar = std::io::stderr().is_terminal().then(|| {
+        let bar = indicatif::ProgressBar::new(0);
+        bar.set_style(
+            indicatif::ProgressStyle::with_template(
+                "verifying arcs {bar:30} {pos}/{len} checks ({eta} left)",
+            )
+            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+        );
+        bar
+    });
+    let progress = |done: u64, total: u64| {
+        if let Some(bar) = &bar {
+            bar.set_length(total);
+            bar.set_position(done);
+        }
+    };
+    cellc_runtime::verify::verify(artifact, &scene, &options, &progress);
+    if let Some(bar) = bar {
+        bar.finish_and_clear();
+    }
+    Ok(crate::verify_report::pruned_warnings(artifact))
 }
 
 /// `cells/fig3.cell` -> `cells/fig3.artifact.json` (or `.artifact.bin`).

@@ -1,0 +1,487 @@
+//! An artifact made geometric: robots loaded from their URDFs (refused when a URDF changed
+//! since the build), arms placed, surfaces as slabs, hand and object shapes for collision
+//! checks, workspaces as boxes.
+
+use cellc_schema::{self as schema, Artifact};
+use nalgebra as na;
+use parry3d_f64::shape::SharedShape;
+use sha2::{Digest, Sha256};
+
+use crate::collision::{
+    BuildError, CollisionError, CollisionScratch, CollisionWorld, CollisionWorldBuilder,
+    Configuration, Hand, Holder as CollisionHolder, ObjectState, Solid,
+};
+use crate::math::{iso_from_schema, Iso, Point};
+use crate::robot::{Robot, RobotError};
+use crate::Files;
+
+/// An axis-aligned box.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Aabb {
+    /// Smallest corner.
+    pub min: Point,
+    /// Largest corner.
+    pub max: Point,
+}
+
+impl Aabb {
+    /// From the artifact's box.
+    pub fn from_schema(b: &schema::Aabb) -> Aabb {
+        Aabb {
+            min: Point::new(b.min[0], b.min[1], b.min[2]),
+            max: Point::new(b.max[0], b.max[1], b.max[2]),
+        }
+    }
+
+    /// True when `p` is inside (boundary included, 1 µm slack).
+    pub fn contains(&self, p: &Point) -> bool {
+        (0..3).all(|i| p[i] >= self.min[i] - 1e-6 && p[i] <= self.max[i] + 1e-6)
+    }
+
+    /// Volume in m³.
+    pub fn volume(&self) -> f64 {
+        (self.max - self.min).iter().product()
+    }
+
+    /// Centre.
+    pub fn center(&self) -> Point {
+        na::center(&self.min, &self.max)
+    }
+}
+
+/// How an end-effector exists in the scene.
+#[derive(Clone, Debug)]
+pub enum Holder {
+    /// No geometry (abstract cells): nothing to verify.
+    Abstract,
+    /// At the tip of a placed robot.
+    Arm {
+        /// Index into [`Scene::robots`].
+        robot: usize,
+        /// World pose of the robot's base.
+        base: Iso,
+        /// Home configuration.
+        home: Vec<f64>,
+    },
+    /// A fixed slab; objects rest on its top face.
+    Surface {
+        /// The slab.
+        slab: Aabb,
+        /// Height of the space above the top face the surface reaches.
+        reach_height: f64,
+    },
+}
+
+/// A shape placed in a frame.
+#[derive(Clone)]
+pub struct PlacedShape {
+    /// Pose in the parent frame.
+    pub local: Iso,
+    /// The shape.
+    pub shape: SharedShape,
+}
+
+impl std::fmt::Debug for PlacedShape {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "PlacedShape({:?}, {:?})",
+            self.local,
+            self.shape.shape_type()
+        )
+    }
+}
+
+/// Why an artifact cannot be made into a scene.
+#[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
+pub enum SceneError {
+    /// A URDF or mesh file could not be read.
+    Unreadable {
+        /// Path.
+        path: String,
+        /// Why.
+        reason: String,
+    },
+    /// A URDF changed since the artifact was built.
+    StaleUrdf {
+        /// Robot name.
+        robot: String,
+        /// Path.
+        path: String,
+    },
+    /// A robot model could not be built from its URDF.
+    Robot {
+        /// Robot name.
+        robot: String,
+        /// The model's error.
+        error: RobotError,
+    },
+    /// An object's mesh could not be used.
+    Mesh {
+        /// Object name.
+        object: String,
+        /// Why.
+        reason: String,
+    },
+    /// The collision world could not be built (e.g. an allowed contact names no body).
+    Collision {
+        /// Why.
+        reason: String,
+    },
+}
+
+impl std::fmt::Display for SceneError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            SceneError::Unreadable { path, reason } => write!(f, "cannot read `{path}`: {reason}"),
+            SceneError::StaleUrdf { robot, path } => write!(
+                f,
+                "the URDF of robot `{robot}` (`{path}`) changed since the artifact was built"
+            ),
+            SceneError::Robot { robot, error } => write!(f, "robot `{robot}`: {error}"),
+            SceneError::Mesh { object, reason } => write!(f, "object `{object}`: {reason}"),
+            SceneError::Collision { reason } => write!(f, "collision world: {reason}"),
+        }
+    }
+}
+
+impl std::error::Error for SceneError {}
+
+/// The geometric side of a cell.
+pub struct Scene {
+    /// Robot models, as in [`Artifact::robots`].
+    pub robots: Vec<Robot>,
+    /// One per end-effector of the artifact.
+    pub holders: Vec<Holder>,
+    /// Collision solids of each holder kind, in the holder's (tip) frame.
+    pub kind_solids: Vec<Vec<PlacedShape>>,
+    /// Boxes of each workspace.
+    pub workspaces: Vec<Vec<Aabb>>,
+    /// Collision shape of each object, in the object frame.
+    pub object_shapes: Vec<Vec<PlacedShape>>,
+    /// Every body of the cell, for collision checks.
+    pub world: CollisionWorld,
+    /// Per end-effector: its robot index in `world`, for arms.
+    world_robot: Vec<Option<usize>>,
+    /// Per end-effector: its fixed-body index in `world`, for surfaces.
+    world_fixed: Vec<Option<usize>>,
+    /// Per `world` robot: its end-effector.
+    robot_holder: Vec<usize>,
+}
+
+/// Where the checked object is in a collision query.
+#[derive(Clone, Copy, Debug)]
+pub enum ObjectPlacement {
+    /// Held by one arm with a grasp (object pose in the hand frame).
+    Held {
+        /// End-effector.
+        by: u32,
+        /// Grasp pose.
+        grasp: Iso,
+    },
+    /// Held by two arms at once (a handoff); the pose follows the first.
+    Handoff {
+        /// End-effector whose grasp places the object.
+        a: u32,
+        /// Its grasp.
+        grasp_a: Iso,
+        /// The other holder.
+        b: u32,
+    },
+    /// Resting on a surface at `pose`, possibly held by an arm too (a pick or a place).
+    Resting {
+        /// The surface end-effector.
+        on: u32,
+        /// Object pose in the cell.
+        pose: Iso,
+        /// The arm holding it at the same time.
+        by: Option<u32>,
+    },
+}
+
+/// Why a collision query could not be answered.
+#[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
+pub enum QueryError {
+    /// The end-effector is not an arm of the scene.
+    NotAnArm(u32),
+    /// The end-effector is not a surface of the scene.
+    NotASurface(u32),
+    /// The collision world refused the state.
+    Collision(CollisionError),
+}
+
+/// Buffers for [`Scene::collision`], one per thread.
+#[derive(Default)]
+pub struct SceneScratch {
+    frames: Vec<Vec<Iso>>,
+    objects: Vec<ObjectState>,
+    collision: CollisionScratch,
+}
+
+/// Lowercase hex SHA-256.
+fn sha256_hex(bytes: &[u8]) -> String {
+    Sha256::digest(bytes)
+        .iter()
+        .map(|b| format!("{b:02x}"))
+        .collect()
+}
+
+impl Scene {
+    /// Builds the scene of an artifact, reading URDFs and meshes through `files`.
+    pub fn load(artifact: &Artifact, files: &dyn Files) -> Result<Scene, SceneError> {
+        let mut robots = Vec::with_capacity(artifact.robots.len());
+        for r in &artifact.robots {
+            let bytes = files
+                .read(&r.urdf_path)
+                .map_err(|reason| SceneError::Unreadable {
+                    path: r.urdf_path.clone(),
+                    reason,
+                })?;
+            if sha256_hex(&bytes) != r.urdf_sha256 {
+                return Err(SceneError::StaleUrdf {
+                    robot: r.name.clone(),
+                    path: r.urdf_path.clone(),
+                });
+            }
+            let text = String::from_utf8_lossy(&bytes);
+            let robot = Robot::from_urdf(&text, &r.urdf_path, &r.base_link, &r.tip_link, files)
+                .map_err(|error| SceneError::Robot {
+                    robot: r.name.clone(),
+                    error,
+                })?;
+            robots.push(robot);
+        }
+        let holders = artifact
+            .end_effectors
+            .iter()
+            .map(|e| match &e.body {
+                schema::Body::Abstract => Holder::Abstract,
+                schema::Body::Arm { robot, base, home } => Holder::Arm {
+                    robot: *robot as usize,
+                    base: iso_from_schema(base),
+                    home: home.clone(),
+                },
+                schema::Body::Surface { slab, reach_height } => Holder::Surface {
+                    slab: Aabb::from_schema(slab),
+                    reach_height: *reach_height,
+                },
+            })
+            .collect();
+        let kind_solids = artifact
+            .holder_kinds
+            .iter()
+            .map(|k| {
+                k.solids
+                    .iter()
+                    .filter_map(|s| {
+                        placed(&s.shape, iso_from_schema(&s.pose), files)
+                            .ok()
+                            .flatten()
+                    })
+                    .collect()
+            })
+            .collect();
+        let workspaces = artifact
+            .workspaces
+            .iter()
+            .map(|w| w.boxes.iter().map(Aabb::from_schema).collect())
+            .collect();
+        let mut object_shapes: Vec<Vec<PlacedShape>> = Vec::with_capacity(artifact.objects.len());
+        for o in &artifact.objects {
+            let shapes = match &o.shape {
+                Some(shape) => placed(shape, Iso::identity(), files)
+                    .map_err(|reason| SceneError::Mesh {
+                        object: o.name.clone(),
+                        reason,
+                    })?
+                    .into_iter()
+                    .collect(),
+                None => Vec::new(),
+            };
+            object_shapes.push(shapes);
+        }
+        let holders: Vec<Holder> = holders;
+        let kind_solids: Vec<Vec<PlacedShape>> = kind_solids;
+        // The collision world: every arm with its hand, every surface, every object.
+        let mut builder = CollisionWorldBuilder::new();
+        let mut world_robot = vec![None; holders.len()];
+        let mut world_fixed = vec![None; holders.len()];
+        let mut robot_holder = Vec::new();
+        for (e, (holder, ee)) in holders.iter().zip(&artifact.end_effectors).enumerate() {
+            match holder {
+                Holder::Arm { robot, .. } => {
+                    let hand = ee.kind.and_then(|k| {
+                        let solids = kind_solids.get(k as usize)?;
+                        (!solids.is_empty()).then(|| Hand {
+                            name: artifact.holder_kinds[k as usize].name.clone(),
+                            solids: solids
+                                .iter()
+                                .map(|s| Solid {
+                                    local: s.local,
+                                    shape: s.shape.clone(),
+                                })
+                                .collect(),
+                        })
+                    });
+                    world_robot[e] = Some(builder.add_robot(&ee.name, &robots[*robot], hand));
+                    robot_holder.push(e);
+                }
+                Holder::Surface { slab, .. } => {
+                    world_fixed[e] = Some(builder.add_fixed_box(
+                        &ee.name,
+                        slab.min.coords.into(),
+                        slab.max.coords.into(),
+                    ));
+                }
+                Holder::Abstract => {}
+            }
+        }
+        for (o, shapes) in artifact.objects.iter().zip(&object_shapes) {
+            builder.add_object(
+                &o.name,
+                shapes
+                    .iter()
+                    .map(|s| Solid {
+                        local: s.local,
+                        shape: s.shape.clone(),
+                    })
+                    .collect(),
+            );
+        }
+        for (a, b) in &artifact.allowed_contacts {
+            builder.allow(a, b);
+        }
+        let world = builder
+            .build()
+            .map_err(|e: BuildError| SceneError::Collision {
+                reason: format!("{e:?}"),
+            })?;
+        Ok(Scene {
+            robots,
+            holders,
+            kind_solids,
+            workspaces,
+            object_shapes,
+            world,
+            world_robot,
+            world_fixed,
+            robot_holder,
+        })
+    }
+
+    /// The first collision when `object` is placed as given, the arms in `arms` take the
+    /// given joint values and every other arm stands at its home configuration. Other
+    /// objects are left out: verification and planning move one object at a time.
+    /// Returns the names of the colliding pair.
+    pub fn collision(
+        &self,
+        arms: &[(u32, &[f64])],
+        object: u32,
+        placement: ObjectPlacement,
+        scratch: &mut SceneScratch,
+    ) -> Result<Option<(String, String)>, QueryError> {
+        let n = self.robot_holder.len();
+        scratch.frames.resize_with(n, Vec::new);
+        for (r, &e) in self.robot_holder.iter().enumerate() {
+            let Holder::Arm { robot, base, home } = &self.holders[e] else {
+                continue;
+            };
+            let q = arms
+                .iter()
+                .find(|(arm, _)| *arm as usize == e)
+                .map_or(home.as_slice(), |(_, q)| *q);
+            self.robots[*robot].fk_frames(base, q, &mut scratch.frames[r]);
+        }
+        scratch.objects.clear();
+        scratch
+            .objects
+            .resize(self.object_shapes.len(), ObjectState::absent());
+        let robot_of = |e: u32| self.world_robot.get(e as usize).copied().flatten();
+        let state = match placement {
+            ObjectPlacement::Held { by, grasp } => {
+                let r = robot_of(by).ok_or(QueryError::NotAnArm(by))?;
+                let tip = self
+                    .world
+                    .tip(r, &scratch.frames[r])
+                    .ok_or(QueryError::NotAnArm(by))?;
+                ObjectState::held(r, &tip, &grasp)
+            }
+            ObjectPlacement::Handoff { a, grasp_a, b } => {
+                let ra = robot_of(a).ok_or(QueryError::NotAnArm(a))?;
+                let rb = robot_of(b).ok_or(QueryError::NotAnArm(b))?;
+                let tip = self
+                    .world
+                    .tip(ra, &scratch.frames[ra])
+                    .ok_or(QueryError::NotAnArm(a))?;
+                ObjectState::held(ra, &tip, &grasp_a).also_held_by(CollisionHolder::Robot(rb))
+            }
+            ObjectPlacement::Resting { on, pose, by } => {
+                let surface = self
+                    .world_fixed
+                    .get(on as usize)
+                    .copied()
+                    .flatten()
+                    .ok_or(QueryError::NotASurface(on))?;
+                let mut state = ObjectState::resting(pose, surface);
+                if let Some(arm) = by {
+                    let r = robot_of(arm).ok_or(QueryError::NotAnArm(arm))?;
+                    state = state.also_held_by(CollisionHolder::Robot(r));
+                }
+                state
+            }
+        };
+        if let Some(slot) = scratch.objects.get_mut(object as usize) {
+            *slot = state;
+        }
+        let frames: Vec<&[Iso]> = scratch.frames.iter().map(Vec::as_slice).collect();
+        let configuration = Configuration {
+            robots: &frames,
+            objects: &scratch.objects,
+        };
+        let found = self
+            .world
+            .first_collision(&configuration, &mut scratch.collision)
+            .map_err(QueryError::Collision)?;
+        Ok(found.map(|c| {
+            let (a, b) = self.world.names(&c);
+            (a.to_string(), b.to_string())
+        }))
+    }
+
+    /// True when the artifact has any arm, i.e. anything to verify kinematically.
+    pub fn has_kinematics(&self) -> bool {
+        self.holders.iter().any(|h| matches!(h, Holder::Arm { .. }))
+    }
+}
+
+/// A schema shape as a parry shape in `local` (cylinders are along z in cells and along
+/// y in parry, hence the extra rotation).
+fn placed(
+    shape: &schema::Shape,
+    local: Iso,
+    files: &dyn Files,
+) -> Result<Option<PlacedShape>, String> {
+    let (extra, shape) = match shape {
+        schema::Shape::Box { size } => (
+            Iso::identity(),
+            SharedShape::cuboid(size[0] / 2.0, size[1] / 2.0, size[2] / 2.0),
+        ),
+        schema::Shape::Cylinder { radius, height } => (
+            Iso::rotation(na::Vector3::x() * std::f64::consts::FRAC_PI_2),
+            SharedShape::cylinder(height / 2.0, *radius),
+        ),
+        schema::Shape::Sphere { radius } => (Iso::identity(), SharedShape::ball(*radius)),
+        schema::Shape::Mesh { path } => {
+            let bytes = files.read(path)?;
+            let hull = crate::robot::mesh_hull(path, &bytes, [1.0; 3])
+                .map_err(|reason| format!("mesh `{path}`: {reason}"))?;
+            (Iso::identity(), hull)
+        }
+    };
+    Ok(Some(PlacedShape {
+        local: local * extra,
+        shape,
+    }))
+}

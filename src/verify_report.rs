@@ -1,0 +1,205 @@
+//! Verification findings as diagnostics: pruned arcs as warnings that point at the
+//! declarations that made them, and scene problems (stale or broken robot models) as
+//! runtime errors.
+
+use std::collections::BTreeMap;
+
+use cellc_lang::{Code, Diagnostic, FileId, Span};
+use cellc_runtime::scene::SceneError;
+use cellc_schema::{ArcKind, Artifact, Infeasibility, Object};
+
+/// Codes of verification and of loading a scene.
+pub mod codes {
+    use cellc_lang::Code;
+    /// An arc found kinematically infeasible and removed from the graph.
+    pub const PRUNED_ARC: Code = Code("W0006");
+    /// A URDF changed since the artifact was built.
+    pub const STALE_URDF: Code = Code("R0001");
+    /// A robot model or mesh cannot be loaded for kinematics.
+    pub const MODEL_UNUSABLE: Code = Code("R0002");
+    /// Every code of this phase.
+    pub const ALL: &[Code] = &[PRUNED_ARC, STALE_URDF, MODEL_UNUSABLE];
+}
+
+/// A scene that cannot be built, labelled at the robot's declaration when the artifact
+/// knows it.
+pub fn scene_error_at(error: &SceneError, artifact: &Artifact) -> Diagnostic {
+    let robot = match error {
+        SceneError::StaleUrdf { robot, .. } | SceneError::Robot { robot, .. } => Some(robot),
+        _ => None,
+    };
+    let place = robot
+        .and_then(|name| artifact.robots.iter().find(|r| &r.name == name))
+        .and_then(|r| span(artifact, r.span));
+    let d = scene_error(error);
+    match place {
+        Some((file, at)) => d.primary(file, at, "robot declared here"),
+        None => d,
+    }
+}
+
+/// A scene that cannot be built.
+pub fn scene_error(error: &SceneError) -> Diagnostic {
+    let (code, help): (Code, &str) = match error {
+        SceneError::StaleUrdf { .. } => (
+            codes::STALE_URDF,
+            "rebuild the artifact from its cell (`cellc build CELL`) so that it matches the robot model",
+        ),
+        _ => (
+            codes::MODEL_UNUSABLE,
+            "fix the robot model file (collision geometry as URDF primitives, or STL/OBJ meshes next to the URDF)",
+        ),
+    };
+    Diagnostic::error(code, error.to_string()).help(help)
+}
+
+fn span(artifact: &Artifact, index: u32) -> Option<(FileId, Span)> {
+    let s = artifact.spans.get(index as usize)?;
+    Some((
+        FileId(s.file),
+        Span {
+            start: s.start,
+            end: s.end,
+        },
+    ))
+}
+
+fn ee(artifact: &Artifact, i: u32) -> &str {
+    artifact
+        .end_effectors
+        .get(i as usize)
+        .map_or("?", |e| e.name.as_str())
+}
+
+fn describe_arc(artifact: &Artifact, object: &Object, arc: &cellc_schema::Arc) -> String {
+    let from = object.graph.nodes[arc.from as usize];
+    let to = object.graph.nodes[arc.to as usize];
+    let grasp = |g: u32| {
+        object
+            .grasps
+            .get(g as usize)
+            .map_or("?", |g| g.name.as_str())
+    };
+    let ws = artifact
+        .workspaces
+        .get(to.workspace as usize)
+        .map_or("?", |w| w.name.as_str());
+    match arc.kind {
+        ArcKind::Move => format!(
+            "`{}` holding `{}` in `{ws}`",
+            ee(artifact, to.end_effector),
+            grasp(to.grasp)
+        ),
+        ArcKind::Transition => format!(
+            "`{}` (`{}`) to `{}` (`{}`) in `{ws}`",
+            ee(artifact, from.end_effector),
+            grasp(from.grasp),
+            ee(artifact, to.end_effector),
+            grasp(to.grasp)
+        ),
+    }
+}
+
+fn describe_reason(artifact: &Artifact, reason: &Infeasibility) -> String {
+    match reason {
+        Infeasibility::NoIkSolution {
+            end_effector,
+            tries,
+            position_error,
+            rotation_error,
+        } => format!(
+            "`{}` cannot reach the pose (closest: {:.3} m, {:.1} deg off, after {tries} tries)",
+            ee(artifact, *end_effector),
+            position_error,
+            rotation_error.to_degrees()
+        ),
+        Infeasibility::NoClosedChain {
+            a,
+            b,
+            tries,
+            position_error,
+            rotation_error,
+        } => format!(
+            "`{}` and `{}` cannot hold the object at once (closest: {:.3} m, {:.1} deg apart, after {tries} tries)",
+            ee(artifact, *a),
+            ee(artifact, *b),
+            position_error,
+            rotation_error.to_degrees()
+        ),
+        Infeasibility::Collision { a, b } => format!("`{a}` collides with `{b}`"),
+        Infeasibility::NoPlacement { detail } => detail.clone(),
+        _ => "infeasible".to_string(),
+    }
+}
+
+/// One warning per (object, declaration, reason kind), listing the arcs it removed.
+pub fn pruned_warnings(artifact: &Artifact) -> Vec<Diagnostic> {
+    let mut groups: BTreeMap<(usize, u32, String), Vec<(String, String)>> = BTreeMap::new();
+    for (o, object) in artifact.objects.iter().enumerate() {
+        for pruned in &object.graph.pruned {
+            let reason = describe_reason(artifact, &pruned.reason);
+            let kind = match &pruned.reason {
+                Infeasibility::NoIkSolution { .. } | Infeasibility::NoClosedChain { .. } => "ik",
+                Infeasibility::Collision { .. } => "collision",
+                _ => "placement",
+            };
+            groups
+                .entry((o, pruned.arc.source, kind.to_string()))
+                .or_default()
+                .push((describe_arc(artifact, object, &pruned.arc), reason));
+        }
+    }
+    let mut diagnostics = Vec::new();
+    for ((o, source, _), arcs) in groups {
+        let object = &artifact.objects[o];
+        let n = arcs.len();
+        let (first_arc, first_reason) = &arcs[0];
+        let message = if n == 1 {
+            format!(
+                "an arc of `{}` is infeasible and was pruned: {first_arc}",
+                object.name
+            )
+        } else {
+            format!(
+                "{n} arcs of `{}` are infeasible and were pruned, e.g. {first_arc}",
+                object.name
+            )
+        };
+        let mut d = Diagnostic::warning(codes::PRUNED_ARC, message);
+        if let Some((file, span)) = span(artifact, source) {
+            d = d.primary(file, span, first_reason.clone());
+        }
+        // The grasps involved, so the engineer sees which poses to change.
+        let mut grasp_spans: Vec<u32> = Vec::new();
+        for pruned in object
+            .graph
+            .pruned
+            .iter()
+            .filter(|p| p.arc.source == source)
+        {
+            for node in [pruned.arc.from, pruned.arc.to] {
+                let g = object.graph.nodes[node as usize].grasp;
+                if let Some(grasp) = object.grasps.get(g as usize) {
+                    if grasp.span != source && !grasp_spans.contains(&grasp.span) {
+                        grasp_spans.push(grasp.span);
+                    }
+                }
+            }
+        }
+        for s in grasp_spans.into_iter().take(4) {
+            if let Some((file, span)) = span(artifact, s) {
+                d = d.secondary(file, span, "grasp involved");
+            }
+        }
+        for (arc, reason) in arcs.iter().skip(1).take(4) {
+            d = d.note(format!("also {arc}: {reason}"));
+        }
+        if n > 5 {
+            d = d.note(format!("and {} more", n - 5));
+        }
+        diagnostics.push(d.help(
+            "move the grasp or resting pose, or the arms or surfaces, so the pose is reachable and free; `cellc build --no-verify` keeps every arc",
+        ));
+    }
+    diagnostics
+}

@@ -1,0 +1,283 @@
+//! Build-time verification of arcs: every witness passes an independent re-check (joint
+//! limits, forward kinematics back to the recorded object pose, the object inside the
+//! arc's workspace, no collision), impossible arcs are pruned with the right reason,
+//! results are the same for a seed, and the runtime's own diagnostics (W0006, R00xx) have
+//! UI tests.
+
+use cellc::fs_world::{FsFiles, FsWorld};
+use cellc_runtime::math::{iso_from_schema, Iso, Point};
+use cellc_runtime::scene::{Holder, ObjectPlacement, Scene, SceneScratch};
+use cellc_runtime::verify::{verify, VerifyOptions};
+use cellc_runtime::Files;
+use cellc_schema::{ArcKind, Artifact, Body, Encoding, Infeasibility};
+
+fn build(path: &str) -> Artifact {
+    let compilation = cellc_compiler::compile(&FsWorld, path);
+    assert!(!compilation.has_errors(), "{path} has errors");
+    let cell = compilation.cell.as_ref().expect("resolved");
+    cellc_compiler::artifact::lower(cell, &compilation.graphs, &compilation.sources)
+}
+
+fn verified(path: &str, seed: u64) -> (Artifact, Scene) {
+    let mut artifact = build(path);
+    let scene = Scene::load(&artifact, &FsFiles).expect("scene loads");
+    let options = VerifyOptions {
+        seed,
+        ..VerifyOptions::default()
+    };
+    verify(&mut artifact, &scene, &options, &|_, _| {});
+    (artifact, scene)
+}
+
+/// Every shipped cell that has arms.
+fn geometric_cells() -> Vec<String> {
+    let mut cells: Vec<String> = std::fs::read_dir("cells")
+        .expect("cells/ exists")
+        .filter_map(Result::ok)
+        .map(|e| e.path().to_string_lossy().replace('\\', "/"))
+        .filter(|p| p.ends_with(".cell"))
+        .filter(|p| {
+            build(p)
+                .end_effectors
+                .iter()
+                .any(|e| matches!(e.body, Body::Arm { .. }))
+        })
+        .collect();
+    cells.sort();
+    cells
+}
+
+const POSITION_TOLERANCE: f64 = 1e-3;
+const ROTATION_TOLERANCE: f64 = 1e-2;
+
+/// Re-checks one witness from scratch: the configurations are within limits, forward
+/// kinematics puts the object where the witness says with the arc's grasps, the object's
+/// centre is in the arc's workspace, and the whole state is collision-free.
+fn recheck(
+    artifact: &Artifact,
+    scene: &Scene,
+    object: usize,
+    arc: &cellc_schema::Arc,
+) -> Result<(), String> {
+    let obj = &artifact.objects[object];
+    let witness = &obj.graph.witnesses[arc.witness.ok_or("no witness")? as usize];
+    let object_pose = iso_from_schema(&witness.object);
+    let from = obj.graph.nodes[arc.from as usize];
+    let to = obj.graph.nodes[arc.to as usize];
+    let grasp = |g: u32| {
+        obj.grasps[g as usize]
+            .pose
+            .as_ref()
+            .map(iso_from_schema)
+            .unwrap_or_else(Iso::identity)
+    };
+    let center = Point::from(object_pose.translation.vector);
+    if !scene.workspaces[to.workspace as usize]
+        .iter()
+        .any(|b| b.contains(&center))
+    {
+        return Err(format!(
+            "object centre {center} is outside workspace {}",
+            to.workspace
+        ));
+    }
+    let mut arms: Vec<(u32, &[f64])> = Vec::new();
+    for config in &witness.configurations {
+        let Holder::Arm { robot, base, .. } = &scene.holders[config.end_effector as usize] else {
+            return Err("a configuration of something that is not an arm".into());
+        };
+        let robot = &scene.robots[*robot];
+        if !robot.within_limits(&config.joints) {
+            return Err(format!("joints outside limits: {:?}", config.joints));
+        }
+        // The held node's grasp for this arm.
+        let g = if config.end_effector == to.end_effector {
+            to.grasp
+        } else {
+            from.grasp
+        };
+        // Up to a symmetry of the object: a symmetric object held in a turned grasp is the
+        // same placement.
+        let through_arm = robot.tip_pose(base, &config.joints) * grasp(g);
+        let relative = object_pose.inverse() * through_arm;
+        let turn = cellc_runtime::symmetry::residual(&relative.rotation, &obj.symmetries);
+        if relative.translation.vector.norm() > POSITION_TOLERANCE || turn > ROTATION_TOLERANCE {
+            return Err(format!(
+                "arm {} does not hold the object where the witness says",
+                config.end_effector
+            ));
+        }
+        arms.push((config.end_effector, &config.joints));
+    }
+    let surface = [from, to].into_iter().find(|n| {
+        matches!(
+            scene.holders[n.end_effector as usize],
+            Holder::Surface { .. }
+        )
+    });
+    let placement = match (arc.kind, surface) {
+        (ArcKind::Transition, Some(s)) => {
+            let Holder::Surface { slab, .. } = &scene.holders[s.end_effector as usize] else {
+                unreachable!()
+            };
+            // Resting: on the top face, in the resting pose up to a turn about the vertical.
+            let rest = grasp(s.grasp);
+            let height = object_pose.translation.vector.z - slab.max.z;
+            if (height - rest.translation.vector.z).abs() > POSITION_TOLERANCE {
+                return Err(format!(
+                    "object is {height} m above the surface, its resting pose says {}",
+                    rest.translation.vector.z
+                ));
+            }
+            ObjectPlacement::Resting {
+                on: s.end_effector,
+                pose: object_pose,
+                by: arms.first().map(|a| a.0),
+            }
+        }
+        (ArcKind::Transition, None) => ObjectPlacement::Handoff {
+            a: arms[0].0,
+            grasp_a: grasp(if arms[0].0 == to.end_effector {
+                to.grasp
+            } else {
+                from.grasp
+            }),
+            b: arms[1].0,
+        },
+        (ArcKind::Move, _) => ObjectPlacement::Held {
+            by: to.end_effector,
+            grasp: grasp(to.grasp),
+        },
+    };
+    let mut scratch = SceneScratch::default();
+    match scene.collision(&arms, object as u32, placement, &mut scratch) {
+        Ok(None) => Ok(()),
+        Ok(Some((a, b))) => Err(format!("{a} collides with {b}")),
+        Err(e) => Err(format!("query failed: {e:?}")),
+    }
+}
+
+#[test]
+fn every_witness_of_every_shipped_geometric_cell_passes_a_recheck() {
+    let cells = geometric_cells();
+    assert!(!cells.is_empty(), "no shipped cell has arms");
+    for cell in cells {
+        let (artifact, scene) = verified(&cell, 0);
+        let verification = artifact.verification.as_ref().expect("verified");
+        let mut rechecked = 0;
+        for (o, object) in artifact.objects.iter().enumerate() {
+            for arc in &object.graph.arcs {
+                if arc.witness.is_some() {
+                    recheck(&artifact, &scene, o, arc)
+                        .unwrap_or_else(|e| panic!("{cell}, {}: {e}", object.name));
+                    rechecked += 1;
+                }
+            }
+            // Every arc between geometric holders was decided: kept with a witness or pruned.
+            for arc in &object.graph.arcs {
+                let holders = [arc.from, arc.to]
+                    .map(|n| &scene.holders[object.graph.nodes[n as usize].end_effector as usize]);
+                let geometric = holders.iter().any(|h| matches!(h, Holder::Arm { .. }));
+                assert!(
+                    !geometric || arc.witness.is_some(),
+                    "{cell}: an arc kept without a witness"
+                );
+            }
+        }
+        assert!(rechecked > 0, "{cell}: nothing was verified");
+        assert_eq!(
+            verification.n_checked as usize,
+            rechecked + verification.n_pruned as usize
+        );
+    }
+}
+
+#[test]
+fn an_impossible_handoff_is_pruned_with_its_reason() {
+    let (artifact, _) = verified("tests/data/verify/far_arms.cell", 0);
+    let ball = &artifact.objects[0];
+    assert!(
+        ball.graph.arcs.is_empty(),
+        "an arc survived: {:?}",
+        ball.graph.arcs
+    );
+    assert_eq!(ball.graph.pruned.len(), 2);
+    for pruned in &ball.graph.pruned {
+        match &pruned.reason {
+            Infeasibility::NoClosedChain { position_error, .. } => {
+                assert!(
+                    *position_error > 1.0,
+                    "3 m apart, the hands stay far apart: {position_error}"
+                )
+            }
+            other => panic!("wrong reason: {other:?}"),
+        }
+    }
+}
+
+#[test]
+fn the_same_seed_gives_the_same_artifact() {
+    for cell in geometric_cells() {
+        let (a, _) = verified(&cell, 7);
+        let (b, _) = verified(&cell, 7);
+        assert_eq!(
+            a.to_bytes(Encoding::Binary),
+            b.to_bytes(Encoding::Binary),
+            "{cell}"
+        );
+    }
+}
+
+/// UI tests of verification and scene loading: `tests/ui/runtime/CODE_what.cell` is
+/// built and verified; a file whose name says `stale` has its URDF changed after the
+/// build. The produced codes must be exactly the one in the file name.
+#[test]
+fn runtime_ui() {
+    let mut checked = 0;
+    insta::glob!("ui/runtime/*.cell", |path| {
+        let name = path.file_name().unwrap().to_string_lossy().to_string();
+        let code = name.split('_').next().unwrap_or_default().to_string();
+        let relative = format!("tests/ui/runtime/{name}");
+        let compilation = cellc_compiler::compile(&FsWorld, &relative);
+        assert!(!compilation.has_errors(), "{name} must compile");
+        let cell = compilation.cell.as_ref().expect("resolved");
+        let mut artifact =
+            cellc_compiler::artifact::lower(cell, &compilation.graphs, &compilation.sources);
+        struct Changed;
+        impl Files for Changed {
+            fn read(&self, path: &str) -> Result<Vec<u8>, String> {
+                let mut bytes = FsFiles.read(path)?;
+                if path.ends_with(".urdf") {
+                    bytes.extend_from_slice(b"\n<!-- edited after the build -->\n");
+                }
+                Ok(bytes)
+            }
+        }
+        let files: &dyn Files = if name.contains("stale") {
+            &Changed
+        } else {
+            &FsFiles
+        };
+        let diagnostics = match Scene::load(&artifact, files) {
+            Err(e) => vec![cellc::verify_report::scene_error_at(&e, &artifact)],
+            Ok(scene) => {
+                verify(&mut artifact, &scene, &VerifyOptions::default(), &|_, _| {});
+                cellc::verify_report::pruned_warnings(&artifact)
+            }
+        };
+        let codes: Vec<&str> = diagnostics.iter().map(|d| d.code.as_str()).collect();
+        assert!(
+            !codes.is_empty() && codes.iter().all(|c| *c == code),
+            "{name}: {codes:?}"
+        );
+        let source = std::fs::read_to_string(path).unwrap_or_default();
+        let rendered = cellc::render::human(
+            &diagnostics,
+            &compilation.sources,
+            cellc::render::Color::Never,
+        );
+        insta::assert_snapshot!(format!("{source}\n----- diagnostics -----\n{rendered}"));
+        checked += 1;
+    });
+    assert!(checked >= 3);
+}
