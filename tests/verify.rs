@@ -281,3 +281,21 @@ fn runtime_ui() {
     });
     assert!(checked >= 3);
 }
+
+proptest::proptest! {
+    #![proptest_config(proptest::prelude::ProptestConfig { cases: 4, ..Default::default() })]
+
+    /// Whatever the seed, every witness is collision-free, within limits and consistent.
+    #[test]
+    fn witnesses_hold_for_any_seed(seed in proptest::prelude::any::<u64>()) {
+        for cell in geometric_cells() {
+            let (artifact, scene) = verified(&cell, seed);
+            for (o, object) in artifact.objects.iter().enumerate() {
+                for arc in object.graph.arcs.iter().filter(|a| a.witness.is_some()) {
+                    let checked = recheck(&artifact, &scene, o, arc);
+                    proptest::prop_assert!(checked.is_ok(), "{cell} seed {seed}: {:?}", checked);
+                }
+            }
+        }
+    }
+}

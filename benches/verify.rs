@@ -1,0 +1,68 @@
+//! Build-time verification benchmarks (issue 4): checking every arc of the shipped
+//! geometric cells, and of a generated five-arm line (LWR arms with a shared hand kind,
+//! benches between them), on all cores (rayon).
+
+use cellc::fs_world::FsFiles;
+use cellc_compiler::{compile, MemoryWorld};
+use cellc_runtime::scene::Scene;
+use cellc_runtime::verify::{verify, VerifyOptions};
+use cellc_schema::Artifact;
+use criterion::{criterion_group, criterion_main, Criterion};
+
+#[path = "line.rs"]
+mod line;
+
+fn artifact(path: &str, text: String) -> Artifact {
+    let mut files = vec![(path.to_string(), text)];
+    for entry in std::fs::read_dir("cells/robots").expect("cells/robots exists") {
+        let p = entry.expect("entry").path();
+        if let Ok(t) = std::fs::read_to_string(&p) {
+            files.push((
+                format!("cells/robots/{}", p.file_name().unwrap().to_string_lossy()),
+                t,
+            ));
+        }
+    }
+    let world = MemoryWorld::new(files.iter().map(|(p, t)| (p.as_str(), t.as_str())));
+    let compilation = compile(&world, path);
+    assert!(!compilation.has_errors(), "{path} has errors");
+    let cell = compilation.cell.as_ref().expect("resolved");
+    cellc_compiler::artifact::lower(cell, &compilation.graphs, &compilation.sources)
+}
+
+fn case(c: &mut Criterion, name: &str, artifact: Artifact) {
+    let scene = Scene::load(&artifact, &FsFiles).expect("scene loads");
+    let options = VerifyOptions::default();
+    let mut once = artifact.clone();
+    let report = verify(&mut once, &scene, &options, &|_, _| {});
+    println!(
+        "{name}: {} arcs checked in {} distinct checks, {} pruned",
+        report.n_checked, report.n_checks, report.n_pruned
+    );
+    c.bench_function(name, |b| {
+        b.iter(|| {
+            let mut a = artifact.clone();
+            verify(&mut a, &scene, &options, &|_, _| {})
+        })
+    });
+}
+
+fn benches(c: &mut Criterion) {
+    let mut c = std::mem::take(c).sample_size(10);
+    case(
+        &mut c,
+        "verify/vito",
+        artifact(
+            "cells/vito.cell",
+            std::fs::read_to_string("cells/vito.cell").unwrap(),
+        ),
+    );
+    case(
+        &mut c,
+        "verify/line_5_arms",
+        artifact("cells/line5.cell", line::line_cell(5, 8, 2)),
+    );
+}
+
+criterion_group!(verify_benches, benches);
+criterion_main!(verify_benches);
