@@ -109,6 +109,34 @@ pub enum Command {
         #[arg(long, value_enum, default_value = "dot")]
         format: crate::commands::graph::GraphFormat,
     },
+    /// Plan a move request: a named request of the cell (the first one by default), or one
+    /// given with --object, --from and --to (`HOLDER[.GRASP] in WS` or `HOLDER at (x, y, z)
+    /// [rpy (r, p, y)]`, metres and degrees unless written).
+    Plan {
+        /// A `.cell` file (compiled and verified now) or an artifact.
+        input: PathBuf,
+        /// A request declared in the cell.
+        #[arg(long)]
+        request: Option<String>,
+        /// The object to move.
+        #[arg(long)]
+        object: Option<String>,
+        /// Where the object is.
+        #[arg(long)]
+        from: Option<String>,
+        /// Where it must go.
+        #[arg(long)]
+        to: Option<String>,
+        /// Output format.
+        #[arg(long, value_enum, default_value = "human")]
+        format: crate::commands::plan::PlanFormat,
+        /// Seed of the randomized solvers.
+        #[arg(long, default_value_t = 0)]
+        seed: u64,
+        /// Plan the high level only (no joint motions).
+        #[arg(long)]
+        no_motions: bool,
+    },
     /// Explain a diagnostic code, e.g. `cellc explain E0101`.
     Explain {
         /// The code.

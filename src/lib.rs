@@ -6,6 +6,7 @@ pub mod args;
 pub mod artifact_io;
 pub mod commands;
 pub mod docs;
+pub mod explain_report;
 pub mod fs_world;
 pub mod import;
 pub mod render;
@@ -21,6 +22,7 @@ pub fn all_codes() -> Vec<cellc_lang::Code> {
     codes.extend_from_slice(cellc_compiler::diagnostics::codes::ALL);
     codes.extend_from_slice(artifact_io::codes::ALL);
     codes.extend_from_slice(verify_report::codes::ALL);
+    codes.extend_from_slice(commands::plan::codes::ALL);
     codes.extend_from_slice(import::diagnostics::codes::ALL);
     codes
 }
@@ -70,6 +72,25 @@ pub fn dispatch() -> ExitCode {
             commands::build::run(cell, output.as_deref(), &options)
         }
         args::Command::Info { file } => commands::info::run(&file.to_string_lossy()),
+        args::Command::Plan {
+            input,
+            request,
+            object,
+            from,
+            to,
+            format,
+            seed,
+            no_motions,
+        } => commands::plan::run(&commands::plan::PlanArgs {
+            input: input.to_string_lossy().to_string(),
+            request: request.clone(),
+            object: object.clone(),
+            from: from.clone(),
+            to: to.clone(),
+            format: *format,
+            seed: *seed,
+            motions: !*no_motions,
+        }),
         args::Command::Graph {
             file,
             object,

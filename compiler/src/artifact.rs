@@ -129,6 +129,29 @@ pub fn lower(cell: &Cell, graphs: &[ObjectGraph], sources: &SourceMap) -> schema
         workspaces,
         end_effectors,
         objects,
+        requests: cell
+            .requests
+            .iter()
+            .map(|r| {
+                let object = &cell.objects[r.object];
+                let grasp_index = |g: crate::ids::GraspId| {
+                    object.grasps.iter().position(|&x| x == g).map(|i| i as u32)
+                };
+                let placement = |p: &RequestPlacement| schema::RequestPlacement {
+                    end_effector: p.end_effector.0,
+                    grasp: p.grasp.and_then(grasp_index),
+                    workspace: p.workspace.map(|w| w.0),
+                    pose: p.pose.as_ref().map(pose),
+                };
+                schema::NamedRequest {
+                    name: r.name.clone(),
+                    object: r.object.0,
+                    from: placement(&r.from),
+                    to: placement(&r.to),
+                    span: spans.get(r.origin.file, r.origin.span),
+                }
+            })
+            .collect(),
         allowed_contacts: cell
             .allowed_contacts
             .iter()
@@ -212,8 +235,20 @@ fn lower_object(cell: &Cell, g: &ObjectGraph, spans: &mut SpanTable) -> schema::
             })
         })
         .collect();
+    let transitions = cell
+        .transitions
+        .iter()
+        .filter_map(|t| {
+            Some(schema::DeclaredTransition {
+                from: *grasp_index.get(&t.from)?,
+                to: *grasp_index.get(&t.to)?,
+                span: spans.get(t.origin.file, t.origin.span),
+            })
+        })
+        .collect();
     schema::Object {
         name: object.name.clone(),
+        transitions,
         shape: object.shape.as_ref().map(shape),
         symmetries: object
             .symmetries

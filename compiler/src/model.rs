@@ -313,6 +313,34 @@ pub struct Placement {
     pub span: Span,
 }
 
+/// A resolved `request`.
+#[derive(Clone, Debug)]
+pub struct NamedRequest {
+    /// Its name.
+    pub name: String,
+    /// The object.
+    pub object: ObjectId,
+    /// Where it is.
+    pub from: RequestPlacement,
+    /// Where it must go.
+    pub to: RequestPlacement,
+    /// The `request` item.
+    pub origin: Origin,
+}
+
+/// A resolved placement of a request.
+#[derive(Clone, Debug)]
+pub struct RequestPlacement {
+    /// Holder.
+    pub end_effector: EndEffectorId,
+    /// Grasp, when named.
+    pub grasp: Option<GraspId>,
+    /// Workspace, when given by name.
+    pub workspace: Option<WorkspaceId>,
+    /// Object pose, when given.
+    pub pose: Option<Pose>,
+}
+
 /// A resolved `expect` with its origin.
 #[derive(Clone, Debug)]
 pub struct Expectation {
@@ -351,6 +379,8 @@ pub struct Cell {
     pub expectations: Vec<Expectation>,
     /// True when the cell says `workspaces from reach`.
     pub derive_workspaces: Option<Origin>,
+    /// Named example requests, in source order.
+    pub requests: Vec<NamedRequest>,
     /// Pairs of bodies that may touch (`allow contact`), by collision-body name
     /// (`left`, `left/lwr_link_7`, `table`).
     pub allowed_contacts: Vec<(String, String, Origin)>,

@@ -109,10 +109,12 @@ pub fn resolve(world: &dyn World, loaded: &Loaded, diagnostics: &mut Vec<Diagnos
             }
         }
     }
-    for (id, _, file) in &files {
+    for (i, (id, _, file)) in files.iter().enumerate() {
         for item in &file.items {
-            if let ast::Item::Expect(e) = item {
-                r.resolve_expect(*id, e);
+            match item {
+                ast::Item::Expect(e) => r.resolve_expect(*id, e),
+                ast::Item::Request(q) => r.resolve_request(*id, units[i], q),
+                _ => {}
             }
         }
     }
@@ -314,6 +316,7 @@ impl Resolver<'_, '_> {
             | ast::Item::Adjacent(_)
             | ast::Item::Reach(_)
             | ast::Item::Expect(_)
+            | ast::Item::Request(_)
             | ast::Item::Allow(_) => {}
         }
     }
@@ -865,6 +868,74 @@ impl Resolver<'_, '_> {
             home[i] = v;
         }
         home
+    }
+
+    /// A `request`: every name resolved (all reported), poses in SI.
+    fn resolve_request(&mut self, file: FileId, units: FileUnits, q: &ast::RequestItem) {
+        let object = self.object(file, &q.object);
+        let from = self.request_placement(file, units, object, &q.from);
+        let to = self.request_placement(file, units, object, &q.to);
+        let (Some(object), Some(from), Some(to)) = (object, from, to) else {
+            return;
+        };
+        if let Some(first) = self.cell.requests.iter().find(|r| r.name == q.name.text) {
+            let origin = origin(file, q.span, &q.name);
+            self.diagnostics.push(diagnostics::duplicate_name(
+                Sort::Object,
+                &q.name.text,
+                first.origin,
+                origin,
+            ));
+            return;
+        }
+        self.cell.requests.push(NamedRequest {
+            name: q.name.text.clone(),
+            object,
+            from,
+            to,
+            origin: origin(file, q.span, &q.name),
+        });
+    }
+
+    fn request_placement(
+        &mut self,
+        file: FileId,
+        units: FileUnits,
+        object: Option<ObjectId>,
+        p: &ast::RequestPlacement,
+    ) -> Option<RequestPlacement> {
+        let (holder_name, grasp_name) = match &p.holder.object {
+            Some(holder) => (holder, Some(&p.holder.name)),
+            None => (&p.holder.name, None),
+        };
+        let end_effector = self.end_effector(file, holder_name);
+        let grasp = match (grasp_name, object) {
+            (Some(g), Some(object)) => Some(self.grasp_of(file, object, g)),
+            (Some(_), None) => Some(None),
+            (None, _) => None,
+        };
+        let (workspace, pose) = match &p.place {
+            ast::PlaceSpec::In(w) => (Some(self.workspace(file, w)), None),
+            ast::PlaceSpec::At(pose) => (None, Some(self.eval(file, units).pose(pose))),
+        };
+        let grasp = match grasp {
+            Some(g) => Some(g?),
+            None => None,
+        };
+        let workspace = match workspace {
+            Some(w) => Some(w?),
+            None => None,
+        };
+        let pose = match pose {
+            Some(p) => Some(p?),
+            None => None,
+        };
+        Some(RequestPlacement {
+            end_effector: end_effector?,
+            grasp,
+            workspace,
+            pose,
+        })
     }
 
     /// `allow contact A B`: both bodies must exist; a dotted name is a link or the hand of

@@ -222,6 +222,8 @@ pub enum Item {
     Expect(ExpectItem),
     /// `allow contact A B`.
     Allow(AllowItem),
+    /// `request NAME: OBJECT from PLACEMENT to PLACEMENT`.
+    Request(RequestItem),
 }
 
 impl Item {
@@ -244,6 +246,7 @@ impl Item {
             Item::Object(i) => i.span,
             Item::Expect(i) => i.span,
             Item::Allow(i) => i.span,
+            Item::Request(i) => i.span,
         }
     }
 }
@@ -441,6 +444,43 @@ pub struct AllowItem {
     pub b: Qualified,
     /// Whole item.
     pub span: Span,
+}
+
+/// `request NAME: OBJECT from PLACEMENT to PLACEMENT`: an example move request, planned by
+/// `cellc plan CELL` (the first one when none is named).
+#[derive(Clone, Debug, PartialEq)]
+pub struct RequestItem {
+    /// Request name.
+    pub name: Name,
+    /// The object.
+    pub object: Name,
+    /// Where it is.
+    pub from: RequestPlacement,
+    /// Where it must go.
+    pub to: RequestPlacement,
+    /// Whole item.
+    pub span: Span,
+}
+
+/// `HOLDER[.GRASP] in WORKSPACE` or `HOLDER[.GRASP] at (x, y, z) [rotation]`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RequestPlacement {
+    /// End-effector, optionally with a grasp.
+    pub holder: Qualified,
+    /// Where.
+    pub place: PlaceSpec,
+    /// Whole placement.
+    pub span: Span,
+}
+
+/// The second half of a request placement.
+#[allow(clippy::large_enum_variant)]
+#[derive(Clone, Debug, PartialEq)]
+pub enum PlaceSpec {
+    /// Somewhere in a workspace.
+    In(Name),
+    /// Exactly at an object pose.
+    At(Pose),
 }
 
 /// `reach NAME box center (...) size (...)`.

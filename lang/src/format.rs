@@ -447,6 +447,13 @@ fn name(name: &Name) -> String {
     }
 }
 
+fn request_placement(p: &RequestPlacement) -> String {
+    match &p.place {
+        PlaceSpec::In(w) => format!("{} in {}", qualified(&p.holder), name(w)),
+        PlaceSpec::At(at) => format!("{} {}", qualified(&p.holder), pose(at)),
+    }
+}
+
 fn qualified(q: &Qualified) -> String {
     match &q.object {
         Some(object) => format!("{}.{}", name(object), name(&q.name)),
@@ -625,6 +632,13 @@ fn item_text(item: &Item) -> String {
         }
         Item::Reach(r) => format!("reach {} {}", name(&r.end_effector), aabb(&r.aabb)),
         Item::Allow(a) => format!("allow contact {} {}", qualified(&a.a), qualified(&a.b)),
+        Item::Request(r) => format!(
+            "request {}: {} from {} to {}",
+            name(&r.name),
+            name(&r.object),
+            request_placement(&r.from),
+            request_placement(&r.to)
+        ),
         Item::Object(o) => {
             // Objects are printed by the block printer; this one-line form only keeps the
             // function total.

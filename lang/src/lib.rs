@@ -14,7 +14,7 @@ pub mod span;
 
 pub use diagnostic::{Code, Diagnostic, Label, Severity};
 pub use format::format;
-pub use parser::Parsed;
+pub use parser::{parse_placement, Parsed};
 pub use span::{FileId, SourceFile, SourceMap, Span};
 
 /// How deep `{ ... }` blocks may nest before the parser refuses the file. Real cells nest

@@ -58,6 +58,30 @@ pub fn parse(file_id: FileId, text: &str) -> Parsed {
 /// leaves at its end (a rule ending in an optional part swallows the trivia before the
 /// part it did not find). Spans must end at the last real token: the formatter attaches
 /// comments by position, and labels should not underline blank lines.
+/// Parses a placement on its own (`table.g1 in w1`, `table at (0.5, 0, 0.8) rpy (0, 0,
+/// 90)`), as given on the command line.
+pub fn parse_placement(file_id: FileId, text: &str) -> Result<RequestPlacement, Diagnostic> {
+    pest::set_error_detail(true);
+    let pairs = CellParser::parse(Rule::placement_arg, text)
+        .map_err(|error| phrases::syntax_error(file_id, text, 0, &error))?;
+    let mut diagnostics = Vec::new();
+    let mut builder = Builder {
+        file_id,
+        text,
+        diagnostics: &mut diagnostics,
+    };
+    let placement = pairs
+        .into_iter()
+        .next()
+        .and_then(|p| p.into_inner().next())
+        .and_then(|p| builder.request_placement(p));
+    match (placement, diagnostics.pop()) {
+        (Some(p), None) => Ok(p),
+        (_, Some(d)) => Err(d),
+        (None, None) => Err(phrases::internal(file_id, Span::new(0, text.len()))),
+    }
+}
+
 fn span_of(pair: &Pair<'_, Rule>) -> Span {
     let s = pair.as_span();
     Span::new(s.start(), s.start() + content_len(s.as_str()))
@@ -358,6 +382,21 @@ impl Builder<'_, '_> {
                     span,
                 })
             }
+            Rule::request_item => {
+                let name = self.name(inner.next()?)?;
+                let object = self.name(inner.next()?)?;
+                let _from = inner.next();
+                let from = self.request_placement(inner.next()?)?;
+                let _to = inner.next();
+                let to = self.request_placement(inner.next()?)?;
+                Item::Request(RequestItem {
+                    name,
+                    object,
+                    from,
+                    to,
+                    span,
+                })
+            }
             Rule::allow_item => {
                 let _contact = inner.next();
                 Item::Allow(AllowItem {
@@ -502,6 +541,23 @@ impl Builder<'_, '_> {
         Some(Placement {
             holder,
             workspace,
+            span,
+        })
+    }
+
+    fn request_placement(&mut self, pair: Pair<'_, Rule>) -> Option<RequestPlacement> {
+        let span = span_of(&pair);
+        let mut inner = pair.into_inner();
+        let holder = self.qualified(inner.next()?)?;
+        let next = inner.next()?;
+        let place = if next.as_rule() == Rule::pose {
+            PlaceSpec::At(self.pose(next)?)
+        } else {
+            PlaceSpec::In(self.name(inner.next()?)?)
+        };
+        Some(RequestPlacement {
+            holder,
+            place,
             span,
         })
     }

@@ -45,6 +45,7 @@ const ITEM_STARTS: &[Rule] = &[
     Rule::kw_object,
     Rule::kw_expect,
     Rule::kw_allow,
+    Rule::kw_request,
 ];
 
 const MEMBER_STARTS: &[Rule] = &[
@@ -75,6 +76,7 @@ pub const RESERVED: &[&str] = &[
     "object",
     "expect",
     "allow",
+    "request",
     "shape",
     "symmetry",
     "grasp",
@@ -101,6 +103,7 @@ pub fn phrase(rule: Rule) -> &'static str {
         Rule::member_probe | Rule::object_member => {
             "an object member (`shape`, `symmetry`, `grasp`, `rest` or `transition`)"
         }
+        Rule::placement_arg => "a placement like `table in w1` or `table at (x, y, z)`",
         Rule::item_line => "an item (`workspace`, `fixed`, `movable`, `object`, `expect`, ...)",
         Rule::member_line => {
             "an object member (`shape`, `symmetry`, `grasp`, `rest` or `transition`)"
@@ -195,6 +198,12 @@ pub fn phrase(rule: Rule) -> &'static str {
         Rule::kw_with => "`with`",
         Rule::kw_home => "`home`",
         Rule::kw_allow => "`allow`",
+        Rule::kw_request => "`request`",
+        Rule::kw_to => "`to`",
+        Rule::request_item => {
+            "a request like `request r1: cylinder from table in w1 to table in w3`"
+        }
+        Rule::request_placement => "a placement like `table in w1` or `table at (x, y, z)`",
         Rule::kw_contact => "`contact`",
         Rule::allow_item => "an allowed contact like `allow contact left.lwr_link_7 table`",
         Rule::home_clause => "a home configuration like `home (joint_2 30 deg, joint_4 -60 deg)`",

@@ -46,11 +46,41 @@ pub struct Artifact {
     pub objects: Vec<Object>,
     /// Source places that arcs and elements point to (indices into this list).
     pub spans: Vec<SourceSpan>,
+    /// Named example requests of the cell, in source order.
+    pub requests: Vec<NamedRequest>,
     /// Pairs of collision bodies that may touch (`allow contact`): `left`,
     /// `left/lwr_link_7`, `left/softhand`, `table`, an object.
     pub allowed_contacts: Vec<(String, String)>,
     /// Present when every arc was checked kinematically (`cellc build --verify`).
     pub verification: Option<Verification>,
+}
+
+/// A request declared in the cell (`request NAME: OBJECT from ... to ...`).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct NamedRequest {
+    /// Name.
+    pub name: String,
+    /// Index into [`Artifact::objects`].
+    pub object: u32,
+    /// Where the object is.
+    pub from: RequestPlacement,
+    /// Where it must go.
+    pub to: RequestPlacement,
+    /// The `request` line.
+    pub span: u32,
+}
+
+/// A placement in a request.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct RequestPlacement {
+    /// Index into [`Artifact::end_effectors`].
+    pub end_effector: u32,
+    /// Index into the object's grasps, when named.
+    pub grasp: Option<u32>,
+    /// Index into [`Artifact::workspaces`], when named.
+    pub workspace: Option<u32>,
+    /// Object pose, when given.
+    pub pose: Option<Pose>,
 }
 
 /// How the arcs were verified.
@@ -382,9 +412,23 @@ pub struct Object {
     pub symmetries: Vec<Symmetry>,
     /// Grasps; graph nodes index into this list.
     pub grasps: Vec<Grasp>,
+    /// Declared transitions between grasps (directed), whether or not any workspace made
+    /// arcs of them: explanations of unreachable goals suggest from these.
+    pub transitions: Vec<DeclaredTransition>,
     /// The object-state graph.
     pub graph: Graph,
     /// Declaration.
+    pub span: u32,
+}
+
+/// A declared, directed grasp exchange.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct DeclaredTransition {
+    /// Grasp given up (index into the object's `grasps`).
+    pub from: u32,
+    /// Grasp taken.
+    pub to: u32,
+    /// The `transition` line.
     pub span: u32,
 }
 

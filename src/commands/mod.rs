@@ -7,3 +7,4 @@ pub mod fmt;
 pub mod graph;
 pub mod import;
 pub mod info;
+pub mod plan;

@@ -1,0 +1,412 @@
+//! Cartesian to state (Algorithm 1, step 2): which workspace a pose lies in, and which
+//! grasp or resting pose of its holder the object's pose matches.
+//!
+//! The original planner compared orientation only, ignored position and symmetry, and
+//! handled table grasps only. Here a resting pose matches when the object is at the
+//! resting height above the surface and its orientation equals the resting orientation
+//! turned about the vertical, up to the object's declared symmetries; position and
+//! orientation both count, within the request's tolerances. Hands need their grasp named
+//! (the object pose alone does not say how a hand holds it) unless the hand has one grasp.
+//! When nothing matches, the error lists the nearest candidates and how far off they are.
+
+use cellc_schema::{Artifact, Holder as GraspHolder, Node};
+
+use crate::math::{iso_from_schema, Iso, Point, Quat, Vec3};
+use crate::scene::{Holder, Scene};
+use crate::symmetry;
+
+use super::{Goal, Placement, PlanOptions};
+
+/// A candidate that did not match, and by how much.
+#[derive(Clone, Debug, PartialEq)]
+pub struct NearMiss {
+    /// Workspace or grasp name.
+    pub name: String,
+    /// Position error, metres.
+    pub position_error: f64,
+    /// Orientation error, radians (0 for workspaces).
+    pub rotation_error: f64,
+}
+
+/// Why a request could not be located in the graph.
+#[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
+pub enum LocateError {
+    /// No object of that name.
+    UnknownObject {
+        /// Name asked for.
+        name: String,
+        /// Objects the artifact has.
+        known: Vec<String>,
+    },
+    /// No end-effector of that name.
+    UnknownHolder {
+        /// Name asked for.
+        name: String,
+        /// End-effectors the artifact has.
+        known: Vec<String>,
+    },
+    /// The holder has no grasp of that name for this object.
+    UnknownGrasp {
+        /// Holder.
+        holder: String,
+        /// Name asked for.
+        name: String,
+        /// Its grasps of this object.
+        known: Vec<String>,
+    },
+    /// No workspace of that name.
+    UnknownWorkspace {
+        /// Name asked for.
+        name: String,
+        /// Workspaces the artifact has.
+        known: Vec<String>,
+    },
+    /// The placement gives neither a pose nor a workspace.
+    NoWhere {
+        /// Holder.
+        holder: String,
+    },
+    /// The pose is in no workspace.
+    NoWorkspace {
+        /// The position.
+        position: [f64; 3],
+        /// Nearest workspaces and their distance.
+        nearest: Vec<NearMiss>,
+    },
+    /// The holder does not reach the workspace the pose is in.
+    NotReached {
+        /// Holder.
+        holder: String,
+        /// Workspace.
+        workspace: String,
+    },
+    /// The pose matches no grasp or resting pose of the holder.
+    NoGrasp {
+        /// Holder.
+        holder: String,
+        /// Workspace.
+        workspace: String,
+        /// Nearest grasps and how far off they are.
+        nearest: Vec<NearMiss>,
+    },
+    /// A hand holds the object but the request does not say how.
+    GraspNeeded {
+        /// Holder.
+        holder: String,
+        /// Its grasps of this object.
+        grasps: Vec<String>,
+    },
+}
+
+impl std::fmt::Display for LocateError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let list = |v: &[String]| {
+            v.iter()
+                .map(|s| format!("`{s}`"))
+                .collect::<Vec<_>>()
+                .join(", ")
+        };
+        let misses = |v: &[NearMiss]| {
+            v.iter()
+                .map(|m| {
+                    if m.rotation_error > 0.0 {
+                        format!(
+                            "`{}` ({:.3} m, {:.1} deg off)",
+                            m.name,
+                            m.position_error,
+                            m.rotation_error.to_degrees()
+                        )
+                    } else {
+                        format!("`{}` ({:.3} m away)", m.name, m.position_error)
+                    }
+                })
+                .collect::<Vec<_>>()
+                .join(", ")
+        };
+        match self {
+            LocateError::UnknownObject { name, known } => write!(f, "no object `{name}`; the objects are {}", list(known)),
+            LocateError::UnknownHolder { name, known } => write!(f, "no end-effector `{name}`; the end-effectors are {}", list(known)),
+            LocateError::UnknownGrasp { holder, name, known } => {
+                write!(f, "`{holder}` has no grasp `{name}` of this object; its grasps are {}", list(known))
+            }
+            LocateError::UnknownWorkspace { name, known } => write!(f, "no workspace `{name}`; the workspaces are {}", list(known)),
+            LocateError::NoWhere { holder } => write!(f, "say where `{holder}` holds the object: a pose or a workspace"),
+            LocateError::NoWorkspace { position, nearest } => write!(
+                f,
+                "({:.3}, {:.3}, {:.3}) is in no workspace; nearest: {}",
+                position[0],
+                position[1],
+                position[2],
+                misses(nearest)
+            ),
+            LocateError::NotReached { holder, workspace } => write!(f, "`{holder}` does not reach `{workspace}`, where the pose is"),
+            LocateError::NoGrasp { holder, workspace, nearest } => write!(
+                f,
+                "the pose matches no grasp or resting pose of `{holder}` in `{workspace}`; nearest: {}",
+                misses(nearest)
+            ),
+            LocateError::GraspNeeded { holder, grasps } => {
+                write!(f, "say which grasp `{holder}` holds the object with: {}", list(grasps))
+            }
+        }
+    }
+}
+
+/// Index of the object named `name`.
+pub fn object_index(artifact: &Artifact, name: &str) -> Result<u32, LocateError> {
+    artifact
+        .objects
+        .iter()
+        .position(|o| o.name == name)
+        .map(|i| i as u32)
+        .ok_or_else(|| LocateError::UnknownObject {
+            name: name.to_string(),
+            known: artifact.objects.iter().map(|o| o.name.clone()).collect(),
+        })
+}
+
+fn holder_index(artifact: &Artifact, name: &str) -> Result<u32, LocateError> {
+    artifact
+        .end_effectors
+        .iter()
+        .position(|e| e.name == name)
+        .map(|i| i as u32)
+        .ok_or_else(|| LocateError::UnknownHolder {
+            name: name.to_string(),
+            known: artifact
+                .end_effectors
+                .iter()
+                .map(|e| e.name.clone())
+                .collect(),
+        })
+}
+
+fn workspace_index(artifact: &Artifact, name: &str) -> Result<u32, LocateError> {
+    artifact
+        .workspaces
+        .iter()
+        .position(|w| w.name == name)
+        .map(|i| i as u32)
+        .ok_or_else(|| LocateError::UnknownWorkspace {
+            name: name.to_string(),
+            known: artifact.workspaces.iter().map(|w| w.name.clone()).collect(),
+        })
+}
+
+/// Grasps of `object` that end-effector `e` can hold.
+fn grasps_of(artifact: &Artifact, object: u32, e: u32) -> Vec<u32> {
+    let kind = artifact.end_effectors[e as usize].kind;
+    artifact.objects[object as usize]
+        .grasps
+        .iter()
+        .enumerate()
+        .filter(|(_, g)| match g.holder {
+            GraspHolder::EndEffector(h) => h == e,
+            GraspHolder::Kind(k) => Some(k) == kind,
+        })
+        .map(|(i, _)| i as u32)
+        .collect()
+}
+
+/// The workspace containing `position`, or the nearest ones.
+fn workspace_at(artifact: &Artifact, scene: &Scene, position: &Point) -> Result<u32, LocateError> {
+    if let Some(w) = scene
+        .workspaces
+        .iter()
+        .position(|boxes| boxes.iter().any(|b| b.contains(position)))
+    {
+        return Ok(w as u32);
+    }
+    let mut nearest: Vec<NearMiss> = scene
+        .workspaces
+        .iter()
+        .enumerate()
+        .filter(|(_, boxes)| !boxes.is_empty())
+        .map(|(w, boxes)| {
+            let d = boxes
+                .iter()
+                .map(|b| {
+                    let clamped = Point::new(
+                        position.x.clamp(b.min.x, b.max.x),
+                        position.y.clamp(b.min.y, b.max.y),
+                        position.z.clamp(b.min.z, b.max.z),
+                    );
+                    (clamped - position).norm()
+                })
+                .fold(f64::INFINITY, f64::min);
+            NearMiss {
+                name: artifact.workspaces[w].name.clone(),
+                position_error: d,
+                rotation_error: 0.0,
+            }
+        })
+        .collect();
+    nearest.sort_by(|a, b| a.position_error.total_cmp(&b.position_error));
+    nearest.truncate(3);
+    Err(LocateError::NoWorkspace {
+        position: [position.x, position.y, position.z],
+        nearest,
+    })
+}
+
+/// How far `pose` is from resting as `rest` on a surface whose top face is at `top`:
+/// (height error, orientation error up to a turn about the vertical and the object's
+/// symmetries).
+fn rest_error(
+    pose: &Iso,
+    rest: &Iso,
+    top: f64,
+    symmetries: &[cellc_schema::Symmetry],
+) -> (f64, f64) {
+    let height = (pose.translation.vector.z - top - rest.translation.vector.z).abs();
+    // Best turn about the vertical: a coarse scan, then a fine one around the best.
+    let error_at = |yaw: f64| {
+        let expected = Quat::from_axis_angle(&Vec3::z_axis(), yaw) * rest.rotation;
+        symmetry::residual(&(expected.inverse() * pose.rotation), symmetries)
+    };
+    let mut best = (0.0, f64::INFINITY);
+    for k in 0..360 {
+        let yaw = f64::from(k).to_radians();
+        let e = error_at(yaw);
+        if e < best.1 {
+            best = (yaw, e);
+        }
+    }
+    for k in -100..=100 {
+        let yaw = best.0 + f64::from(k) * 0.01_f64.to_radians();
+        let e = error_at(yaw);
+        if e < best.1 {
+            best = (yaw, e);
+        }
+    }
+    (height, best.1)
+}
+
+/// The state of a placement of `object`.
+pub fn locate(
+    artifact: &Artifact,
+    scene: &Scene,
+    object: u32,
+    placement: &Placement,
+    options: &PlanOptions,
+) -> Result<Node, LocateError> {
+    let workspace = placement.workspace.as_deref();
+    let e = holder_index(artifact, &placement.holder)?;
+    let grasps = grasps_of(artifact, object, e);
+    let names = |gs: &[u32]| -> Vec<String> {
+        gs.iter()
+            .map(|&g| {
+                artifact.objects[object as usize].grasps[g as usize]
+                    .name
+                    .clone()
+            })
+            .collect()
+    };
+    let w = match (workspace, &placement.pose) {
+        (Some(name), _) => workspace_index(artifact, name)?,
+        (None, Some(pose)) => workspace_at(artifact, scene, &Point::from(pose.translation.vector))?,
+        (None, None) => {
+            return Err(LocateError::NoWhere {
+                holder: placement.holder.clone(),
+            })
+        }
+    };
+    if !artifact.end_effectors[e as usize].reaches.contains(&w) {
+        return Err(LocateError::NotReached {
+            holder: placement.holder.clone(),
+            workspace: artifact.workspaces[w as usize].name.clone(),
+        });
+    }
+    let node = |g: u32| Node {
+        end_effector: e,
+        grasp: g,
+        workspace: w,
+    };
+    if let Some(name) = &placement.grasp {
+        return grasps
+            .iter()
+            .copied()
+            .find(|&g| artifact.objects[object as usize].grasps[g as usize].name == *name)
+            .map(node)
+            .ok_or_else(|| LocateError::UnknownGrasp {
+                holder: placement.holder.clone(),
+                name: name.clone(),
+                known: names(&grasps),
+            });
+    }
+    match (&scene.holders[e as usize], &placement.pose) {
+        (Holder::Surface { slab, .. }, Some(pose)) => {
+            let obj = &artifact.objects[object as usize];
+            let mut misses: Vec<(u32, f64, f64)> = grasps
+                .iter()
+                .map(|&g| {
+                    let rest = obj.grasps[g as usize]
+                        .pose
+                        .as_ref()
+                        .map(iso_from_schema)
+                        .unwrap_or_else(Iso::identity);
+                    let (dp, dr) = rest_error(pose, &rest, slab.max.z, &obj.symmetries);
+                    (g, dp, dr)
+                })
+                .collect();
+            misses.sort_by(|a, b| {
+                (a.1 / options.position_tolerance + a.2 / options.rotation_tolerance).total_cmp(
+                    &(b.1 / options.position_tolerance + b.2 / options.rotation_tolerance),
+                )
+            });
+            match misses.first() {
+                Some(&(g, dp, dr))
+                    if dp <= options.position_tolerance && dr <= options.rotation_tolerance =>
+                {
+                    Ok(node(g))
+                }
+                _ => Err(LocateError::NoGrasp {
+                    holder: placement.holder.clone(),
+                    workspace: artifact.workspaces[w as usize].name.clone(),
+                    nearest: misses
+                        .iter()
+                        .take(3)
+                        .map(|&(g, dp, dr)| NearMiss {
+                            name: obj.grasps[g as usize].name.clone(),
+                            position_error: dp,
+                            rotation_error: dr,
+                        })
+                        .collect(),
+                }),
+            }
+        }
+        _ if grasps.len() == 1 => Ok(node(grasps[0])),
+        _ => Err(LocateError::GraspNeeded {
+            holder: placement.holder.clone(),
+            grasps: names(&grasps),
+        }),
+    }
+}
+
+/// Every state that satisfies a goal.
+pub fn goal_states(
+    artifact: &Artifact,
+    scene: &Scene,
+    object: u32,
+    goal: &Goal,
+    options: &PlanOptions,
+) -> Result<Vec<Node>, LocateError> {
+    match goal {
+        Goal::Placement(p) => Ok(vec![locate(artifact, scene, object, p, options)?]),
+        Goal::Workspace { workspace, holder } => {
+            let w = workspace_index(artifact, workspace)?;
+            let e = holder
+                .as_deref()
+                .map(|h| holder_index(artifact, h))
+                .transpose()?;
+            Ok(artifact.objects[object as usize]
+                .graph
+                .nodes
+                .iter()
+                .copied()
+                .filter(|n| n.workspace == w && e.is_none_or(|e| n.end_effector == e))
+                .collect())
+        }
+    }
+}

@@ -1,0 +1,215 @@
+//! Move requests: "move object O from this pose to that pose" (the paper's Algorithm 1).
+//!
+//! A request is located in the object's graph (Cartesian pose to state), the cheapest
+//! state path is found (Dijkstra), consecutive moves are merged, and the path is turned
+//! into `move`, `grasp` and `ungrasp` commands with concrete object poses and joint
+//! configurations (reusing the build-time witnesses, solving the start and goal
+//! specifically). A step that fails removes its arc and the search runs again, a bounded
+//! number of times. The plan's strategy (pick-and-place, handoff, regrasp...) is read off
+//! the path afterwards, never chosen in advance.
+
+pub mod locate;
+pub mod planner;
+pub mod search;
+pub mod strategy;
+
+use cellc_schema::{Infeasibility, Node};
+
+use crate::math::Iso;
+
+pub use locate::LocateError;
+pub use strategy::Strategy;
+
+/// Where an object is: held or supported by `holder`, at `pose` (the object's pose in the
+/// cell) or somewhere in `workspace` (abstract cells have no geometry). The grasp may be
+/// named; otherwise it is inferred from the pose (surfaces) or from the holder having a
+/// single grasp.
+#[derive(Clone, Debug)]
+pub struct Placement {
+    /// End-effector name.
+    pub holder: String,
+    /// Grasp or resting pose name, when known.
+    pub grasp: Option<String>,
+    /// Workspace name, when known (needed when there is no pose).
+    pub workspace: Option<String>,
+    /// Object pose in the cell.
+    pub pose: Option<Iso>,
+}
+
+/// Where the object must end.
+#[derive(Clone, Debug)]
+pub enum Goal {
+    /// Exactly there (the holder is normally a fixed surface).
+    Placement(Placement),
+    /// Anywhere in a workspace, held by `holder` if given.
+    Workspace {
+        /// Workspace name.
+        workspace: String,
+        /// End-effector name.
+        holder: Option<String>,
+    },
+}
+
+/// Settings of a request.
+#[derive(Clone, Debug)]
+pub struct PlanOptions {
+    /// Seed of every randomized solver.
+    pub seed: u64,
+    /// How many times a failed step may remove its arc and search again.
+    pub max_backtracks: u32,
+    /// Plan joint motions between commands (false: high level only).
+    pub motions: bool,
+    /// Position tolerance when matching a pose to a grasp or resting pose, metres.
+    pub position_tolerance: f64,
+    /// Orientation tolerance for the same, radians.
+    pub rotation_tolerance: f64,
+}
+
+impl Default for PlanOptions {
+    fn default() -> PlanOptions {
+        PlanOptions {
+            seed: 0,
+            max_backtracks: 1000,
+            motions: true,
+            position_tolerance: 0.01,
+            rotation_tolerance: 0.05,
+        }
+    }
+}
+
+/// A move request.
+#[derive(Clone, Debug)]
+pub struct Request {
+    /// Object name.
+    pub object: String,
+    /// Where it is.
+    pub start: Placement,
+    /// Where it must go.
+    pub goal: Goal,
+    /// Settings.
+    pub options: PlanOptions,
+}
+
+/// Joint values of every arm at a moment: (end-effector, joints).
+pub type ArmConfigurations = Vec<(u32, Vec<f64>)>;
+
+/// A time-parametrised joint trajectory of one or several arms moving together.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Trajectory {
+    /// The arms, in the order their joints are concatenated in each point.
+    pub arms: Vec<u32>,
+    /// Samples: time from the start of the motion (s) and the concatenated joints.
+    pub points: Vec<(f64, Vec<f64>)>,
+}
+
+/// One command of a plan.
+#[derive(Clone, Debug)]
+pub enum Command {
+    /// The holder carries the object into another workspace (same grasp).
+    Move {
+        /// End-effector.
+        holder: u32,
+        /// Workspace reached.
+        workspace: u32,
+        /// Object pose at the end (`None` in abstract cells).
+        object: Option<Iso>,
+        /// Arm configurations at the end.
+        configurations: ArmConfigurations,
+    },
+    /// The receiving end-effector takes hold of the object.
+    Grasp {
+        /// End-effector.
+        holder: u32,
+        /// Grasp (index into the object's grasps).
+        grasp: u32,
+        /// Workspace.
+        workspace: u32,
+        /// Object pose during the exchange (`None` in abstract cells).
+        object: Option<Iso>,
+        /// Configurations of the arms involved.
+        configurations: ArmConfigurations,
+    },
+    /// The giving end-effector lets go.
+    Ungrasp {
+        /// End-effector.
+        holder: u32,
+        /// The grasp it had.
+        grasp: u32,
+        /// Workspace.
+        workspace: u32,
+        /// Object pose (`None` in abstract cells).
+        object: Option<Iso>,
+    },
+}
+
+/// A command with the joint motion that leads to it (when motions are planned).
+#[derive(Clone, Debug)]
+pub struct Step {
+    /// What happens.
+    pub command: Command,
+    /// How the arms get there.
+    pub motion: Option<Trajectory>,
+}
+
+/// A planned request.
+#[derive(Clone, Debug)]
+pub struct Plan {
+    /// Object index in the artifact.
+    pub object: u32,
+    /// The state path, simplified (one move per run of moves).
+    pub states: Vec<Node>,
+    /// Commands in order.
+    pub steps: Vec<Step>,
+    /// What the path amounts to.
+    pub strategy: Strategy,
+    /// Sum of arc weights.
+    pub cost: f64,
+    /// Arcs removed and searches repeated because a step failed.
+    pub backtracks: u32,
+}
+
+/// A graph arc identified by its endpoints (node indices of the object's graph).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct ArcRef {
+    /// Tail node.
+    pub from: u32,
+    /// Head node.
+    pub to: u32,
+}
+
+/// Why a request has no plan, with what explanations need.
+#[derive(Clone, Debug)]
+pub struct Unreachable {
+    /// Object index.
+    pub object: u32,
+    /// Start state.
+    pub start: Node,
+    /// Every state that would satisfy the goal.
+    pub goals: Vec<Node>,
+    /// Node indices reachable from the start (after removing failed arcs).
+    pub reachable: Vec<u32>,
+    /// Arcs removed during this request because a step failed, with why.
+    pub failed: Vec<(ArcRef, Infeasibility)>,
+}
+
+impl Command {
+    /// The end-effector that acts.
+    pub fn holder(&self) -> u32 {
+        match self {
+            Command::Move { holder, .. }
+            | Command::Grasp { holder, .. }
+            | Command::Ungrasp { holder, .. } => *holder,
+        }
+    }
+}
+
+/// Why a request could not be planned.
+#[derive(Clone, Debug)]
+#[non_exhaustive]
+pub enum PlanError {
+    /// The request names something the artifact does not have, or a pose matches no
+    /// state.
+    Locate(LocateError),
+    /// No path from the start to the goal.
+    Unreachable(Box<Unreachable>),
+}

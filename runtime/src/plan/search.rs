@@ -1,0 +1,130 @@
+//! Cheapest state paths on an object's graph (Dijkstra through petgraph), with arcs that
+//! failed during this request left out, and the paper's simplification of runs of moves.
+
+use std::collections::HashSet;
+
+use cellc_schema::{ArcKind, Graph};
+use petgraph::graph::{DiGraph, EdgeIndex, NodeIndex};
+use petgraph::visit::EdgeFiltered;
+
+use super::ArcRef;
+
+/// An object's graph ready for repeated searches.
+pub struct SearchGraph {
+    graph: DiGraph<(), (f64, usize)>,
+}
+
+/// A path: node indices, the arcs between them (indices into `Graph::arcs`), its cost.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Path {
+    /// Node indices, start first.
+    pub nodes: Vec<u32>,
+    /// Arc indices, one fewer than nodes.
+    pub arcs: Vec<usize>,
+    /// Sum of arc weights.
+    pub cost: f64,
+}
+
+impl SearchGraph {
+    /// Indexes the artifact's graph of one object.
+    pub fn new(graph: &Graph) -> SearchGraph {
+        let mut g = DiGraph::with_capacity(graph.nodes.len(), graph.arcs.len());
+        for _ in &graph.nodes {
+            g.add_node(());
+        }
+        for (i, arc) in graph.arcs.iter().enumerate() {
+            g.add_edge(
+                NodeIndex::new(arc.from as usize),
+                NodeIndex::new(arc.to as usize),
+                (arc.weight, i),
+            );
+        }
+        SearchGraph { graph: g }
+    }
+
+    /// The cheapest path from `start` to any of `goals`, not using `removed` arcs. Ties are
+    /// broken by petgraph's deterministic order (arc order of the artifact).
+    pub fn shortest(&self, start: u32, goals: &[u32], removed: &HashSet<ArcRef>) -> Option<Path> {
+        let goal_set: HashSet<u32> = goals.iter().copied().collect();
+        let filtered = EdgeFiltered::from_fn(
+            &self.graph,
+            |e: petgraph::graph::EdgeReference<'_, (f64, usize)>| {
+                use petgraph::visit::EdgeRef;
+                !removed.contains(&ArcRef {
+                    from: e.source().index() as u32,
+                    to: e.target().index() as u32,
+                })
+            },
+        );
+        let (cost, nodes) = petgraph::algo::astar(
+            &filtered,
+            NodeIndex::new(start as usize),
+            |n| goal_set.contains(&(n.index() as u32)),
+            |e| e.weight().0,
+            |_| 0.0,
+        )?;
+        let nodes: Vec<u32> = nodes.iter().map(|n| n.index() as u32).collect();
+        let arcs = nodes
+            .windows(2)
+            .map(|w| self.cheapest_arc(w[0], w[1], removed))
+            .collect::<Option<Vec<usize>>>()?;
+        Some(Path { nodes, arcs, cost })
+    }
+
+    fn cheapest_arc(&self, from: u32, to: u32, removed: &HashSet<ArcRef>) -> Option<usize> {
+        if removed.contains(&ArcRef { from, to }) {
+            return None;
+        }
+        self.graph
+            .edges_connecting(NodeIndex::new(from as usize), NodeIndex::new(to as usize))
+            .map(|e| *e.weight())
+            .min_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)))
+            .map(|(_, i)| i)
+    }
+
+    /// Every node reachable from `start` without `removed` arcs (for explanations).
+    pub fn reachable(&self, start: u32, removed: &HashSet<ArcRef>) -> Vec<u32> {
+        let mut seen = vec![false; self.graph.node_count()];
+        let mut stack = vec![start];
+        let mut out = Vec::new();
+        while let Some(n) = stack.pop() {
+            if std::mem::replace(&mut seen[n as usize], true) {
+                continue;
+            }
+            out.push(n);
+            for e in self.graph.edges(NodeIndex::new(n as usize)) {
+                use petgraph::visit::EdgeRef;
+                let to = e.target().index() as u32;
+                if !removed.contains(&ArcRef { from: n, to }) && !seen[to as usize] {
+                    stack.push(to);
+                }
+            }
+        }
+        out.sort_unstable();
+        out
+    }
+
+    /// The arc index of an edge (test helper).
+    pub fn arc_of(&self, e: EdgeIndex) -> Option<usize> {
+        self.graph.edge_weight(e).map(|w| w.1)
+    }
+}
+
+/// The paper's simplification: a run of consecutive moves of one end-effector becomes one
+/// move to the run's last workspace. Returns the kept node indices (start, the end of
+/// each move run, and both ends of every transition).
+pub fn simplify(graph: &Graph, path: &Path) -> Vec<u32> {
+    let mut kept = vec![path.nodes[0]];
+    for (i, &arc) in path.arcs.iter().enumerate() {
+        let is_move = graph.arcs[arc].kind == ArcKind::Move;
+        let next_is_move = path
+            .arcs
+            .get(i + 1)
+            .is_some_and(|&a| graph.arcs[a].kind == ArcKind::Move);
+        if is_move && next_is_move {
+            continue;
+        }
+        kept.push(path.nodes[i + 1]);
+    }
+    kept
+}
