@@ -8,6 +8,7 @@ pub mod closed_chain;
 pub mod collision;
 pub mod kinematics;
 pub mod math;
+pub mod plan;
 pub mod robot;
 pub mod scene;
 pub mod symmetry;
