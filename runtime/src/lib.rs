@@ -6,6 +6,7 @@
 
 pub mod closed_chain;
 pub mod collision;
+pub mod execute;
 pub mod kinematics;
 pub mod math;
 pub mod plan;

@@ -1,0 +1,241 @@
+//! Planning move requests: the paper's Fig. 8 and Fig. 9 come out of the Fig. 3 cell,
+//! every plan is a walk of the object's graph whose holders change only through
+//! transitions, a motion failure part way leads to a replan from where the object is, and
+//! unreachable requests are refused with the start's reachable set.
+
+use std::collections::HashSet;
+
+use cellc::fs_world::FsWorld;
+use cellc_runtime::execute::{execute, ExecutionError, Executor, Simulator};
+use cellc_runtime::plan::planner::Planner;
+use cellc_runtime::plan::{Command, Goal, Placement, Plan, PlanError, PlanOptions, Request};
+use cellc_schema::{ArcKind, Artifact, Node};
+use proptest::prelude::*;
+
+fn artifact(path: &str) -> Artifact {
+    let compilation = cellc_compiler::compile(&FsWorld, path);
+    assert!(!compilation.has_errors(), "{path} has errors");
+    let cell = compilation.cell.as_ref().expect("resolved");
+    cellc_compiler::artifact::lower(cell, &compilation.graphs, &compilation.sources)
+}
+
+fn placement(holder: &str, grasp: Option<&str>, workspace: &str) -> Placement {
+    Placement {
+        holder: holder.into(),
+        grasp: grasp.map(Into::into),
+        workspace: Some(workspace.into()),
+        pose: None,
+    }
+}
+
+fn request(from: Placement, to: Placement) -> Request {
+    Request {
+        object: "cylinder".into(),
+        start: from,
+        goal: Goal::Placement(to),
+        options: PlanOptions {
+            motions: false,
+            ..PlanOptions::default()
+        },
+    }
+}
+
+fn holders(artifact: &Artifact, plan: &Plan) -> Vec<String> {
+    let mut out: Vec<String> = Vec::new();
+    for s in &plan.states {
+        let name = artifact.end_effectors[s.end_effector as usize].name.clone();
+        if out.last() != Some(&name) {
+            out.push(name);
+        }
+    }
+    out
+}
+
+#[test]
+fn fig8_is_a_direct_handoff() {
+    let a = artifact("cells/fig3.cell");
+    let planner = Planner::new(&a, None);
+    let plan = planner
+        .plan(&request(
+            placement("left_arm", Some("g5"), "w1"),
+            placement("right_arm", Some("g7"), "w3"),
+        ))
+        .expect("plans");
+    assert_eq!(holders(&a, &plan), ["left_arm", "right_arm"]);
+    assert_eq!(plan.strategy.to_string(), "handoff");
+    assert!((plan.cost - 1.2).abs() < 1e-9, "{}", plan.cost);
+    // One move per run of moves: w1 -> w2, handoff, w2 -> w3.
+    let kinds: Vec<&str> = plan
+        .steps
+        .iter()
+        .map(|s| match s.command {
+            Command::Move { .. } => "move",
+            Command::Grasp { .. } => "grasp",
+            Command::Ungrasp { .. } => "ungrasp",
+        })
+        .collect();
+    assert_eq!(kinds, ["move", "grasp", "ungrasp", "move"]);
+}
+
+#[test]
+fn fig9_goes_through_the_table() {
+    let a = artifact("cells/fig3.cell");
+    let planner = Planner::new(&a, None);
+    let plan = planner
+        .plan(&request(
+            placement("left_arm", Some("g6"), "w1"),
+            placement("right_arm", Some("g9"), "w3"),
+        ))
+        .expect("plans");
+    assert_eq!(holders(&a, &plan), ["left_arm", "table", "right_arm"]);
+    assert_eq!(plan.strategy.to_string(), "dual-arm regrasp via surface");
+    assert!((plan.cost - 2.2).abs() < 1e-9, "{}", plan.cost);
+}
+
+#[test]
+fn the_named_requests_of_fig3_are_the_papers_figures() {
+    let a = artifact("cells/fig3.cell");
+    let names: Vec<&str> = a.requests.iter().map(|r| r.name.as_str()).collect();
+    assert_eq!(names, ["fig8", "fig9"]);
+}
+
+/// A walk of the graph: each simplified step is an arc, or a run of moves of one holder
+/// with one grasp; holders and grasps change only through transition arcs.
+fn assert_walk(a: &Artifact, plan: &Plan) {
+    let graph = &a.objects[plan.object as usize].graph;
+    let arc = |x: &Node, y: &Node, kind: ArcKind| {
+        graph.arcs.iter().any(|arc| {
+            arc.kind == kind
+                && graph.nodes[arc.from as usize] == *x
+                && graph.nodes[arc.to as usize] == *y
+        })
+    };
+    for w in plan.states.windows(2) {
+        let (x, y) = (&w[0], &w[1]);
+        if x.end_effector == y.end_effector && x.grasp == y.grasp {
+            // A (merged) run of moves: reachable by move arcs of that holder and grasp.
+            let mut seen = HashSet::from([x.workspace]);
+            let mut stack = vec![x.workspace];
+            while let Some(ws) = stack.pop() {
+                for next in graph.arcs.iter().filter(|arc| arc.kind == ArcKind::Move) {
+                    let (f, t) = (
+                        graph.nodes[next.from as usize],
+                        graph.nodes[next.to as usize],
+                    );
+                    if f.end_effector == x.end_effector
+                        && f.grasp == x.grasp
+                        && f.workspace == ws
+                        && seen.insert(t.workspace)
+                    {
+                        stack.push(t.workspace);
+                    }
+                }
+            }
+            assert!(
+                seen.contains(&y.workspace),
+                "{x:?} -> {y:?} is no run of moves"
+            );
+        } else {
+            assert_eq!(x.workspace, y.workspace, "a grasp change moved the object");
+            assert!(
+                arc(x, y, ArcKind::Transition),
+                "{x:?} -> {y:?} is no transition"
+            );
+        }
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 64, ..ProptestConfig::default() })]
+
+    /// Any start and goal state of the Fig. 3 graph: a plan, when there is one, is a walk
+    /// whose cost is the sum of its arcs, and the commands agree with the states.
+    #[test]
+    fn every_plan_is_a_walk_of_the_graph(start in 0usize..21, goal in 0usize..21) {
+        let a = artifact("cells/fig3.cell");
+        let graph = &a.objects[0].graph;
+        let name = |n: &Node| a.end_effectors[n.end_effector as usize].name.clone();
+        let (s, g) = (graph.nodes[start], graph.nodes[goal]);
+        let grasp = |n: &Node| a.objects[0].grasps[n.grasp as usize].name.clone();
+        let ws = |n: &Node| a.workspaces[n.workspace as usize].name.clone();
+        let planner = Planner::new(&a, None);
+        let result = planner.plan(&request(
+            placement(&name(&s), Some(&grasp(&s)), &ws(&s)),
+            placement(&name(&g), Some(&grasp(&g)), &ws(&g)),
+        ));
+        match result {
+            Ok(plan) => {
+                prop_assert_eq!(plan.states.first(), Some(&s));
+                prop_assert_eq!(plan.states.last(), Some(&g));
+                assert_walk(&a, &plan);
+                let grasps = plan.steps.iter().filter(|st| matches!(st.command, Command::Grasp { .. })).count();
+                let ungrasps = plan.steps.iter().filter(|st| matches!(st.command, Command::Ungrasp { .. })).count();
+                prop_assert_eq!(grasps, ungrasps);
+            }
+            Err(PlanError::Unreachable(u)) => {
+                prop_assert!(!u.reachable.contains(&(goal as u32)));
+            }
+            Err(other) => prop_assert!(false, "{other:?}"),
+        }
+    }
+}
+
+#[test]
+fn a_failed_motion_after_the_first_step_replans_from_the_new_state() {
+    let a = artifact("cells/fig3.cell");
+    let planner = Planner::new(&a, None);
+    let req = request(
+        placement("table", Some("g1"), "w1"),
+        placement("table", Some("g2"), "w3"),
+    );
+    let plan = planner.plan(&req).expect("plans");
+    let start = plan.states[0];
+    let goal = *plan.states.last().unwrap();
+    // The first step (left arm grasps in w1) succeeds; the motion of the third fails.
+    let mut sim = Simulator::new(&a, None, plan.object, start, None).fail_motion_at(2);
+    let run = execute(&planner, plan, &[goal], None, &mut sim, &req.options, 3).expect("recovers");
+    assert_eq!(run.plans.len(), 2, "one replan");
+    assert_eq!(run.final_state, goal);
+    // The replan starts where the object was when the motion failed: held by the arm.
+    let replan_start = run.plans[1].states[0];
+    assert_eq!(
+        a.end_effectors[replan_start.end_effector as usize].name,
+        "left_arm"
+    );
+    assert!(sim.log.iter().any(|l| l.contains("injected")));
+}
+
+#[test]
+fn a_failure_before_the_object_moved_is_final() {
+    let a = artifact("cells/fig3.cell");
+    let planner = Planner::new(&a, None);
+    let req = request(
+        placement("table", Some("g1"), "w1"),
+        placement("table", Some("g2"), "w3"),
+    );
+    let plan = planner.plan(&req).expect("plans");
+    let (start, goal) = (plan.states[0], *plan.states.last().unwrap());
+    let mut sim = Simulator::new(&a, None, plan.object, start, None).fail_motion_at(0);
+    let result = execute(&planner, plan, &[goal], None, &mut sim, &req.options, 3);
+    assert!(
+        matches!(result, Err(ExecutionError::FailedAtStart { .. })),
+        "{result:?}"
+    );
+    assert_eq!(sim.object_state().state, start);
+}
+
+#[test]
+fn unknown_names_are_located_errors() {
+    let a = artifact("cells/fig3.cell");
+    let planner = Planner::new(&a, None);
+    let result = planner.plan(&request(
+        placement("tabel", Some("g1"), "w1"),
+        placement("table", None, "w3"),
+    ));
+    match result {
+        Err(PlanError::Locate(e)) => {
+            assert!(e.to_string().contains("no end-effector `tabel`"), "{e}")
+        }
+        other => panic!("{other:?}"),
+    }
+}
