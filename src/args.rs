@@ -137,6 +137,33 @@ pub enum Command {
         #[arg(long)]
         no_motions: bool,
     },
+    /// Plan a request as `cellc plan` does, then execute it in the kinematic simulator and
+    /// report the object's final pose and its error.
+    Run {
+        /// A `.cell` file or an artifact.
+        input: PathBuf,
+        /// A request declared in the cell.
+        #[arg(long)]
+        request: Option<String>,
+        /// The object to move.
+        #[arg(long)]
+        object: Option<String>,
+        /// Where the object is.
+        #[arg(long)]
+        from: Option<String>,
+        /// Where it must go.
+        #[arg(long)]
+        to: Option<String>,
+        /// Seed of the randomized solvers.
+        #[arg(long, default_value_t = 0)]
+        seed: u64,
+        /// Plan the high level only (no joint motions).
+        #[arg(long)]
+        no_motions: bool,
+        /// Make the motion of this step (1-based) fail, to see recovery.
+        #[arg(long)]
+        fail_at: Option<usize>,
+    },
     /// Explain a diagnostic code, e.g. `cellc explain E0101`.
     Explain {
         /// The code.

@@ -72,6 +72,28 @@ pub fn dispatch() -> ExitCode {
             commands::build::run(cell, output.as_deref(), &options)
         }
         args::Command::Info { file } => commands::info::run(&file.to_string_lossy()),
+        args::Command::Run {
+            input,
+            request,
+            object,
+            from,
+            to,
+            seed,
+            no_motions,
+            fail_at,
+        } => commands::run::run(
+            &commands::plan::PlanArgs {
+                input: input.to_string_lossy().to_string(),
+                request: request.clone(),
+                object: object.clone(),
+                from: from.clone(),
+                to: to.clone(),
+                format: commands::plan::PlanFormat::Human,
+                seed: *seed,
+                motions: !*no_motions,
+            },
+            *fail_at,
+        ),
         args::Command::Plan {
             input,
             request,

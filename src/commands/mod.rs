@@ -8,3 +8,4 @@ pub mod graph;
 pub mod import;
 pub mod info;
 pub mod plan;
+pub mod run;

@@ -69,7 +69,8 @@ pub struct Loaded {
     pub sources: SourceMap,
 }
 
-fn print(diagnostics: &[Diagnostic], sources: &SourceMap) {
+/// Prints diagnostics to standard error.
+pub fn print(diagnostics: &[Diagnostic], sources: &SourceMap) {
     let color = if std::io::stderr().is_terminal() {
         Color::Always
     } else {
@@ -199,12 +200,18 @@ fn placement_from_text(text: &str, what: &str) -> Result<Placement, (Diagnostic,
     })
 }
 
-/// Plans a request and prints the plan.
-pub fn run(args: &PlanArgs) -> ExitCode {
-    let loaded = match load(&args.input, args.seed) {
-        Ok(l) => l,
-        Err(code) => return code,
-    };
+/// A request ready to plan, with its name and (for named requests) its source line.
+pub struct Prepared {
+    /// The request.
+    pub request: Request,
+    /// Its name, or "command line".
+    pub name: String,
+    /// Span index of the `request` line.
+    pub span: Option<u32>,
+}
+
+/// The request `args` asks for: named, first declared, or from the command line.
+pub fn prepare(args: &PlanArgs, loaded: &Loaded) -> Result<Prepared, ExitCode> {
     let artifact = &loaded.artifact;
     let options = PlanOptions {
         seed: args.seed,
@@ -228,7 +235,7 @@ pub fn run(args: &PlanArgs) -> ExitCode {
                 ),
                 Err((d, sources)) => {
                     print(&[d], &sources);
-                    return ExitCode::from(2);
+                    return Err(ExitCode::from(2));
                 }
             }
         }
@@ -256,7 +263,7 @@ pub fn run(args: &PlanArgs) -> ExitCode {
                     &[Diagnostic::error(codes::NO_REQUEST, message).help(help)],
                     &loaded.sources,
                 );
-                return ExitCode::from(1);
+                return Err(ExitCode::from(1));
             };
             (
                 Request {
@@ -271,9 +278,31 @@ pub fn run(args: &PlanArgs) -> ExitCode {
         }
         _ => {
             eprintln!("error: give --object, --from and --to together, or --request NAME");
-            return ExitCode::from(2);
+            return Err(ExitCode::from(2));
         }
     };
+    Ok(Prepared {
+        request,
+        name,
+        span,
+    })
+}
+
+/// Plans a request and prints the plan.
+pub fn run(args: &PlanArgs) -> ExitCode {
+    let loaded = match load(&args.input, args.seed) {
+        Ok(l) => l,
+        Err(code) => return code,
+    };
+    let Prepared {
+        request,
+        name,
+        span,
+    } = match prepare(args, &loaded) {
+        Ok(p) => p,
+        Err(code) => return code,
+    };
+    let artifact = &loaded.artifact;
     let planner = Planner::new(artifact, loaded.scene.as_ref());
     match planner.plan(&request) {
         Ok(plan) => {
