@@ -239,3 +239,45 @@ fn unknown_names_are_located_errors() {
         other => panic!("{other:?}"),
     }
 }
+
+/// UI tests of planning: `tests/ui/plan/CODE_what.cell` is compiled and its first request
+/// planned (or the missing request reported); exactly that code must come out, and the
+/// rendered diagnostic is snapshotted.
+#[test]
+fn plan_ui() {
+    let mut checked = 0;
+    insta::glob!("ui/plan/*.cell", |path| {
+        let name = path.file_name().unwrap().to_string_lossy().to_string();
+        let code = name.split('_').next().unwrap_or_default().to_string();
+        let relative = format!("tests/ui/plan/{name}");
+        let compilation = cellc_compiler::compile(&FsWorld, &relative);
+        assert!(compilation.diagnostics.is_empty(), "{name} must check clean");
+        let a = cellc_compiler::artifact::lower(compilation.cell.as_ref().unwrap(), &compilation.graphs, &compilation.sources);
+        let diagnostic = match a.requests.first() {
+            None => cellc::commands::plan::no_request(&a, None),
+            Some(named) => {
+                let obj = &a.objects[named.object as usize];
+                let place = |p: &cellc_schema::RequestPlacement| Placement {
+                    holder: a.end_effectors[p.end_effector as usize].name.clone(),
+                    grasp: p.grasp.map(|g| obj.grasps[g as usize].name.clone()),
+                    workspace: p.workspace.map(|w| a.workspaces[w as usize].name.clone()),
+                    pose: None,
+                };
+                let req = Request {
+                    object: obj.name.clone(),
+                    start: place(&named.from),
+                    goal: Goal::Placement(place(&named.to)),
+                    options: PlanOptions::default(),
+                };
+                let error = Planner::new(&a, None).plan(&req).expect_err("the request must fail");
+                cellc::commands::plan::plan_error(&a, &error, Some(named.span))
+            }
+        };
+        assert_eq!(diagnostic.code.as_str(), code, "{name}");
+        let source = std::fs::read_to_string(path).unwrap_or_default();
+        let rendered = cellc::render::human(std::slice::from_ref(&diagnostic), &compilation.sources, cellc::render::Color::Never);
+        insta::assert_snapshot!(format!("{source}\n----- diagnostics -----\n{rendered}"));
+        checked += 1;
+    });
+    assert_eq!(checked, 3);
+}

@@ -245,24 +245,7 @@ pub fn prepare(args: &PlanArgs, loaded: &Loaded) -> Result<Prepared, ExitCode> {
                 None => artifact.requests.first(),
             };
             let Some(named) = named else {
-                let known: Vec<String> = artifact
-                    .requests
-                    .iter()
-                    .map(|r| format!("`{}`", r.name))
-                    .collect();
-                let message = match &args.request {
-                    Some(n) => format!("the cell declares no request `{n}`"),
-                    None => "the cell declares no request".to_string(),
-                };
-                let help = if known.is_empty() {
-                    "declare one (`request NAME: OBJECT from HOLDER in WS to HOLDER in WS`) or give --object, --from and --to".to_string()
-                } else {
-                    format!("its requests are {}", known.join(", "))
-                };
-                print(
-                    &[Diagnostic::error(codes::NO_REQUEST, message).help(help)],
-                    &loaded.sources,
-                );
+                print(&[no_request(artifact, args.request.as_deref())], &loaded.sources);
                 return Err(ExitCode::from(1));
             };
             (
@@ -321,6 +304,21 @@ pub fn run(args: &PlanArgs) -> ExitCode {
             ExitCode::from(1)
         }
     }
+}
+
+/// No request to plan: none declared, or none of that name.
+pub fn no_request(artifact: &Artifact, wanted: Option<&str>) -> Diagnostic {
+    let known: Vec<String> = artifact.requests.iter().map(|r| format!("`{}`", r.name)).collect();
+    let message = match wanted {
+        Some(n) => format!("the cell declares no request `{n}`"),
+        None => "the cell declares no request".to_string(),
+    };
+    let help = if known.is_empty() {
+        "declare one (`request NAME: OBJECT from HOLDER in WS to HOLDER in WS`) or give --object, --from and --to".to_string()
+    } else {
+        format!("its requests are {}", known.join(", "))
+    };
+    Diagnostic::error(codes::NO_REQUEST, message).help(help)
 }
 
 /// A planning failure as a diagnostic, labelled at the request when it is a named one.

@@ -13,6 +13,10 @@ pub enum Strategy {
     AlreadyThere,
     /// One end-effector carries the object (moves only).
     Carry,
+    /// One arm picks the object up from a surface (and keeps it).
+    Pick,
+    /// One arm puts the object it holds down on a surface.
+    Place,
     /// One arm picks the object from a surface and places it on a surface.
     PickAndPlace,
     /// The object passes directly between hands, without a surface in between.
@@ -42,6 +46,8 @@ impl fmt::Display for Strategy {
         match self {
             Strategy::AlreadyThere => f.write_str("already there"),
             Strategy::Carry => f.write_str("carry"),
+            Strategy::Pick => f.write_str("pick"),
+            Strategy::Place => f.write_str("place"),
             Strategy::PickAndPlace => f.write_str("pick-and-place"),
             Strategy::Handoff { handoffs: 1 } => f.write_str("handoff"),
             Strategy::Handoff { handoffs } => write!(f, "{handoffs} handoffs"),
@@ -100,6 +106,8 @@ pub fn classify(artifact: &Artifact, states: &[Node]) -> Strategy {
     movers.dedup();
     let movers = movers.len() as u32;
     match (handoffs, regrasps, movers) {
+        (0, 0, 1) if holders.len() == 2 && movable(holders[1]) => Strategy::Pick,
+        (0, 0, 1) if holders.len() == 2 => Strategy::Place,
         (0, 0, 1) => Strategy::PickAndPlace,
         (h, 0, _) if h > 0 => Strategy::Handoff { handoffs: h },
         (0, 1, arms @ (1 | 2)) => Strategy::RegraspViaSurface { arms },
