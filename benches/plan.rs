@@ -13,7 +13,11 @@ fn artifact(path: &str, text: &str) -> Artifact {
     let world = MemoryWorld::new([(path, text)]);
     let compilation = compile(&world, path);
     assert!(!compilation.has_errors(), "{path} has errors");
-    cellc_compiler::artifact::lower(compilation.cell.as_ref().unwrap(), &compilation.graphs, &compilation.sources)
+    cellc_compiler::artifact::lower(
+        compilation.cell.as_ref().unwrap(),
+        &compilation.graphs,
+        &compilation.sources,
+    )
 }
 
 fn request(a: &Artifact, object: usize, from: Node, to: Node) -> Request {
@@ -63,8 +67,15 @@ fn pairs(a: &Artifact, object: usize) -> Vec<(Node, Node)> {
 }
 
 fn case(c: &mut Criterion, name: &str, a: &Artifact, object: &str) {
-    let index = a.objects.iter().position(|o| o.name == object).expect("object exists");
-    let requests: Vec<Request> = pairs(a, index).into_iter().map(|(s, g)| request(a, index, s, g)).collect();
+    let index = a
+        .objects
+        .iter()
+        .position(|o| o.name == object)
+        .expect("object exists");
+    let requests: Vec<Request> = pairs(a, index)
+        .into_iter()
+        .map(|(s, g)| request(a, index, s, g))
+        .collect();
     assert_eq!(requests.len(), 5, "{name}: five start/goal pairs");
     let planner = Planner::new(a, None);
     println!(
@@ -82,12 +93,22 @@ fn case(c: &mut Criterion, name: &str, a: &Artifact, object: &str) {
 }
 
 fn benches(c: &mut Criterion) {
-    let fig3 = artifact("fig3.cell", &std::fs::read_to_string("cells/fig3.cell").unwrap());
+    let fig3 = artifact(
+        "fig3.cell",
+        &std::fs::read_to_string("cells/fig3.cell").unwrap(),
+    );
     case(c, "plan_high_level/fig3_cylinder_x5", &fig3, "cylinder");
-    let imported = cellc::import::dualmanip(std::path::Path::new("tests/data/dualmanip/vito_full.db")).expect("imports");
+    let imported =
+        cellc::import::dualmanip(std::path::Path::new("tests/data/dualmanip/vito_full.db"))
+            .expect("imports");
     let vito = artifact("vito_full.cell", &imported.text);
     case(c, "plan_high_level/vito_db_pitcher_x5", &vito, "containerA");
-    case(c, "plan_high_level/vito_db_colander_x5", &vito, "containerB");
+    case(
+        c,
+        "plan_high_level/vito_db_colander_x5",
+        &vito,
+        "containerB",
+    );
 }
 
 criterion_group!(plan_benches, benches);

@@ -251,8 +251,15 @@ fn plan_ui() {
         let code = name.split('_').next().unwrap_or_default().to_string();
         let relative = format!("tests/ui/plan/{name}");
         let compilation = cellc_compiler::compile(&FsWorld, &relative);
-        assert!(compilation.diagnostics.is_empty(), "{name} must check clean");
-        let a = cellc_compiler::artifact::lower(compilation.cell.as_ref().unwrap(), &compilation.graphs, &compilation.sources);
+        assert!(
+            compilation.diagnostics.is_empty(),
+            "{name} must check clean"
+        );
+        let a = cellc_compiler::artifact::lower(
+            compilation.cell.as_ref().unwrap(),
+            &compilation.graphs,
+            &compilation.sources,
+        );
         let diagnostic = match a.requests.first() {
             None => cellc::commands::plan::no_request(&a, None),
             Some(named) => {
@@ -269,13 +276,19 @@ fn plan_ui() {
                     goal: Goal::Placement(place(&named.to)),
                     options: PlanOptions::default(),
                 };
-                let error = Planner::new(&a, None).plan(&req).expect_err("the request must fail");
+                let error = Planner::new(&a, None)
+                    .plan(&req)
+                    .expect_err("the request must fail");
                 cellc::commands::plan::plan_error(&a, &error, Some(named.span))
             }
         };
         assert_eq!(diagnostic.code.as_str(), code, "{name}");
         let source = std::fs::read_to_string(path).unwrap_or_default();
-        let rendered = cellc::render::human(std::slice::from_ref(&diagnostic), &compilation.sources, cellc::render::Color::Never);
+        let rendered = cellc::render::human(
+            std::slice::from_ref(&diagnostic),
+            &compilation.sources,
+            cellc::render::Color::Never,
+        );
         insta::assert_snapshot!(format!("{source}\n----- diagnostics -----\n{rendered}"));
         checked += 1;
     });

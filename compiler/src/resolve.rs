@@ -852,7 +852,9 @@ impl Resolver<'_, '_> {
                 eval.angle(&value.value)
             };
             let Some(v) = v else { continue };
-            if v < joint.lower - 1e-9 || v > joint.upper + 1e-9 {
+            // A micro-radian of slack: `-120 deg` and a URDF's `-2.0943951` are the same
+            // limit written with different precision.
+            if v < joint.lower - 1e-6 || v > joint.upper + 1e-6 {
                 let unit = if joint.prismatic { "m" } else { "deg" };
                 self.diagnostics.push(diagnostics::home_out_of_limits(
                     &joint.name,

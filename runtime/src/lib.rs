@@ -7,8 +7,10 @@
 pub mod closed_chain;
 pub mod collision;
 pub mod execute;
+pub mod explain;
 pub mod kinematics;
 pub mod math;
+pub mod motion;
 pub mod plan;
 pub mod robot;
 pub mod scene;

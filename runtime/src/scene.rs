@@ -180,6 +180,16 @@ pub enum ObjectPlacement {
         /// Grasp pose.
         grasp: Iso,
     },
+    /// Held by an arm that is putting it down on a surface: the object follows the hand
+    /// and may touch that surface.
+    Placing {
+        /// The arm.
+        by: u32,
+        /// Its grasp.
+        grasp: Iso,
+        /// The surface it goes onto.
+        on: u32,
+    },
     /// Held by two arms at once (a handoff); the pose follows the first.
     Handoff {
         /// End-effector whose grasp places the object.
@@ -198,6 +208,8 @@ pub enum ObjectPlacement {
         /// The arm holding it at the same time.
         by: Option<u32>,
     },
+    /// Left out of the check (motions with the object elsewhere, or none moved yet).
+    Absent,
 }
 
 /// Why a collision query could not be answered.
@@ -408,6 +420,20 @@ impl Scene {
                     .ok_or(QueryError::NotAnArm(by))?;
                 ObjectState::held(r, &tip, &grasp)
             }
+            ObjectPlacement::Placing { by, grasp, on } => {
+                let r = robot_of(by).ok_or(QueryError::NotAnArm(by))?;
+                let tip = self
+                    .world
+                    .tip(r, &scratch.frames[r])
+                    .ok_or(QueryError::NotAnArm(by))?;
+                let surface = self
+                    .world_fixed
+                    .get(on as usize)
+                    .copied()
+                    .flatten()
+                    .ok_or(QueryError::NotASurface(on))?;
+                ObjectState::held(r, &tip, &grasp).also_held_by(CollisionHolder::Fixed(surface))
+            }
             ObjectPlacement::Handoff { a, grasp_a, b } => {
                 let ra = robot_of(a).ok_or(QueryError::NotAnArm(a))?;
                 let rb = robot_of(b).ok_or(QueryError::NotAnArm(b))?;
@@ -431,6 +457,7 @@ impl Scene {
                 }
                 state
             }
+            ObjectPlacement::Absent => ObjectState::absent(),
         };
         if let Some(slot) = scratch.objects.get_mut(object as usize) {
             *slot = state;

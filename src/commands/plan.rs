@@ -159,11 +159,11 @@ fn placement_from_schema(
 }
 
 /// A placement given on the command line; numbers without units are metres and degrees.
-fn placement_from_text(text: &str, what: &str) -> Result<Placement, (Diagnostic, SourceMap)> {
+fn placement_from_text(text: &str, what: &str) -> Result<Placement, Box<(Diagnostic, SourceMap)>> {
     let mut sources = SourceMap::new();
     let file = sources.add(format!("<{what}>"), text);
     let ast: AstPlacement =
-        cellc_lang::parse_placement(file, text).map_err(|d| (d, sources.clone()))?;
+        cellc_lang::parse_placement(file, text).map_err(|d| Box::new((d, sources.clone())))?;
     let (holder, grasp) = match &ast.holder.object {
         Some(h) => (h.text.clone(), Some(ast.holder.name.text.clone())),
         None => (ast.holder.name.text.clone(), None),
@@ -187,7 +187,7 @@ fn placement_from_text(text: &str, what: &str) -> Result<Placement, (Diagnostic,
                         Diagnostic::error(codes::LOCATE, "this pose cannot be read")
                             .help("write `at (x, y, z) rpy (r, p, y)`")
                     });
-                    return Err((d, sources));
+                    return Err(Box::new((d, sources)));
                 }
             }
         }
@@ -233,7 +233,8 @@ pub fn prepare(args: &PlanArgs, loaded: &Loaded) -> Result<Prepared, ExitCode> {
                     "command line".to_string(),
                     None,
                 ),
-                Err((d, sources)) => {
+                Err(failure) => {
+                    let (d, sources) = *failure;
                     print(&[d], &sources);
                     return Err(ExitCode::from(2));
                 }
@@ -245,7 +246,10 @@ pub fn prepare(args: &PlanArgs, loaded: &Loaded) -> Result<Prepared, ExitCode> {
                 None => artifact.requests.first(),
             };
             let Some(named) = named else {
-                print(&[no_request(artifact, args.request.as_deref())], &loaded.sources);
+                print(
+                    &[no_request(artifact, args.request.as_deref())],
+                    &loaded.sources,
+                );
                 return Err(ExitCode::from(1));
             };
             (
@@ -308,7 +312,11 @@ pub fn run(args: &PlanArgs) -> ExitCode {
 
 /// No request to plan: none declared, or none of that name.
 pub fn no_request(artifact: &Artifact, wanted: Option<&str>) -> Diagnostic {
-    let known: Vec<String> = artifact.requests.iter().map(|r| format!("`{}`", r.name)).collect();
+    let known: Vec<String> = artifact
+        .requests
+        .iter()
+        .map(|r| format!("`{}`", r.name))
+        .collect();
     let message = match wanted {
         Some(n) => format!("the cell declares no request `{n}`"),
         None => "the cell declares no request".to_string(),

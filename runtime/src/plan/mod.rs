@@ -149,6 +149,8 @@ pub struct Step {
     pub command: Command,
     /// How the arms get there.
     pub motion: Option<Trajectory>,
+    /// The graph arc this command carries out (to remove it if the command fails).
+    pub arc: Option<ArcRef>,
 }
 
 /// A planned request.

@@ -19,6 +19,7 @@ use super::{
 };
 use crate::kinematics::{solve_ik, IkError, IkOptions, IkTarget};
 use crate::math::{iso_from_schema, Iso};
+use crate::motion::{plan_motion, MotionOptions, MotionProblem, ObjectPlacementSpec};
 use crate::scene::{Holder, ObjectPlacement, Scene, SceneScratch};
 
 /// Plans requests on one artifact. Cheap to keep: it holds the search graphs.
@@ -149,11 +150,25 @@ impl<'a> Planner<'a> {
         let Some(start_index) = start_index else {
             return Err(unreachable(&removed, failed));
         };
+        // When the goal is the start state but another pose (a pick-and-place within one
+        // workspace), the object must leave the state and come back: at least one arc.
+        let must_move = match (state.object, goal_pose) {
+            (Some(a), Some(b)) => {
+                let d = a.inverse() * b;
+                d.translation.vector.norm() > options.position_tolerance
+                    || d.rotation.angle() > options.rotation_tolerance
+            }
+            _ => false,
+        };
         let mut backtracks = 0;
         loop {
-            let Some(path) =
-                self.search[object as usize].shortest(start_index, &goal_indices, &removed)
-            else {
+            let search = &self.search[object as usize];
+            let found = if must_move && goal_indices.contains(&start_index) {
+                search.shortest_leaving(start_index, &goal_indices, &removed)
+            } else {
+                search.shortest(start_index, &goal_indices, &removed)
+            };
+            let Some(path) = found else {
                 return Err(unreachable(&removed, failed));
             };
             match self.realise(object, &path, goal_pose, &state, options) {
@@ -205,6 +220,7 @@ impl<'a> Planner<'a> {
         }
         let mut rng =
             ChaCha8Rng::seed_from_u64(options.seed ^ u64::from(object).wrapping_mul(0x9E37_79B9));
+        let state_at_start = state.clone();
         let mut state = state.clone();
         let mut steps = Vec::new();
         let n_transitions = arc_into
@@ -214,7 +230,10 @@ impl<'a> Planner<'a> {
         let mut transitions_seen = 0;
         // Exchanges are computed first, so that a move can end where the next exchange
         // starts.
+        // They are computed in order, following the object: a pick happens where the
+        // object lies now (the start pose, or where an earlier step put it down).
         let mut exchanges: Vec<Option<Exchange>> = vec![None; arc_into.len()];
+        let mut object_now = state.object;
         for (i, &a) in arc_into.iter().enumerate() {
             if graph.arcs[a].kind != ArcKind::Transition {
                 continue;
@@ -222,17 +241,34 @@ impl<'a> Planner<'a> {
             transitions_seen += 1;
             let from = graph.nodes[graph.arcs[a].from as usize];
             let to = graph.nodes[graph.arcs[a].to as usize];
-            let first_pick = i == 0 && state.object.is_some();
             let last = transitions_seen == n_transitions && i + 1 == arc_into.len();
-            let exchange = self.exchange(
-                object,
-                a,
-                from,
-                to,
-                first_pick.then_some(&state),
-                last.then_some(goal_pose).flatten(),
-                &mut rng,
-            )?;
+            // A put-down followed by a pick from the same surface needs a resting pose
+            // both arms reach: the two witnesses are tried, then sampled poses.
+            let next_pick = arc_into[i + 1..]
+                .iter()
+                .find(|&&b| graph.arcs[b].kind == ArcKind::Transition)
+                .filter(|&&b| {
+                    graph.nodes[graph.arcs[b].from as usize].end_effector == to.end_effector
+                })
+                .copied();
+            let shared_pose = match next_pick {
+                Some(b) if !last => {
+                    let picker = graph.nodes[graph.arcs[b].to as usize];
+                    self.shared_rest_pose(object, (from, a), (picker, b), &mut rng)
+                }
+                _ => None,
+            };
+            let place_at = if last { goal_pose } else { shared_pose };
+            let exchange = match self.exchange(object, a, from, to, object_now, place_at, &mut rng)
+            {
+                Err(_) if !last && place_at.is_some() => {
+                    self.exchange(object, a, from, to, object_now, None, &mut rng)?
+                }
+                other => other?,
+            };
+            if exchange.object.is_some() {
+                object_now = exchange.object;
+            }
             exchanges[i] = Some(exchange);
         }
         for (i, &a) in arc_into.iter().enumerate() {
@@ -261,6 +297,10 @@ impl<'a> Planner<'a> {
                             configurations,
                         },
                         motion: None,
+                        arc: Some(ArcRef {
+                            from: arc.from,
+                            to: arc.to,
+                        }),
                     });
                 }
                 ArcKind::Transition => {
@@ -278,6 +318,10 @@ impl<'a> Planner<'a> {
                             configurations: exchange.configurations.clone(),
                         },
                         motion: None,
+                        arc: Some(ArcRef {
+                            from: arc.from,
+                            to: arc.to,
+                        }),
                     });
                     steps.push(Step {
                         command: Command::Ungrasp {
@@ -287,12 +331,284 @@ impl<'a> Planner<'a> {
                             object: exchange.object,
                         },
                         motion: None,
+                        arc: Some(ArcRef {
+                            from: arc.from,
+                            to: arc.to,
+                        }),
                     });
                 }
             }
         }
-        let _ = IkOptions::default();
+        if options.motions {
+            let start = graph.nodes[path.nodes[0] as usize];
+            self.add_motions(object, start, &mut steps, &state_at_start, &mut rng)?;
+        }
         Ok(steps)
+    }
+
+    /// Plans the joint motion that leads to each command: the arms whose configuration
+    /// changes move together in their combined space, every other arm stands where it is,
+    /// a held object travels with its hand, and an arm that lets go returns home. A motion
+    /// that cannot be found fails the arc of its command, so the search tries another way.
+    fn add_motions(
+        &self,
+        object: u32,
+        start_state: Node,
+        steps: &mut [Step],
+        start: &WorldState,
+        rng: &mut ChaCha8Rng,
+    ) -> Result<(), Failure> {
+        let Some(scene) = self.scene.filter(|s| s.has_kinematics()) else {
+            return Ok(());
+        };
+        let obj = &self.artifact.objects[object as usize];
+        let grasp_pose = |g: u32| {
+            obj.grasps
+                .get(g as usize)
+                .and_then(|g| g.pose.as_ref())
+                .map(iso_from_schema)
+                .unwrap_or_else(Iso::identity)
+        };
+        let is_arm = |e: u32| matches!(scene.holders.get(e as usize), Some(Holder::Arm { .. }));
+        let mut arms = start.arms.clone();
+        let mut object_pose = start.object;
+        // Who holds the object now, and with which grasp.
+        let mut holder: Option<(u32, u32)> = Some((start_state.end_effector, start_state.grasp));
+        let mut scratch = SceneScratch::default();
+        let options = MotionOptions::default();
+        for step in steps.iter_mut() {
+            let (targets, placement, fail_arc) = match &step.command {
+                Command::Move {
+                    holder: e,
+                    configurations,
+                    object: pose,
+                    ..
+                } => {
+                    let placement = match holder {
+                        Some((_, g)) if is_arm(*e) => ObjectPlacementSpec::Held {
+                            by: *e,
+                            grasp: grasp_pose(g),
+                        },
+                        _ => ObjectPlacementSpec::Absent,
+                    };
+                    if pose.is_some() {
+                        object_pose = *pose;
+                    }
+                    (configurations.clone(), placement, step_arc(step))
+                }
+                Command::Grasp {
+                    holder: receiver,
+                    grasp,
+                    configurations,
+                    object: pose,
+                    ..
+                } => {
+                    // Before the exchange the object is where the giver has it; the
+                    // receiver's hand reaches it at the end.
+                    let placement = match (holder, pose.or(object_pose)) {
+                        (Some((giver, g)), _) if is_arm(giver) && is_arm(*receiver) => {
+                            ObjectPlacementSpec::Handoff {
+                                a: giver,
+                                grasp_a: grasp_pose(g),
+                                b: *receiver,
+                            }
+                        }
+                        (Some((giver, g)), _) if is_arm(giver) => ObjectPlacementSpec::Placing {
+                            by: giver,
+                            grasp: grasp_pose(g),
+                            on: *receiver,
+                        },
+                        (Some((giver, _)), Some(p)) => ObjectPlacementSpec::Resting {
+                            on: giver,
+                            pose: p,
+                            by: is_arm(*receiver).then_some(*receiver),
+                        },
+                        _ => ObjectPlacementSpec::Absent,
+                    };
+                    if pose.is_some() {
+                        object_pose = *pose;
+                    }
+                    let targets = configurations.clone();
+                    holder = Some((*receiver, *grasp));
+                    (targets, placement, step_arc(step))
+                }
+                Command::Ungrasp { holder: giver, .. } => {
+                    // The arm that let go returns home, around the object's new holder.
+                    if !is_arm(*giver) {
+                        continue;
+                    }
+                    let Holder::Arm { home, .. } = &scene.holders[*giver as usize] else {
+                        continue;
+                    };
+                    // It starts with its hand on the object it just let go of: that contact
+                    // is allowed while it leaves.
+                    let placement = match (holder, object_pose) {
+                        (Some((now, g)), _) if is_arm(now) => ObjectPlacementSpec::Handoff {
+                            a: now,
+                            grasp_a: grasp_pose(g),
+                            b: *giver,
+                        },
+                        (Some((now, _)), Some(p)) => ObjectPlacementSpec::Resting {
+                            on: now,
+                            pose: p,
+                            by: Some(*giver),
+                        },
+                        _ => ObjectPlacementSpec::Absent,
+                    };
+                    (vec![(*giver, home.clone())], placement, None)
+                }
+            };
+            let moving: Vec<(u32, Vec<f64>, Vec<f64>)> = targets
+                .iter()
+                .filter(|(e, _)| is_arm(*e))
+                .filter_map(|(e, goal)| {
+                    let now = arms.get(*e as usize)?.clone()?;
+                    let changes = now.iter().zip(goal).any(|(a, b)| (a - b).abs() > 1e-9);
+                    changes.then(|| (*e, now, goal.clone()))
+                })
+                .collect();
+            if moving.is_empty() {
+                continue;
+            }
+            let stationary: Vec<(u32, Vec<f64>)> = arms
+                .iter()
+                .enumerate()
+                .filter_map(|(e, q)| Some((e as u32, q.clone()?)))
+                .filter(|(e, _)| !moving.iter().any(|m| m.0 == *e))
+                .collect();
+            let problem = MotionProblem {
+                scene,
+                arms: moving.iter().map(|m| m.0).collect(),
+                start: moving.iter().flat_map(|m| m.1.iter().copied()).collect(),
+                goal: moving.iter().flat_map(|m| m.2.iter().copied()).collect(),
+                stationary,
+                object,
+                placement,
+            };
+            match plan_motion(&problem, rng, &options, &mut scratch) {
+                Ok(trajectory) => {
+                    for (e, _, goal) in &moving {
+                        arms[*e as usize] = Some(goal.clone());
+                    }
+                    step.motion = Some(trajectory);
+                }
+                Err(error) => {
+                    // A retreat that cannot be planned leaves the arm where it is.
+                    let Some(arc) = fail_arc else { continue };
+                    return Err(Failure {
+                        arc,
+                        reason: Infeasibility::NoPlacement {
+                            detail: format!("no collision-free motion: {error}"),
+                        },
+                    });
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// A resting pose on the surface between a put-down (`giver`, arc `put`) and a pick
+    /// (`picker`, arc `pick`) that both arms reach collision-free with their grasps.
+    fn shared_rest_pose(
+        &self,
+        object: u32,
+        giver: (Node, usize),
+        picker: (Node, usize),
+        rng: &mut ChaCha8Rng,
+    ) -> Option<Iso> {
+        use rand::Rng;
+        let scene = self.scene.filter(|s| s.has_kinematics())?;
+        let graph = &self.artifact.objects[object as usize].graph;
+        let (giver, put) = giver;
+        let (picker, pick) = picker;
+        let rest_node = graph.nodes[graph.arcs[put].to as usize];
+        let Holder::Surface { slab, .. } = &scene.holders[rest_node.end_effector as usize] else {
+            return None;
+        };
+        let obj = &self.artifact.objects[object as usize];
+        let pose_of = |g: u32| {
+            obj.grasps[g as usize]
+                .pose
+                .as_ref()
+                .map(iso_from_schema)
+                .unwrap_or_else(Iso::identity)
+        };
+        let rest = pose_of(rest_node.grasp);
+        let turns = crate::symmetry::candidates(&obj.symmetries);
+        let works = |pose: &Iso, rng: &mut ChaCha8Rng| -> bool {
+            [giver, picker].iter().all(|arm| {
+                let Holder::Arm { robot, base, home } = &scene.holders[arm.end_effector as usize]
+                else {
+                    return false;
+                };
+                // Either arm may hold a symmetric object with its grasp turned.
+                let found = turns.iter().find_map(|turn| {
+                    let tip = pose * (pose_of(arm.grasp) * turn).inverse();
+                    solve_ik(
+                        &scene.robots[*robot],
+                        base,
+                        &IkTarget::Pose(tip),
+                        home,
+                        rng,
+                        &IkOptions::default(),
+                    )
+                    .ok()
+                });
+                let Some(q) = found else {
+                    return false;
+                };
+                let placement = ObjectPlacement::Resting {
+                    on: rest_node.end_effector,
+                    pose: *pose,
+                    by: Some(arm.end_effector),
+                };
+                matches!(
+                    scene.collision(
+                        &[(arm.end_effector, &q)],
+                        object,
+                        placement,
+                        &mut SceneScratch::default()
+                    ),
+                    Ok(None)
+                )
+            })
+        };
+        let witnessed = [
+            self.witness_of(object, pick).0,
+            self.witness_of(object, put).0,
+        ];
+        for pose in witnessed.into_iter().flatten() {
+            if works(&pose, rng) {
+                return Some(pose);
+            }
+        }
+        // Sampled resting poses: anywhere on the top face with the centre in the workspace.
+        let top = slab.max.z;
+        let center_z = top + rest.translation.vector.z;
+        let regions: Vec<crate::scene::Aabb> = scene.workspaces[rest_node.workspace as usize]
+            .iter()
+            .filter(|b| b.min.z <= center_z && b.max.z >= center_z)
+            .map(|b| crate::scene::Aabb {
+                min: crate::math::Point::new(b.min.x.max(slab.min.x), b.min.y.max(slab.min.y), top),
+                max: crate::math::Point::new(b.max.x.min(slab.max.x), b.max.y.min(slab.max.y), top),
+            })
+            .filter(|r| r.max.x > r.min.x && r.max.y > r.min.y)
+            .collect();
+        for _ in 0..100 {
+            let region = regions.get(rng.random_range(0..regions.len().max(1)))?;
+            let x = region.min.x + rng.random::<f64>() * (region.max.x - region.min.x);
+            let y = region.min.y + rng.random::<f64>() * (region.max.y - region.min.y);
+            let yaw = rng.random::<f64>() * std::f64::consts::TAU;
+            let frame = Iso::from_parts(
+                nalgebra::Translation3::new(x, y, top),
+                crate::math::Quat::from_axis_angle(&crate::math::Vec3::z_axis(), yaw),
+            );
+            let pose = frame * rest;
+            if works(&pose, rng) {
+                return Some(pose);
+            }
+        }
+        None
     }
 
     /// The object pose and arm configurations of a witnessed arc.
@@ -323,7 +639,7 @@ impl<'a> Planner<'a> {
         arc: usize,
         from: Node,
         to: Node,
-        pick_at: Option<&WorldState>,
+        lying_at: Option<Iso>,
         place_at: Option<Iso>,
         rng: &mut ChaCha8Rng,
     ) -> Result<Exchange, Failure> {
@@ -343,8 +659,8 @@ impl<'a> Planner<'a> {
             (Holder::Arm { .. }, Holder::Surface { .. }) => Some((to, from)),
             _ => None,
         };
-        let specific_pose = match (surface_and_arm, pick_at, place_at) {
-            (Some((surface, _)), Some(state), _) if surface == from => state.object,
+        let specific_pose = match (surface_and_arm, lying_at, place_at) {
+            (Some((surface, _)), Some(pose), _) if surface == from => Some(pose),
             (Some((surface, _)), _, Some(goal)) if surface == to => Some(goal),
             _ => None,
         };
@@ -365,11 +681,13 @@ impl<'a> Planner<'a> {
                 });
             };
             let robot = &scene.robots[*robot];
-            let tip = pose * grasp.inverse();
+            // A symmetric object may be taken with the grasp turned by a symmetry.
+            let turns = crate::symmetry::candidates(&obj.symmetries);
             let mut last_collision = None;
             let mut best: Option<IkError> = None;
             let mut scratch = SceneScratch::default();
-            for _ in 0..8 {
+            for attempt in 0..8 {
+                let tip = pose * (grasp * turns[attempt % turns.len()]).inverse();
                 match solve_ik(
                     robot,
                     base,
@@ -443,6 +761,11 @@ impl<'a> Planner<'a> {
             configurations,
         })
     }
+}
+
+/// The arc a step realises, recorded when the step was made (for failing it).
+fn step_arc(step: &Step) -> Option<ArcRef> {
+    step.arc
 }
 
 /// The object pose and arm configurations at an exchange.

@@ -71,6 +71,40 @@ impl SearchGraph {
         Some(Path { nodes, arcs, cost })
     }
 
+    /// The cheapest path of at least one arc from `start` to a goal (the start may be a
+    /// goal: the object must leave it and come back).
+    pub fn shortest_leaving(
+        &self,
+        start: u32,
+        goals: &[u32],
+        removed: &HashSet<ArcRef>,
+    ) -> Option<Path> {
+        use petgraph::visit::EdgeRef;
+        let mut best: Option<Path> = None;
+        for e in self.graph.edges(NodeIndex::new(start as usize)) {
+            let next = e.target().index() as u32;
+            let (weight, arc) = *e.weight();
+            if removed.contains(&ArcRef {
+                from: start,
+                to: next,
+            }) {
+                continue;
+            }
+            let Some(rest) = self.shortest(next, goals, removed) else {
+                continue;
+            };
+            let cost = weight + rest.cost;
+            if best.as_ref().is_none_or(|b| cost < b.cost) {
+                let mut nodes = vec![start];
+                nodes.extend(rest.nodes);
+                let mut arcs = vec![arc];
+                arcs.extend(rest.arcs);
+                best = Some(Path { nodes, arcs, cost });
+            }
+        }
+        best
+    }
+
     fn cheapest_arc(&self, from: u32, to: u32, removed: &HashSet<ArcRef>) -> Option<usize> {
         if removed.contains(&ArcRef { from, to }) {
             return None;

@@ -1,0 +1,283 @@
+//! Joint motion planning (`cellc_runtime::motion`): one LWR arm swinging around a pillar
+//! (the straight line hits it), and two facing LWR arms swapping sides (the straight line
+//! makes them meet), each over a cycle of seeds so the median covers the planner's
+//! spread. A summary over 64 seeds (median and worst time, failures) is printed once.
+//!
+//! The goal these serve: a five-arm line planned with every motion in under 250 ms, so a
+//! typical motion should take a few milliseconds.
+
+use std::f64::consts::{FRAC_PI_6, PI};
+use std::hint::black_box;
+use std::time::Instant;
+
+use cellc_runtime::math::{iso_to_schema, Iso, Quat};
+use cellc_runtime::motion::{plan_motion, MotionOptions, MotionProblem, ObjectPlacementSpec};
+use cellc_runtime::scene::{Scene, SceneScratch};
+use cellc_runtime::Files;
+use cellc_schema as schema;
+use criterion::{criterion_group, criterion_main, Criterion};
+use rand::SeedableRng;
+use rand_chacha::ChaCha8Rng;
+use sha2::{Digest, Sha256};
+
+/// Reads files from the repository (paths relative to the workspace root).
+struct Repo;
+
+impl Files for Repo {
+    fn read(&self, path: &str) -> Result<Vec<u8>, String> {
+        let full = format!("{}/../{path}", env!("CARGO_MANIFEST_DIR"));
+        std::fs::read(&full).map_err(|e| format!("{full}: {e}"))
+    }
+}
+
+const URDF: &str = "cells/robots/kuka_lwr4.urdf";
+
+fn pose(x: f64, y: f64, z: f64, rpy: [f64; 3]) -> schema::Pose {
+    iso_to_schema(&Iso::from_parts(
+        nalgebra::Translation3::new(x, y, z),
+        Quat::from_euler_angles(rpy[0], rpy[1], rpy[2]),
+    ))
+}
+
+fn solid(shape: schema::Shape, at: schema::Pose) -> schema::Solid {
+    schema::Solid { shape, pose: at }
+}
+
+/// The SoftHand's solids, as in `cells/robots/softhand.cell`.
+fn softhand() -> schema::HolderKind {
+    schema::HolderKind {
+        name: "softhand".into(),
+        class: schema::HolderClass::Hand,
+        solids: vec![
+            solid(
+                schema::Shape::Cylinder {
+                    radius: 0.035,
+                    height: 0.02,
+                },
+                pose(0.0, 0.0, 0.01, [0.0; 3]),
+            ),
+            solid(
+                schema::Shape::Box {
+                    size: [0.09, 0.03, 0.10],
+                },
+                pose(0.0, 0.0, 0.07, [0.0; 3]),
+            ),
+            solid(
+                schema::Shape::Box {
+                    size: [0.085, 0.025, 0.085],
+                },
+                pose(0.0, 0.0, 0.1625, [0.0; 3]),
+            ),
+            solid(
+                schema::Shape::Cylinder {
+                    radius: 0.012,
+                    height: 0.07,
+                },
+                pose(0.05, 0.0325, 0.0803, [-FRAC_PI_6, 0.0, 0.0]),
+            ),
+        ],
+    }
+}
+
+/// A cell: LWR arms with SoftHands at `arms` (name, base position; bases face up), fixed
+/// boxes `boxes` (name, min, max), and one cylinder `can` (radius 4 cm, height 30 cm).
+fn artifact(arms: &[(&str, [f64; 4])], boxes: &[(&str, [f64; 3], [f64; 3])]) -> schema::Artifact {
+    let bytes = Repo.read(URDF).expect("the LWR URDF is in the repository");
+    let sha = Sha256::digest(&bytes)
+        .iter()
+        .map(|b| format!("{b:02x}"))
+        .collect();
+    let lwr = lwr();
+    let (lower, upper) = lwr.limits();
+    let joints = lwr
+        .joint_names()
+        .iter()
+        .zip(lower.iter().zip(upper))
+        .map(|(name, (&lo, &hi))| schema::Joint {
+            name: name.clone(),
+            prismatic: false,
+            lower: lo.is_finite().then_some(lo),
+            upper: hi.is_finite().then_some(hi),
+        })
+        .collect();
+    let mut end_effectors: Vec<schema::EndEffector> = arms
+        .iter()
+        .map(|(name, [x, y, z, yaw])| schema::EndEffector {
+            name: (*name).into(),
+            movable: true,
+            kind: Some(0),
+            body: schema::Body::Arm {
+                robot: 0,
+                base: pose(*x, *y, *z, [0.0, 0.0, *yaw]),
+                home: vec![0.0; 7],
+            },
+            reach_boxes: Vec::new(),
+            reaches: Vec::new(),
+            span: 0,
+        })
+        .collect();
+    end_effectors.extend(boxes.iter().map(|(name, min, max)| schema::EndEffector {
+        name: (*name).into(),
+        movable: false,
+        kind: None,
+        body: schema::Body::Surface {
+            slab: schema::Aabb {
+                min: *min,
+                max: *max,
+            },
+            reach_height: 0.3,
+        },
+        reach_boxes: Vec::new(),
+        reaches: Vec::new(),
+        span: 0,
+    }));
+    schema::Artifact {
+        format: schema::FORMAT.into(),
+        format_version: schema::FORMAT_VERSION,
+        compiler_version: "test".into(),
+        cell: "motion".into(),
+        sources: Vec::new(),
+        weights: schema::Weights {
+            move_weight: 1.0,
+            transition_weight: 1.0,
+        },
+        robots: vec![schema::Robot {
+            name: "lwr4".into(),
+            urdf_path: URDF.into(),
+            urdf_sha256: sha,
+            base_link: "lwr_base_link".into(),
+            tip_link: "lwr_flange".into(),
+            joints,
+            span: 0,
+        }],
+        holder_kinds: vec![softhand()],
+        workspaces: Vec::new(),
+        end_effectors,
+        objects: vec![schema::Object {
+            name: "can".into(),
+            shape: Some(schema::Shape::Cylinder {
+                radius: 0.04,
+                height: 0.3,
+            }),
+            symmetries: Vec::new(),
+            grasps: Vec::new(),
+            transitions: Vec::new(),
+            graph: schema::Graph::default(),
+            span: 0,
+        }],
+        spans: Vec::new(),
+        allowed_contacts: Vec::new(),
+        verification: None,
+        requests: Vec::new(),
+    }
+}
+
+fn lwr() -> cellc_runtime::robot::Robot {
+    let bytes = Repo.read(URDF).expect("the LWR URDF is in the repository");
+    let text = String::from_utf8(bytes).expect("the URDF is UTF-8");
+    cellc_runtime::robot::Robot::from_urdf(&text, URDF, "lwr_base_link", "lwr_flange", &Repo)
+        .expect("the LWR loads")
+}
+
+fn scene(arms: &[(&str, [f64; 4])], boxes: &[(&str, [f64; 3], [f64; 3])]) -> Scene {
+    Scene::load(&artifact(arms, boxes), &Repo).expect("the test cell loads")
+}
+
+/// Joints of an LWR whose base is at `base` (upright) putting its flange at `at` with the
+/// hand pointing straight down, elbow up: A1 turns towards the target, A2/A4 solve the
+/// planar two-link problem (upper arm 0.4 m, forearm 0.39 m, shoulder 0.31 m up, flange
+/// 0.078 m past the wrist), A6 points the hand down.
+fn down(base: [f64; 4], at: [f64; 3]) -> Vec<f64> {
+    let (dx, dy) = (at[0] - base[0], at[1] - base[1]);
+    let r = dx.hypot(dy);
+    let z = at[2] + 0.078 - base[2] - 0.31;
+    let (l1, l2) = (0.4_f64, 0.39_f64);
+    let d = r.hypot(z);
+    let gamma = ((l1 * l1 + l2 * l2 - d * d) / (2.0 * l1 * l2)).acos();
+    let alpha = ((l1 * l1 + d * d - l2 * l2) / (2.0 * l1 * d)).acos();
+    let a = r.atan2(z) - alpha;
+    let b = std::f64::consts::PI - gamma;
+    let c = std::f64::consts::PI - a - b;
+    let turn = (dy.atan2(dx) - base[3] + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU)
+        - std::f64::consts::PI;
+    let q = vec![turn, -a, 0.0, b, 0.0, -c, 0.0];
+    assert!(q.iter().all(|v| v.is_finite()), "{at:?} is out of reach");
+    q
+}
+
+/// Plans `problem` once per seed of `seeds`, printing the median and worst time and how
+/// many failed.
+fn summarise(name: &str, problem: &MotionProblem<'_>, seeds: u64) {
+    let mut scratch = SceneScratch::default();
+    let options = MotionOptions::default();
+    let mut times = Vec::new();
+    let mut points = Vec::new();
+    let mut failures = 0;
+    for seed in 0..seeds {
+        let mut rng = ChaCha8Rng::seed_from_u64(seed);
+        let start = Instant::now();
+        let result = plan_motion(problem, &mut rng, &options, &mut scratch);
+        times.push(start.elapsed().as_secs_f64() * 1e3);
+        match result {
+            Ok(t) => points.push(t.points.len()),
+            Err(_) => failures += 1,
+        }
+    }
+    times.sort_by(f64::total_cmp);
+    points.sort_unstable();
+    println!(
+        "{name}: {seeds} seeds, median {:.2} ms, worst {:.2} ms, {failures} failed, median {} points",
+        times[times.len() / 2],
+        times[times.len() - 1],
+        points.get(points.len() / 2).copied().unwrap_or(0),
+    );
+}
+
+fn bench_problem(c: &mut Criterion, name: &str, problem: &MotionProblem<'_>) {
+    summarise(name, problem, 64);
+    let mut scratch = SceneScratch::default();
+    let options = MotionOptions::default();
+    let mut seed = 0;
+    c.bench_function(name, |b| {
+        b.iter(|| {
+            seed = (seed + 1) % 32;
+            let mut rng = ChaCha8Rng::seed_from_u64(seed);
+            black_box(plan_motion(problem, &mut rng, &options, &mut scratch).is_ok())
+        })
+    });
+}
+
+fn motions(c: &mut Criterion) {
+    let arm = [0.0, 0.0, 0.0, 0.0];
+    let pillar = scene(
+        &[("left", arm)],
+        &[("pillar", [0.4, -0.1, 0.0], [0.7, 0.1, 0.75])],
+    );
+    let one = MotionProblem {
+        scene: &pillar,
+        arms: vec![0],
+        start: down(arm, [0.5, -0.35, 0.35]),
+        goal: down(arm, [0.5, 0.35, 0.35]),
+        stationary: Vec::new(),
+        object: 0,
+        placement: ObjectPlacementSpec::Absent,
+    };
+    bench_problem(c, "motion: one arm around a pillar", &one);
+
+    let (l, r) = ([0.0, 0.0, 0.0, 0.0], [1.0, 0.0, 0.0, PI]);
+    let facing = scene(&[("left", l), ("right", r)], &[]);
+    let (a, b) = ([0.5, 0.25, 0.3], [0.5, -0.25, 0.3]);
+    let two = MotionProblem {
+        scene: &facing,
+        arms: vec![0, 1],
+        start: [down(l, a), down(r, b)].concat(),
+        goal: [down(l, b), down(r, a)].concat(),
+        stationary: Vec::new(),
+        object: 0,
+        placement: ObjectPlacementSpec::Absent,
+    };
+    bench_problem(c, "motion: two arms swapping sides", &two);
+}
+
+criterion_group!(benches, motions);
+criterion_main!(benches);

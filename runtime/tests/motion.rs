@@ -1,0 +1,660 @@
+//! Joint motion planning (`cellc_runtime::motion`) on small geometric cells built here as
+//! artifact values (the runtime never depends on the compiler, not even in tests): one or
+//! two KUKA LWR 4+ arms with SoftHands, boxes as fixed surfaces, one cylinder.
+
+use std::f64::consts::{FRAC_PI_6, PI};
+
+use cellc_runtime::math::{iso_to_schema, Iso, Quat};
+use cellc_runtime::motion::{
+    check_trajectory, plan_motion, Joints, MotionError, MotionOptions, MotionProblem,
+    ObjectPlacementSpec, TrajectoryFault,
+};
+use cellc_runtime::plan::Trajectory;
+use cellc_runtime::robot::Robot;
+use cellc_runtime::scene::{Holder, ObjectPlacement, Scene, SceneScratch};
+use cellc_runtime::Files;
+use cellc_schema as schema;
+use rand::SeedableRng;
+use rand_chacha::ChaCha8Rng;
+use sha2::{Digest, Sha256};
+
+/// Reads files from the repository (paths relative to the workspace root).
+struct Repo;
+
+impl Files for Repo {
+    fn read(&self, path: &str) -> Result<Vec<u8>, String> {
+        let full = format!("{}/../{path}", env!("CARGO_MANIFEST_DIR"));
+        std::fs::read(&full).map_err(|e| format!("{full}: {e}"))
+    }
+}
+
+const URDF: &str = "cells/robots/kuka_lwr4.urdf";
+
+fn pose(x: f64, y: f64, z: f64, rpy: [f64; 3]) -> schema::Pose {
+    iso_to_schema(&Iso::from_parts(
+        nalgebra::Translation3::new(x, y, z),
+        Quat::from_euler_angles(rpy[0], rpy[1], rpy[2]),
+    ))
+}
+
+fn solid(shape: schema::Shape, at: schema::Pose) -> schema::Solid {
+    schema::Solid { shape, pose: at }
+}
+
+/// The SoftHand's solids, as in `cells/robots/softhand.cell`.
+fn softhand() -> schema::HolderKind {
+    schema::HolderKind {
+        name: "softhand".into(),
+        class: schema::HolderClass::Hand,
+        solids: vec![
+            solid(
+                schema::Shape::Cylinder {
+                    radius: 0.035,
+                    height: 0.02,
+                },
+                pose(0.0, 0.0, 0.01, [0.0; 3]),
+            ),
+            solid(
+                schema::Shape::Box {
+                    size: [0.09, 0.03, 0.10],
+                },
+                pose(0.0, 0.0, 0.07, [0.0; 3]),
+            ),
+            solid(
+                schema::Shape::Box {
+                    size: [0.085, 0.025, 0.085],
+                },
+                pose(0.0, 0.0, 0.1625, [0.0; 3]),
+            ),
+            solid(
+                schema::Shape::Cylinder {
+                    radius: 0.012,
+                    height: 0.07,
+                },
+                pose(0.05, 0.0325, 0.0803, [-FRAC_PI_6, 0.0, 0.0]),
+            ),
+        ],
+    }
+}
+
+/// A cell: upright LWR arms with SoftHands (`arms`: name, base position and yaw), fixed
+/// boxes (`boxes`: name, min, max), and one cylinder `can` (radius 4 cm, height 30 cm).
+fn artifact(arms: &[(&str, [f64; 4])], boxes: &[(&str, [f64; 3], [f64; 3])]) -> schema::Artifact {
+    let bytes = Repo.read(URDF).expect("the LWR URDF is in the repository");
+    let sha = Sha256::digest(&bytes)
+        .iter()
+        .map(|b| format!("{b:02x}"))
+        .collect();
+    let lwr = lwr();
+    let (lower, upper) = lwr.limits();
+    let joints = lwr
+        .joint_names()
+        .iter()
+        .zip(lower.iter().zip(upper))
+        .map(|(name, (&lo, &hi))| schema::Joint {
+            name: name.clone(),
+            prismatic: false,
+            lower: lo.is_finite().then_some(lo),
+            upper: hi.is_finite().then_some(hi),
+        })
+        .collect();
+    let mut end_effectors: Vec<schema::EndEffector> = arms
+        .iter()
+        .map(|(name, [x, y, z, yaw])| schema::EndEffector {
+            name: (*name).into(),
+            movable: true,
+            kind: Some(0),
+            body: schema::Body::Arm {
+                robot: 0,
+                base: pose(*x, *y, *z, [0.0, 0.0, *yaw]),
+                home: vec![0.0; 7],
+            },
+            reach_boxes: Vec::new(),
+            reaches: Vec::new(),
+            span: 0,
+        })
+        .collect();
+    end_effectors.extend(boxes.iter().map(|(name, min, max)| schema::EndEffector {
+        name: (*name).into(),
+        movable: false,
+        kind: None,
+        body: schema::Body::Surface {
+            slab: schema::Aabb {
+                min: *min,
+                max: *max,
+            },
+            reach_height: 0.3,
+        },
+        reach_boxes: Vec::new(),
+        reaches: Vec::new(),
+        span: 0,
+    }));
+    schema::Artifact {
+        format: schema::FORMAT.into(),
+        format_version: schema::FORMAT_VERSION,
+        compiler_version: "test".into(),
+        cell: "motion".into(),
+        sources: Vec::new(),
+        weights: schema::Weights {
+            move_weight: 1.0,
+            transition_weight: 1.0,
+        },
+        robots: vec![schema::Robot {
+            name: "lwr4".into(),
+            urdf_path: URDF.into(),
+            urdf_sha256: sha,
+            base_link: "lwr_base_link".into(),
+            tip_link: "lwr_flange".into(),
+            joints,
+            span: 0,
+        }],
+        holder_kinds: vec![softhand()],
+        workspaces: Vec::new(),
+        end_effectors,
+        objects: vec![schema::Object {
+            name: "can".into(),
+            shape: Some(schema::Shape::Cylinder {
+                radius: 0.04,
+                height: 0.3,
+            }),
+            symmetries: Vec::new(),
+            grasps: Vec::new(),
+            transitions: Vec::new(),
+            graph: schema::Graph::default(),
+            span: 0,
+        }],
+        spans: Vec::new(),
+        allowed_contacts: Vec::new(),
+        verification: None,
+        requests: Vec::new(),
+    }
+}
+
+fn lwr() -> Robot {
+    let bytes = Repo.read(URDF).expect("the LWR URDF is in the repository");
+    let text = String::from_utf8(bytes).expect("the URDF is UTF-8");
+    Robot::from_urdf(&text, URDF, "lwr_base_link", "lwr_flange", &Repo).expect("the LWR loads")
+}
+
+fn scene(arms: &[(&str, [f64; 4])], boxes: &[(&str, [f64; 3], [f64; 3])]) -> Scene {
+    Scene::load(&artifact(arms, boxes), &Repo).expect("the test cell loads")
+}
+
+/// Joints of an LWR whose base is at `base` (upright) putting its flange at `at` with the
+/// hand pointing straight down, elbow up: A1 turns towards the target, A2/A4 solve the
+/// planar two-link problem (upper arm 0.4 m, forearm 0.39 m, shoulder 0.31 m up, flange
+/// 0.078 m past the wrist), A6 points the hand down.
+fn down(base: [f64; 4], at: [f64; 3]) -> Vec<f64> {
+    let (dx, dy) = (at[0] - base[0], at[1] - base[1]);
+    let r = dx.hypot(dy);
+    let z = at[2] + 0.078 - base[2] - 0.31;
+    let (l1, l2) = (0.4_f64, 0.39_f64);
+    let d = r.hypot(z);
+    let gamma = ((l1 * l1 + l2 * l2 - d * d) / (2.0 * l1 * l2)).acos();
+    let alpha = ((l1 * l1 + d * d - l2 * l2) / (2.0 * l1 * d)).acos();
+    let a = r.atan2(z) - alpha;
+    let b = PI - gamma;
+    let c = PI - a - b;
+    let turn = (dy.atan2(dx) - base[3] + PI).rem_euclid(2.0 * PI) - PI;
+    let q = vec![turn, -a, 0.0, b, 0.0, -c, 0.0];
+    assert!(q.iter().all(|v| v.is_finite()), "{at:?} is out of reach");
+    q
+}
+
+/// One upright arm at the origin.
+const ARM: (&str, [f64; 4]) = ("left", [0.0, 0.0, 0.0, 0.0]);
+
+/// A pillar in front of the arm, 75 cm tall: sweeping the arm from its right to its left
+/// at table height goes through it.
+const PILLAR: (&str, [f64; 3], [f64; 3]) = ("pillar", [0.4, -0.1, 0.0], [0.7, 0.1, 0.75]);
+
+/// Fine enough that nothing slips between checks in these cells.
+const DENSE: f64 = 0.005;
+
+fn problem<'a>(
+    scene: &'a Scene,
+    arms: Vec<u32>,
+    start: Vec<f64>,
+    goal: Vec<f64>,
+) -> MotionProblem<'a> {
+    MotionProblem {
+        scene,
+        arms,
+        start,
+        goal,
+        stationary: Vec::new(),
+        object: 0,
+        placement: ObjectPlacementSpec::Absent,
+    }
+}
+
+fn plan(problem: &MotionProblem<'_>, seed: u64) -> Result<Trajectory, MotionError> {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    plan_motion(
+        problem,
+        &mut rng,
+        &MotionOptions::default(),
+        &mut SceneScratch::default(),
+    )
+}
+
+/// The dense, independent re-check of a planned trajectory for `problem`.
+fn recheck(problem: &MotionProblem<'_>, trajectory: &Trajectory) -> Result<(), TrajectoryFault> {
+    check_trajectory(
+        problem.scene,
+        trajectory,
+        &problem.stationary,
+        problem.object,
+        &problem.placement,
+        DENSE,
+        &mut SceneScratch::default(),
+    )
+}
+
+/// The straight line from start to goal as a (roughly timed) trajectory.
+fn straight(problem: &MotionProblem<'_>) -> Trajectory {
+    Trajectory {
+        arms: problem.arms.clone(),
+        points: vec![(0.0, problem.start.clone()), (1.0, problem.goal.clone())],
+    }
+}
+
+fn max_diff(a: &[f64], b: &[f64]) -> f64 {
+    a.iter()
+        .zip(b)
+        .map(|(x, y)| (x - y).abs())
+        .fold(0.0, f64::max)
+}
+
+/// Whether every point lies on the segment from the first to the last.
+fn is_straight(t: &Trajectory) -> bool {
+    let (a, b) = (&t.points[0].1, &t.points[t.points.len() - 1].1);
+    let d: Vec<f64> = a.iter().zip(b).map(|(x, y)| y - x).collect();
+    let len2: f64 = d.iter().map(|v| v * v).sum();
+    t.points.iter().all(|(_, p)| {
+        let s = p
+            .iter()
+            .zip(a)
+            .zip(&d)
+            .map(|((p, a), d)| (p - a) * d)
+            .sum::<f64>()
+            / len2;
+        let on: Vec<f64> = a.iter().zip(&d).map(|(a, d)| a + d * s).collect();
+        (-1e-9..=1.0 + 1e-9).contains(&s) && max_diff(p, &on) < 1e-9
+    })
+}
+
+/// What every planned trajectory must satisfy: it starts at time 0 at `start`, ends
+/// exactly at `goal`, times increase, no joint moves more than `step` between points or
+/// faster than the speed limit, and the dense re-check finds nothing.
+fn assert_valid(problem: &MotionProblem<'_>, t: &Trajectory) {
+    let options = MotionOptions::default();
+    assert_eq!(t.arms, problem.arms);
+    assert_eq!(t.points[0], (0.0, problem.start.clone()));
+    assert_eq!(t.points[t.points.len() - 1].1, problem.goal);
+    for pair in t.points.windows(2) {
+        let ((t0, a), (t1, b)) = (&pair[0], &pair[1]);
+        assert!(t1 > t0, "times increase: {t0} then {t1}");
+        let d = max_diff(a, b);
+        assert!(d <= options.step + 1e-12, "a step of {d} rad");
+        assert!(
+            d / (t1 - t0) <= options.velocity_limit * (1.0 + 1e-9),
+            "a joint at {} rad/s",
+            d / (t1 - t0)
+        );
+    }
+    if let Err(fault) = recheck(problem, t) {
+        panic!("the planned trajectory is not valid: {fault}");
+    }
+}
+
+/// The fixture's closed-form inverse kinematics is right (everything below relies on it).
+#[test]
+fn down_puts_the_hand_where_asked() {
+    let scene = scene(&FACING, &[]);
+    for (e, target) in [
+        (0, [0.5, -0.35, 0.35]),
+        (0, [0.5, 0.4, 0.6]),
+        (1, [0.5, 0.25, 0.3]),
+    ] {
+        let Holder::Arm { robot, base, .. } = &scene.holders[e] else {
+            panic!("end-effector {e} is an arm");
+        };
+        let q = down(FACING[e].1, target);
+        let tip = scene.robots[*robot].tip_pose(base, &q);
+        let error = (tip.translation.vector - nalgebra::Vector3::from(target)).norm();
+        assert!(error < 1e-9, "{target:?}: {error} m off");
+        let z = tip.rotation * nalgebra::Vector3::z();
+        assert!((z.z + 1.0).abs() < 1e-9, "{target:?}: hand axis {z:?}");
+    }
+}
+
+#[test]
+fn straight_line_when_free() {
+    let scene = scene(&[ARM], &[]);
+    let p = problem(
+        &scene,
+        vec![0],
+        down(ARM.1, [0.5, -0.35, 0.35]),
+        down(ARM.1, [0.5, 0.35, 0.35]),
+    );
+    let t = plan(&p, 1).expect("a free straight line");
+    assert_valid(&p, &t);
+    assert!(is_straight(&t), "the planner keeps the straight line");
+    // About 1 rad of A1 at 0.25 rad per point.
+    assert!(t.points.len() >= 5, "{} points", t.points.len());
+}
+
+#[test]
+fn path_around_an_obstacle() {
+    let scene = scene(&[ARM], &[PILLAR]);
+    let p = problem(
+        &scene,
+        vec![0],
+        down(ARM.1, [0.5, -0.35, 0.35]),
+        down(ARM.1, [0.5, 0.35, 0.35]),
+    );
+    match recheck(&p, &straight(&p)) {
+        Err(TrajectoryFault::Collision { a, b, .. }) => {
+            assert!(a == "pillar" || b == "pillar", "{a} / {b}")
+        }
+        other => panic!("the straight line hits the pillar: {other:?}"),
+    }
+    let t = plan(&p, 1).expect("a way around the pillar");
+    assert_valid(&p, &t);
+    assert!(!is_straight(&t));
+}
+
+#[test]
+fn start_or_goal_in_collision() {
+    let scene = scene(&[ARM], &[PILLAR]);
+    let free = down(ARM.1, [0.5, -0.35, 0.35]);
+    let inside = down(ARM.1, [0.55, 0.0, 0.35]);
+    match plan(&problem(&scene, vec![0], inside.clone(), free.clone()), 1) {
+        Err(MotionError::StartInCollision { a, b }) => {
+            assert!(a == "pillar" || b == "pillar", "{a} / {b}");
+            assert!(
+                a.starts_with("left/") || b.starts_with("left/"),
+                "{a} / {b}"
+            );
+        }
+        other => panic!("expected StartInCollision, got {other:?}"),
+    }
+    match plan(&problem(&scene, vec![0], free, inside), 1) {
+        Err(MotionError::GoalInCollision { a, b }) => {
+            assert!(a == "pillar" || b == "pillar", "{a} / {b}")
+        }
+        other => panic!("expected GoalInCollision, got {other:?}"),
+    }
+}
+
+/// Two arms facing each other across the work area.
+const FACING: [(&str, [f64; 4]); 2] = [
+    ("left", [0.0, 0.0, 0.0, 0.0]),
+    ("right", [1.0, 0.0, 0.0, PI]),
+];
+
+/// Both hands at table height on opposite sides of the middle line, swapping sides: moved
+/// together along the straight line, the arms meet in the middle.
+fn swap(scene: &Scene) -> MotionProblem<'_> {
+    let (l, r) = (FACING[0].1, FACING[1].1);
+    let (a, b) = ([0.5, 0.25, 0.3], [0.5, -0.25, 0.3]);
+    let start = [down(l, a), down(r, b)].concat();
+    let goal = [down(l, b), down(r, a)].concat();
+    problem(scene, vec![0, 1], start, goal)
+}
+
+#[test]
+fn two_arms_avoid_each_other() {
+    let scene = scene(&FACING, &[]);
+    let p = swap(&scene);
+    match recheck(&p, &straight(&p)) {
+        Err(TrajectoryFault::Collision { a, b, .. }) => assert!(
+            a.starts_with("left/") && b.starts_with("right/")
+                || a.starts_with("right/") && b.starts_with("left/"),
+            "{a} / {b}"
+        ),
+        other => panic!("the straight line makes the arms meet: {other:?}"),
+    }
+    let t = plan(&p, 2).expect("the arms can pass each other");
+    assert_eq!(t.points[0].1.len(), 14);
+    assert_valid(&p, &t);
+}
+
+#[test]
+fn stationary_arms_are_obstacles() {
+    let scene = scene(&FACING, &[]);
+    let l = FACING[0].1;
+    let mut p = problem(
+        &scene,
+        vec![0],
+        down(l, [0.5, 0.25, 0.3]),
+        down(l, [0.5, -0.25, 0.3]),
+    );
+    // The right arm at home (upright) is out of the way.
+    let t = plan(&p, 3).expect("a free straight line");
+    assert!(is_straight(&t));
+    // Parked in the middle, it is in the way.
+    p.stationary = vec![(1, down(FACING[1].1, [0.55, 0.0, 0.3]))];
+    assert!(matches!(
+        recheck(&p, &straight(&p)),
+        Err(TrajectoryFault::Collision { .. })
+    ));
+    let t = plan(&p, 3).expect("a way around the parked arm");
+    assert_valid(&p, &t);
+    assert!(!is_straight(&t));
+}
+
+#[test]
+fn held_object_follows_the_hand() {
+    // A block under the hand's path: the hand passes over it, the can hanging from the
+    // hand (grasped 25 cm out along the hand axis, 30 cm long) does not.
+    let table = ("table", [0.35, -0.2, 0.0], [0.8, 0.2, 0.3]);
+    let scene = scene(&[ARM], &[table]);
+    let mut p = problem(
+        &scene,
+        vec![0],
+        down(ARM.1, [0.5, -0.4, 0.6]),
+        down(ARM.1, [0.5, 0.4, 0.6]),
+    );
+    let empty = plan(&p, 4).expect("empty-handed, the straight line is free");
+    assert!(is_straight(&empty));
+    p.placement = ObjectPlacementSpec::Held {
+        by: 0,
+        grasp: Iso::translation(0.0, 0.0, 0.25),
+    };
+    match recheck(&p, &straight(&p)) {
+        Err(TrajectoryFault::Collision { a, b, .. }) => {
+            let mut pair = [a, b];
+            pair.sort();
+            assert_eq!(pair, ["can".to_string(), "table".to_string()]);
+        }
+        other => panic!("the held can hits the table: {other:?}"),
+    }
+    let t = plan(&p, 4).expect("a way over the table with the can");
+    assert_valid(&p, &t);
+    assert!(!is_straight(&t));
+}
+
+#[test]
+fn timing_is_monotonic_and_within_limits() {
+    let scene = scene(&[ARM], &[PILLAR]);
+    let p = problem(
+        &scene,
+        vec![0],
+        down(ARM.1, [0.5, -0.35, 0.35]),
+        down(ARM.1, [0.5, 0.35, 0.35]),
+    );
+    let slow = MotionOptions {
+        velocity_limit: 0.3,
+        acceleration_limit: 0.5,
+        ..MotionOptions::default()
+    };
+    let mut rng = ChaCha8Rng::seed_from_u64(5);
+    let t = plan_motion(&p, &mut rng, &slow, &mut SceneScratch::default()).expect("a path");
+    let mut peak: f64 = 0.0;
+    for pair in t.points.windows(2) {
+        let ((t0, a), (t1, b)) = (&pair[0], &pair[1]);
+        assert!(t1 > t0);
+        peak = peak.max(max_diff(a, b) / (t1 - t0));
+    }
+    assert!(peak <= 0.3 * (1.0 + 1e-9), "peak speed {peak}");
+    // A rest-to-rest trapezoid takes at least d / v + v / a per segment when it cruises,
+    // 2 sqrt(d / a) when it does not; the whole motion at least the sum.
+    let total = t.points[t.points.len() - 1].0;
+    let travelled: f64 = t
+        .points
+        .windows(2)
+        .map(|w| max_diff(&w[0].1, &w[1].1))
+        .sum();
+    assert!(total >= travelled / 0.3, "{total} s for {travelled} rad");
+    // The same motion with the defaults is faster.
+    let mut rng = ChaCha8Rng::seed_from_u64(5);
+    let fast = plan_motion(
+        &p,
+        &mut rng,
+        &MotionOptions::default(),
+        &mut SceneScratch::default(),
+    )
+    .expect("a path");
+    assert!(fast.points[fast.points.len() - 1].0 < total);
+}
+
+#[test]
+fn same_seed_same_trajectory() {
+    let scene = scene(&FACING, &[]);
+    let p = swap(&scene);
+    let a = plan(&p, 11).expect("a path");
+    let b = plan(&p, 11).expect("a path");
+    assert_eq!(a, b);
+}
+
+#[test]
+fn equal_start_and_goal_is_one_point() {
+    let scene = scene(&[ARM], &[]);
+    let q = down(ARM.1, [0.5, 0.0, 0.4]);
+    let t = plan(&problem(&scene, vec![0], q.clone(), q.clone()), 0).expect("no motion");
+    assert_eq!(t.points, vec![(0.0, q)]);
+}
+
+#[test]
+fn malformed_problems_are_errors() {
+    let scene = scene(&[ARM], &[PILLAR]);
+    let q = down(ARM.1, [0.5, -0.35, 0.35]);
+    let short = q[..6].to_vec();
+    assert!(matches!(
+        plan(&problem(&scene, vec![0], short, q.clone()), 0),
+        Err(MotionError::WrongLength {
+            joints: Joints::Start,
+            expected: 7,
+            found: 6
+        })
+    ));
+    let mut far = q.clone();
+    far[1] = 3.0;
+    assert!(matches!(
+        plan(&problem(&scene, vec![0], q.clone(), far), 0),
+        Err(MotionError::OutOfLimits {
+            joints: Joints::Goal,
+            end_effector: 0,
+            joint: 1,
+            ..
+        })
+    ));
+    // End-effector 1 is the pillar.
+    assert_eq!(
+        plan(&problem(&scene, vec![1], Vec::new(), Vec::new()), 0),
+        Err(MotionError::NotAnArm { end_effector: 1 })
+    );
+    assert_eq!(
+        plan(
+            &problem(
+                &scene,
+                vec![0, 0],
+                [q.clone(), q.clone()].concat(),
+                [q.clone(), q.clone()].concat()
+            ),
+            0
+        ),
+        Err(MotionError::RepeatedArm { end_effector: 0 })
+    );
+    let mut rng = ChaCha8Rng::seed_from_u64(0);
+    let bad = MotionOptions {
+        collision_resolution: 0.0,
+        ..MotionOptions::default()
+    };
+    assert!(matches!(
+        plan_motion(
+            &problem(&scene, vec![0], q.clone(), q.clone()),
+            &mut rng,
+            &bad,
+            &mut SceneScratch::default()
+        ),
+        Err(MotionError::InvalidOption {
+            name: "collision_resolution",
+            ..
+        })
+    ));
+    // A held object's holder must be an arm.
+    let mut p = problem(&scene, vec![0], q.clone(), q);
+    p.placement = ObjectPlacementSpec::Held {
+        by: 1,
+        grasp: Iso::identity(),
+    };
+    assert!(matches!(plan(&p, 0), Err(MotionError::Query(_))));
+}
+
+proptest::proptest! {
+    #![proptest_config(proptest::prelude::ProptestConfig { cases: 8, ..Default::default() })]
+
+    /// Random collision-free start and goal around the pillar: every trajectory point is
+    /// within limits and collision-free, and so is every configuration between them at
+    /// the planner's resolution. Random pairs can be hard (an arm folded around the
+    /// pillar): not finding a path in time is allowed, a wrong path is not.
+    #[test]
+    fn random_motions_are_valid(seed in 0u64..1_000_000) {
+        let scene = scene(&[ARM], &[PILLAR]);
+        let Holder::Arm { robot, .. } = &scene.holders[0] else {
+            panic!("end-effector 0 is an arm");
+        };
+        let robot = &scene.robots[*robot];
+        let mut rng = ChaCha8Rng::seed_from_u64(seed);
+        let mut scratch = SceneScratch::default();
+        let free = |q: &[f64], scratch: &mut SceneScratch| {
+            scene
+                .collision(&[(0, q)], 0, ObjectPlacement::Absent, scratch)
+                .expect("the query is well formed")
+                .is_none()
+        };
+        let mut random_free = || loop {
+            let mut q = vec![0.0; 7];
+            robot.sample_configuration(&mut rng, &mut q);
+            if free(&q, &mut scratch) {
+                break q;
+            }
+        };
+        let (start, goal) = (random_free(), random_free());
+        let p = problem(&scene, vec![0], start, goal);
+        let options = MotionOptions::default();
+        let mut rng = ChaCha8Rng::seed_from_u64(seed);
+        let t = match plan_motion(&p, &mut rng, &options, &mut scratch) {
+            Ok(t) => t,
+            Err(MotionError::NoPath { .. }) => return Ok(()),
+            Err(e) => panic!("{e}"),
+        };
+        for (time, q) in &t.points {
+            proptest::prop_assert!(robot.within_limits(q), "at {time} s: {q:?}");
+            proptest::prop_assert!(free(q, &mut scratch), "at {time} s: {q:?}");
+        }
+        let checked = check_trajectory(
+            &scene,
+            &t,
+            &[],
+            0,
+            &ObjectPlacementSpec::Absent,
+            options.collision_resolution,
+            &mut scratch,
+        );
+        proptest::prop_assert_eq!(checked, Ok(()));
+    }
+}
