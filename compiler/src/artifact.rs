@@ -129,6 +129,11 @@ pub fn lower(cell: &Cell, graphs: &[ObjectGraph], sources: &SourceMap) -> schema
         workspaces,
         end_effectors,
         objects,
+        obstacles: cell
+            .obstacles
+            .iter()
+            .map(|(n, b, _)| (n.clone(), aabb(b)))
+            .collect(),
         requests: cell
             .requests
             .iter()

@@ -379,6 +379,8 @@ pub struct Cell {
     pub expectations: Vec<Expectation>,
     /// True when the cell says `workspaces from reach`.
     pub derive_workspaces: Option<Origin>,
+    /// Fixed solids that hold nothing: (name, box, declaration).
+    pub obstacles: Vec<(String, Aabb, Origin)>,
     /// Named example requests, in source order.
     pub requests: Vec<NamedRequest>,
     /// Pairs of bodies that may touch (`allow contact`), by collision-body name

@@ -318,6 +318,31 @@ impl Resolver<'_, '_> {
             | ast::Item::Expect(_)
             | ast::Item::Request(_)
             | ast::Item::Allow(_) => {}
+            ast::Item::Obstacle(o) => {
+                let origin = origin(file, o.span, &o.name);
+                if let Some(first) = self.origins.get(&o.name.text) {
+                    let sort = self.names[&o.name.text].sort();
+                    self.diagnostics.push(diagnostics::duplicate_name(
+                        sort,
+                        &o.name.text,
+                        *first,
+                        origin,
+                    ));
+                    return;
+                }
+                if let Some(first) = self.cell.obstacles.iter().find(|x| x.0 == o.name.text) {
+                    self.diagnostics.push(diagnostics::duplicate_name(
+                        Sort::EndEffector,
+                        &o.name.text,
+                        first.2,
+                        origin,
+                    ));
+                    return;
+                }
+                if let Some(b) = self.eval(file, units).aabb(&o.aabb) {
+                    self.cell.obstacles.push((o.name.text.clone(), b, origin));
+                }
+            }
         }
     }
 
@@ -959,6 +984,9 @@ impl Resolver<'_, '_> {
     /// an object.
     fn body(&mut self, file: FileId, q: &ast::Qualified) -> Option<String> {
         let Some(owner) = &q.object else {
+            if self.cell.obstacles.iter().any(|o| o.0 == q.name.text) {
+                return Some(q.name.text.clone());
+            }
             return match self.names.get(&q.name.text).copied() {
                 Some(Entry::EndEffector(_)) | Some(Entry::Object(_)) => Some(q.name.text.clone()),
                 Some(other) => {

@@ -77,6 +77,7 @@ fn derive(cell: &mut Cell, reach: &[(EndEffectorId, Vec<Aabb>)], origin: Origin)
             Body::Surface { slab, .. } => Some(*slab),
             _ => None,
         })
+        .chain(cell.obstacles.iter().map(|o| o.1))
         .collect();
     let cuts: [Vec<f64>; 3] = [0, 1, 2].map(|axis| {
         // Declared workspaces cut space too, so that no derived cell straddles one.

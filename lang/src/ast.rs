@@ -224,6 +224,8 @@ pub enum Item {
     Allow(AllowItem),
     /// `request NAME: OBJECT from PLACEMENT to PLACEMENT`.
     Request(RequestItem),
+    /// `obstacle NAME box center (...) size (...)`.
+    Obstacle(ObstacleItem),
 }
 
 impl Item {
@@ -247,6 +249,7 @@ impl Item {
             Item::Expect(i) => i.span,
             Item::Allow(i) => i.span,
             Item::Request(i) => i.span,
+            Item::Obstacle(i) => i.span,
         }
     }
 }
@@ -481,6 +484,18 @@ pub enum PlaceSpec {
     In(Name),
     /// Exactly at an object pose.
     At(Pose),
+}
+
+/// `obstacle NAME box center (...) size (...)`: a fixed solid that holds nothing (a shelf
+/// board, a wall, a robot's torso); arms and objects must not collide with it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ObstacleItem {
+    /// Name.
+    pub name: Name,
+    /// The solid.
+    pub aabb: Aabb,
+    /// Whole item.
+    pub span: Span,
 }
 
 /// `reach NAME box center (...) size (...)`.

@@ -632,6 +632,7 @@ fn item_text(item: &Item) -> String {
         }
         Item::Reach(r) => format!("reach {} {}", name(&r.end_effector), aabb(&r.aabb)),
         Item::Allow(a) => format!("allow contact {} {}", qualified(&a.a), qualified(&a.b)),
+        Item::Obstacle(o) => format!("obstacle {} {}", name(&o.name), aabb(&o.aabb)),
         Item::Request(r) => format!(
             "request {}: {} from {} to {}",
             name(&r.name),

@@ -397,6 +397,11 @@ impl Builder<'_, '_> {
                     span,
                 })
             }
+            Rule::obstacle_item => Item::Obstacle(ObstacleItem {
+                name: self.name(inner.next()?)?,
+                aabb: self.aabb(inner.next()?)?,
+                span,
+            }),
             Rule::allow_item => {
                 let _contact = inner.next();
                 Item::Allow(AllowItem {

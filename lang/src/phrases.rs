@@ -46,6 +46,7 @@ const ITEM_STARTS: &[Rule] = &[
     Rule::kw_expect,
     Rule::kw_allow,
     Rule::kw_request,
+    Rule::kw_obstacle,
 ];
 
 const MEMBER_STARTS: &[Rule] = &[
@@ -77,6 +78,7 @@ pub const RESERVED: &[&str] = &[
     "expect",
     "allow",
     "request",
+    "obstacle",
     "shape",
     "symmetry",
     "grasp",
@@ -199,6 +201,10 @@ pub fn phrase(rule: Rule) -> &'static str {
         Rule::kw_home => "`home`",
         Rule::kw_allow => "`allow`",
         Rule::kw_request => "`request`",
+        Rule::kw_obstacle => "`obstacle`",
+        Rule::obstacle_item => {
+            "an obstacle like `obstacle shelf box center (x, y, z) size (dx, dy, dz)`"
+        }
         Rule::kw_to => "`to`",
         Rule::request_item => {
             "a request like `request r1: cylinder from table in w1 to table in w3`"

@@ -362,6 +362,9 @@ impl Scene {
                     .collect(),
             );
         }
+        for (name, b) in &artifact.obstacles {
+            builder.add_fixed_box(name, b.min, b.max);
+        }
         for (a, b) in &artifact.allowed_contacts {
             builder.allow(a, b);
         }

@@ -422,6 +422,37 @@ fn run_check(
                 });
             };
             let grasp = grasp_pose(artifact, object, g);
+            // A robot with fewer than six joints (a conveyor) cannot take an arbitrary
+            // pose: sample its joints instead and keep a placement inside the workspace.
+            if robot.n_joints() < 6 {
+                let mut q = home.to_vec();
+                for _ in 0..options.placements * 4 {
+                    robot.sample_configuration(&mut rng, &mut q);
+                    let object_pose = robot.tip_pose(&base, &q) * grasp;
+                    let center = Point::from(object_pose.translation.vector);
+                    if !scene.workspaces[w as usize]
+                        .iter()
+                        .any(|b| b.contains(&center))
+                    {
+                        continue;
+                    }
+                    let placement = ObjectPlacement::Held { by: e, grasp };
+                    match collision(scene, &[(e, &q)], object, placement, scratch) {
+                        None => {
+                            return Ok(Witness {
+                                object: iso_to_schema(&object_pose),
+                                configurations: vec![schema::ArmConfiguration {
+                                    end_effector: e,
+                                    joints: q,
+                                }],
+                            })
+                        }
+                        Some(pair) => outcome.last_collision = Some(pair),
+                    }
+                }
+                return Err(outcome
+                    .into_reason("the robot's joints never bring the object into the workspace"));
+            }
             for _ in 0..options.placements {
                 let Some(center) = sample_point(&scene.workspaces[w as usize], &mut rng) else {
                     break;

@@ -46,6 +46,8 @@ pub struct Artifact {
     pub objects: Vec<Object>,
     /// Source places that arcs and elements point to (indices into this list).
     pub spans: Vec<SourceSpan>,
+    /// Fixed solids that hold nothing (shelves, walls): (name, box).
+    pub obstacles: Vec<(String, Aabb)>,
     /// Named example requests of the cell, in source order.
     pub requests: Vec<NamedRequest>,
     /// Pairs of collision bodies that may touch (`allow contact`): `left`,
