@@ -388,6 +388,7 @@ impl Desc {
             }],
             spans,
             requests: Vec::new(),
+            obstacles: Vec::new(),
             allowed_contacts: Vec::new(),
             verification,
         }

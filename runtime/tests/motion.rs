@@ -164,6 +164,7 @@ fn artifact(arms: &[(&str, [f64; 4])], boxes: &[(&str, [f64; 3], [f64; 3])]) -> 
             span: 0,
         }],
         spans: Vec::new(),
+        obstacles: Vec::new(),
         allowed_contacts: Vec::new(),
         verification: None,
         requests: Vec::new(),
