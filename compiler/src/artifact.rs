@@ -129,6 +129,10 @@ pub fn lower(cell: &Cell, graphs: &[ObjectGraph], sources: &SourceMap) -> schema
         workspaces,
         end_effectors,
         objects,
+        adjacency: Some(schema::AdjacencyRecord {
+            declared: !cell.adjacencies.is_empty(),
+            pairs: adjacent_pairs(cell),
+        }),
         obstacles: cell
             .obstacles
             .iter()
@@ -272,6 +276,20 @@ fn lower_object(cell: &Cell, g: &ObjectGraph, spans: &mut SpanTable) -> schema::
         },
         span: spans.get(object.origin.file, object.origin.span),
     }
+}
+
+/// Every adjacent pair of workspaces, each once, in order.
+fn adjacent_pairs(cell: &Cell) -> Vec<(u32, u32)> {
+    let n = cell.workspaces.len() as u32;
+    let mut pairs = Vec::new();
+    for a in 0..n {
+        for b in (a + 1)..n {
+            if cell.adjacent(crate::ids::WorkspaceId(a), crate::ids::WorkspaceId(b)) {
+                pairs.push((a, b));
+            }
+        }
+    }
+    pairs
 }
 
 /// Interns spans so that a million arcs made by a few hundred declarations share a few

@@ -167,6 +167,7 @@ fn artifact(arms: &[(&str, [f64; 4])], boxes: &[(&str, [f64; 3], [f64; 3])]) -> 
         }],
         spans: Vec::new(),
         obstacles: Vec::new(),
+        adjacency: None,
         allowed_contacts: Vec::new(),
         verification: None,
         requests: Vec::new(),

@@ -714,6 +714,15 @@ impl<'a> Ctx<'a> {
     /// arc anywhere, a derived cell has no adjacency worth keeping either, so declaring
     /// one is harmless there too.
     fn find_adjacency(&self) -> Adjacency {
+        // Artifacts from the compiler say which pairs were declared; the inference below
+        // is for artifacts that do not.
+        if let Some(record) = &self.art.adjacency {
+            return if record.declared {
+                Adjacency::Declared(record.pairs.iter().map(|&(a, b)| ordered(a, b)).collect())
+            } else {
+                Adjacency::Derived
+            };
+        }
         let mut declared = false;
         let mut any = false;
         let mut pairs = BTreeSet::new();

@@ -389,6 +389,7 @@ impl Desc {
             spans,
             requests: Vec::new(),
             obstacles: Vec::new(),
+            adjacency: None,
             allowed_contacts: Vec::new(),
             verification,
         }

@@ -46,6 +46,9 @@ pub struct Artifact {
     pub objects: Vec<Object>,
     /// Source places that arcs and elements point to (indices into this list).
     pub spans: Vec<SourceSpan>,
+    /// Which workspaces are adjacent, and whether the cell declared it (`None` in
+    /// artifacts made by other tools that do not say).
+    pub adjacency: Option<AdjacencyRecord>,
     /// Fixed solids that hold nothing (shelves, walls): (name, box).
     pub obstacles: Vec<(String, Aabb)>,
     /// Named example requests of the cell, in source order.
@@ -83,6 +86,15 @@ pub struct RequestPlacement {
     pub workspace: Option<u32>,
     /// Object pose, when given.
     pub pose: Option<Pose>,
+}
+
+/// The adjacency a graph was built with.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct AdjacencyRecord {
+    /// Declared with `adjacent` (true) or derived from reach (false).
+    pub declared: bool,
+    /// The adjacent pairs (indices into [`Artifact::workspaces`]), each once.
+    pub pairs: Vec<(u32, u32)>,
 }
 
 /// How the arcs were verified.
