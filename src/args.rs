@@ -35,6 +35,32 @@ pub enum ArtifactFormat {
     Bin,
 }
 
+/// What to plan, shared by `cellc plan` and `cellc run`.
+#[derive(clap::Args, Debug, Clone)]
+pub struct RequestArgs {
+    /// A `.cell` file (compiled and verified now) or an artifact.
+    pub input: PathBuf,
+    /// A request declared in the cell (default: the first one).
+    #[arg(long)]
+    pub request: Option<String>,
+    /// The object to move, for a request given here.
+    #[arg(long)]
+    pub object: Option<String>,
+    /// Where the object is: `HOLDER[.GRASP] in WS` or `HOLDER at (x, y, z) [rpy (r, p, y)]`
+    /// (metres and degrees unless written).
+    #[arg(long)]
+    pub from: Option<String>,
+    /// Where it must go, in the same form.
+    #[arg(long)]
+    pub to: Option<String>,
+    /// Seed of the randomized solvers.
+    #[arg(long, default_value_t = 0)]
+    pub seed: u64,
+    /// Plan the high level only (no joint motions).
+    #[arg(long)]
+    pub no_motions: bool,
+}
+
 /// Flags shared by the commands that report diagnostics.
 #[derive(clap::Args, Debug, Clone)]
 pub struct ReportFlags {
@@ -113,53 +139,19 @@ pub enum Command {
     /// given with --object, --from and --to (`HOLDER[.GRASP] in WS` or `HOLDER at (x, y, z)
     /// [rpy (r, p, y)]`, metres and degrees unless written).
     Plan {
-        /// A `.cell` file (compiled and verified now) or an artifact.
-        input: PathBuf,
-        /// A request declared in the cell.
-        #[arg(long)]
-        request: Option<String>,
-        /// The object to move.
-        #[arg(long)]
-        object: Option<String>,
-        /// Where the object is.
-        #[arg(long)]
-        from: Option<String>,
-        /// Where it must go.
-        #[arg(long)]
-        to: Option<String>,
+        /// The request.
+        #[command(flatten)]
+        request: RequestArgs,
         /// Output format.
         #[arg(long, value_enum, default_value = "human")]
         format: crate::commands::plan::PlanFormat,
-        /// Seed of the randomized solvers.
-        #[arg(long, default_value_t = 0)]
-        seed: u64,
-        /// Plan the high level only (no joint motions).
-        #[arg(long)]
-        no_motions: bool,
     },
     /// Plan a request as `cellc plan` does, then execute it in the kinematic simulator and
     /// report the object's final pose and its error.
     Run {
-        /// A `.cell` file or an artifact.
-        input: PathBuf,
-        /// A request declared in the cell.
-        #[arg(long)]
-        request: Option<String>,
-        /// The object to move.
-        #[arg(long)]
-        object: Option<String>,
-        /// Where the object is.
-        #[arg(long)]
-        from: Option<String>,
-        /// Where it must go.
-        #[arg(long)]
-        to: Option<String>,
-        /// Seed of the randomized solvers.
-        #[arg(long, default_value_t = 0)]
-        seed: u64,
-        /// Plan the high level only (no joint motions).
-        #[arg(long)]
-        no_motions: bool,
+        /// The request.
+        #[command(flatten)]
+        request: RequestArgs,
         /// Make the motion of this step (1-based) fail, to see recovery.
         #[arg(long)]
         fail_at: Option<usize>,

@@ -72,47 +72,13 @@ pub fn dispatch() -> ExitCode {
             commands::build::run(cell, output.as_deref(), &options)
         }
         args::Command::Info { file } => commands::info::run(&file.to_string_lossy()),
-        args::Command::Run {
-            input,
-            request,
-            object,
-            from,
-            to,
-            seed,
-            no_motions,
-            fail_at,
-        } => commands::run::run(
-            &commands::plan::PlanArgs {
-                input: input.to_string_lossy().to_string(),
-                request: request.clone(),
-                object: object.clone(),
-                from: from.clone(),
-                to: to.clone(),
-                format: commands::plan::PlanFormat::Human,
-                seed: *seed,
-                motions: !*no_motions,
-            },
+        args::Command::Run { request, fail_at } => commands::run::run(
+            &commands::plan::PlanArgs::new(request, commands::plan::PlanFormat::Human),
             *fail_at,
         ),
-        args::Command::Plan {
-            input,
-            request,
-            object,
-            from,
-            to,
-            format,
-            seed,
-            no_motions,
-        } => commands::plan::run(&commands::plan::PlanArgs {
-            input: input.to_string_lossy().to_string(),
-            request: request.clone(),
-            object: object.clone(),
-            from: from.clone(),
-            to: to.clone(),
-            format: *format,
-            seed: *seed,
-            motions: !*no_motions,
-        }),
+        args::Command::Plan { request, format } => {
+            commands::plan::run(&commands::plan::PlanArgs::new(request, *format))
+        }
         args::Command::Graph {
             file,
             object,

@@ -11,7 +11,8 @@ use std::hint::black_box;
 use std::time::Instant;
 
 use cellc_runtime::math::{iso_to_schema, Iso, Quat};
-use cellc_runtime::motion::{plan_motion, MotionOptions, MotionProblem, ObjectPlacementSpec};
+use cellc_runtime::motion::{plan_motion, MotionOptions, MotionProblem};
+use cellc_runtime::scene::ObjectPlacement;
 use cellc_runtime::scene::{Scene, SceneScratch};
 use cellc_runtime::Files;
 use cellc_schema as schema;
@@ -262,7 +263,7 @@ fn motions(c: &mut Criterion) {
         goal: down(arm, [0.5, 0.35, 0.35]),
         stationary: Vec::new(),
         object: 0,
-        placement: ObjectPlacementSpec::Absent,
+        placement: ObjectPlacement::Absent,
     };
     bench_problem(c, "motion: one arm around a pillar", &one);
 
@@ -276,7 +277,7 @@ fn motions(c: &mut Criterion) {
         goal: [down(l, b), down(r, a)].concat(),
         stationary: Vec::new(),
         object: 0,
-        placement: ObjectPlacementSpec::Absent,
+        placement: ObjectPlacement::Absent,
     };
     bench_problem(c, "motion: two arms swapping sides", &two);
 }

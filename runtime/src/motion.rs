@@ -35,75 +35,8 @@ use std::fmt;
 use rand::Rng;
 use rand_chacha::ChaCha8Rng;
 
-use crate::math::Iso;
 use crate::plan::Trajectory;
 use crate::scene::{Holder, ObjectPlacement, QueryError, Scene, SceneScratch};
-
-/// How the object travels during a motion. Unlike a fixed pose, a held object's pose is
-/// recomputed from the holding arm's tip at every checked configuration, so it moves with
-/// the hand and is checked against the cell (and the other arms) all along the way.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum ObjectPlacementSpec {
-    /// Not part of the checks (an arm moving empty-handed, the object elsewhere).
-    Absent,
-    /// Carried by arm `by` (moving or not) with `grasp`, the object pose in the hand frame.
-    Held {
-        /// End-effector holding it.
-        by: u32,
-        /// Object pose in the hand frame.
-        grasp: Iso,
-    },
-    /// Carried by `a` with `grasp_a` while `b` may touch it: the approach to a handoff or
-    /// the retreat after it. The planner does not keep a closed chain, so a motion in
-    /// which both arms really hold the object must not be planned with this.
-    Handoff {
-        /// End-effector whose grasp places the object.
-        a: u32,
-        /// Its grasp.
-        grasp_a: Iso,
-        /// The other arm, allowed to touch the object.
-        b: u32,
-    },
-    /// Lying still on surface `on` at `pose` (in the cell); arm `by` may touch it (the
-    /// approach before a pick, the retreat after a place).
-    Resting {
-        /// Surface end-effector.
-        on: u32,
-        /// Object pose in the cell.
-        pose: Iso,
-        /// Arm allowed to touch it.
-        by: Option<u32>,
-    },
-    /// Held by arm `by` with `grasp` on its way to rest on surface `on`, which it may
-    /// touch (the end of a place).
-    Placing {
-        /// The holding arm.
-        by: u32,
-        /// Object pose in the hand frame.
-        grasp: Iso,
-        /// The surface it is put on.
-        on: u32,
-    },
-}
-
-impl ObjectPlacementSpec {
-    /// The scene query's placement.
-    pub fn query(&self) -> ObjectPlacement {
-        match *self {
-            ObjectPlacementSpec::Absent => ObjectPlacement::Absent,
-            ObjectPlacementSpec::Held { by, grasp } => ObjectPlacement::Held { by, grasp },
-            ObjectPlacementSpec::Handoff { a, grasp_a, b } => {
-                ObjectPlacement::Handoff { a, grasp_a, b }
-            }
-            ObjectPlacementSpec::Resting { on, pose, by } => {
-                ObjectPlacement::Resting { on, pose, by }
-            }
-            ObjectPlacementSpec::Placing { by, grasp, on } => {
-                ObjectPlacement::Placing { by, grasp, on }
-            }
-        }
-    }
-}
 
 /// One motion to plan.
 #[derive(Clone)]
@@ -123,7 +56,7 @@ pub struct MotionProblem<'a> {
     /// The object the placement refers to (index into the artifact's objects).
     pub object: u32,
     /// How the object travels.
-    pub placement: ObjectPlacementSpec,
+    pub placement: ObjectPlacement,
 }
 
 impl fmt::Debug for MotionProblem<'_> {
@@ -1129,7 +1062,7 @@ pub fn plan_motion(
         slices: &slices,
         stationary: &problem.stationary,
         object: problem.object,
-        placement: problem.placement.query(),
+        placement: problem.placement,
         step: options.step,
         resolution: options.collision_resolution,
         buffers: EdgeBuffers::default(),
@@ -1194,7 +1127,7 @@ pub fn check_trajectory(
     trajectory: &Trajectory,
     stationary: &[(u32, Vec<f64>)],
     object: u32,
-    placement: &ObjectPlacementSpec,
+    placement: &ObjectPlacement,
     resolution: f64,
     scratch: &mut SceneScratch,
 ) -> Result<(), TrajectoryFault> {
@@ -1224,7 +1157,7 @@ pub fn check_trajectory(
         slices: &slices,
         stationary,
         object,
-        placement: placement.query(),
+        placement: *placement,
         step: f64::INFINITY,
         resolution,
         buffers: EdgeBuffers::default(),

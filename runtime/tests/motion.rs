@@ -7,7 +7,7 @@ use std::f64::consts::{FRAC_PI_6, PI};
 use cellc_runtime::math::{iso_to_schema, Iso, Quat};
 use cellc_runtime::motion::{
     check_trajectory, plan_motion, Joints, MotionError, MotionOptions, MotionProblem,
-    ObjectPlacementSpec, TrajectoryFault,
+    TrajectoryFault,
 };
 use cellc_runtime::plan::Trajectory;
 use cellc_runtime::robot::Robot;
@@ -226,7 +226,7 @@ fn problem<'a>(
         goal,
         stationary: Vec::new(),
         object: 0,
-        placement: ObjectPlacementSpec::Absent,
+        placement: ObjectPlacement::Absent,
     }
 }
 
@@ -461,7 +461,7 @@ fn held_object_follows_the_hand() {
     );
     let empty = plan(&p, 4).expect("empty-handed, the straight line is free");
     assert!(is_straight(&empty));
-    p.placement = ObjectPlacementSpec::Held {
+    p.placement = ObjectPlacement::Held {
         by: 0,
         grasp: Iso::translation(0.0, 0.0, 0.25),
     };
@@ -599,7 +599,7 @@ fn malformed_problems_are_errors() {
     ));
     // A held object's holder must be an arm.
     let mut p = problem(&scene, vec![0], q.clone(), q);
-    p.placement = ObjectPlacementSpec::Held {
+    p.placement = ObjectPlacement::Held {
         by: 1,
         grasp: Iso::identity(),
     };
@@ -653,7 +653,7 @@ proptest::proptest! {
             &t,
             &[],
             0,
-            &ObjectPlacementSpec::Absent,
+            &ObjectPlacement::Absent,
             options.collision_resolution,
             &mut scratch,
         );

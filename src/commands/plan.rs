@@ -59,6 +59,22 @@ pub struct PlanArgs {
     pub motions: bool,
 }
 
+impl PlanArgs {
+    /// From the command line's request flags.
+    pub fn new(request: &crate::args::RequestArgs, format: PlanFormat) -> PlanArgs {
+        PlanArgs {
+            input: request.input.to_string_lossy().to_string(),
+            request: request.request.clone(),
+            object: request.object.clone(),
+            from: request.from.clone(),
+            to: request.to.clone(),
+            format,
+            seed: request.seed,
+            motions: !request.no_motions,
+        }
+    }
+}
+
 /// A loaded artifact with what rendering diagnostics against it needs.
 pub struct Loaded {
     /// The artifact (verified when it has arms).

@@ -19,7 +19,7 @@ use super::{
 };
 use crate::kinematics::{solve_ik, IkError, IkOptions, IkTarget};
 use crate::math::{iso_from_schema, Iso};
-use crate::motion::{plan_motion, MotionOptions, MotionProblem, ObjectPlacementSpec};
+use crate::motion::{plan_motion, MotionOptions, MotionProblem};
 use crate::scene::{Holder, ObjectPlacement, Scene, SceneScratch};
 
 /// Plans requests on one artifact. Cheap to keep: it holds the search graphs.
@@ -385,11 +385,11 @@ impl<'a> Planner<'a> {
                     ..
                 } => {
                     let placement = match holder {
-                        Some((_, g)) if is_arm(*e) => ObjectPlacementSpec::Held {
+                        Some((_, g)) if is_arm(*e) => ObjectPlacement::Held {
                             by: *e,
                             grasp: grasp_pose(g),
                         },
-                        _ => ObjectPlacementSpec::Absent,
+                        _ => ObjectPlacement::Absent,
                     };
                     if pose.is_some() {
                         object_pose = *pose;
@@ -407,23 +407,23 @@ impl<'a> Planner<'a> {
                     // receiver's hand reaches it at the end.
                     let placement = match (holder, pose.or(object_pose)) {
                         (Some((giver, g)), _) if is_arm(giver) && is_arm(*receiver) => {
-                            ObjectPlacementSpec::Handoff {
+                            ObjectPlacement::Handoff {
                                 a: giver,
                                 grasp_a: grasp_pose(g),
                                 b: *receiver,
                             }
                         }
-                        (Some((giver, g)), _) if is_arm(giver) => ObjectPlacementSpec::Placing {
+                        (Some((giver, g)), _) if is_arm(giver) => ObjectPlacement::Placing {
                             by: giver,
                             grasp: grasp_pose(g),
                             on: *receiver,
                         },
-                        (Some((giver, _)), Some(p)) => ObjectPlacementSpec::Resting {
+                        (Some((giver, _)), Some(p)) => ObjectPlacement::Resting {
                             on: giver,
                             pose: p,
                             by: is_arm(*receiver).then_some(*receiver),
                         },
-                        _ => ObjectPlacementSpec::Absent,
+                        _ => ObjectPlacement::Absent,
                     };
                     if pose.is_some() {
                         object_pose = *pose;
@@ -443,17 +443,17 @@ impl<'a> Planner<'a> {
                     // It starts with its hand on the object it just let go of: that contact
                     // is allowed while it leaves.
                     let placement = match (holder, object_pose) {
-                        (Some((now, g)), _) if is_arm(now) => ObjectPlacementSpec::Handoff {
+                        (Some((now, g)), _) if is_arm(now) => ObjectPlacement::Handoff {
                             a: now,
                             grasp_a: grasp_pose(g),
                             b: *giver,
                         },
-                        (Some((now, _)), Some(p)) => ObjectPlacementSpec::Resting {
+                        (Some((now, _)), Some(p)) => ObjectPlacement::Resting {
                             on: now,
                             pose: p,
                             by: Some(*giver),
                         },
-                        _ => ObjectPlacementSpec::Absent,
+                        _ => ObjectPlacement::Absent,
                     };
                     (vec![(*giver, home.clone())], placement, None)
                 }
