@@ -1,6 +1,8 @@
 //! Reading and writing artifact files, with coded diagnostics for files that are not
 //! artifacts, are of another format version, or are truncated.
 
+use std::path::{Path, PathBuf};
+
 use cellc_lang::{Code, Diagnostic, SourceMap};
 use cellc_schema::{Artifact, ReadError};
 
@@ -48,9 +50,9 @@ pub fn read(path: &str) -> Result<Artifact, Diagnostic> {
         )
         .help("check the path and that the file is readable")
     })?;
-    Artifact::from_bytes(&bytes)
-        .map(|(artifact, _)| artifact)
-        .map_err(|e| diagnostic(path, &e))
+    let (mut artifact, _) = Artifact::from_bytes(&bytes).map_err(|e| diagnostic(path, &e))?;
+    paths_from_input(&mut artifact, Path::new(path));
+    Ok(artifact)
 }
 
 /// The artifact of a `.cell` file (compiled now) or of an artifact file. On failure the
@@ -86,4 +88,73 @@ pub fn cell_or_artifact(path: &str) -> Option<Artifact> {
             None
         }
     }
+}
+
+/// Applies `f` to every file path an artifact holds (sources, URDFs, meshes).
+fn map_paths(artifact: &mut Artifact, f: &dyn Fn(&str) -> String) {
+    for s in &mut artifact.sources {
+        s.path = f(&s.path);
+    }
+    for r in &mut artifact.robots {
+        r.urdf_path = f(&r.urdf_path);
+    }
+    let mesh = |shape: &mut cellc_schema::Shape| {
+        if let cellc_schema::Shape::Mesh { path } = shape {
+            *path = f(path);
+        }
+    };
+    for k in &mut artifact.holder_kinds {
+        for s in &mut k.solids {
+            mesh(&mut s.shape);
+        }
+    }
+    for o in &mut artifact.objects {
+        if let Some(shape) = &mut o.shape {
+            mesh(shape);
+        }
+    }
+}
+
+/// `path` relative to the folder `base` (both as the file system sees them), so an
+/// artifact keeps working wherever it and its cell are moved together.
+fn relative_to(path: &str, base: &Path) -> String {
+    let (Ok(path_abs), Ok(base_abs)) = (std::fs::canonicalize(path), std::fs::canonicalize(base))
+    else {
+        return path.to_string();
+    };
+    let p: Vec<_> = path_abs.components().collect();
+    let b: Vec<_> = base_abs.components().collect();
+    let common = p.iter().zip(&b).take_while(|(x, y)| x == y).count();
+    let mut out = PathBuf::new();
+    for _ in common..b.len() {
+        out.push("..");
+    }
+    for c in &p[common..] {
+        out.push(c);
+    }
+    out.to_string_lossy().replace('\\', "/")
+}
+
+/// Before writing to `output`: paths become relative to the artifact's folder.
+pub fn paths_relative_to_output(artifact: &mut Artifact, output: &Path) {
+    let folder = output
+        .parent()
+        .filter(|p| !p.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    map_paths(artifact, &|p| relative_to(p, folder));
+}
+
+/// After reading from `input`: paths resolve against the artifact's folder.
+fn paths_from_input(artifact: &mut Artifact, input: &Path) {
+    let folder = input
+        .parent()
+        .filter(|p| !p.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    map_paths(artifact, &|p| {
+        if Path::new(p).is_absolute() {
+            p.to_string()
+        } else {
+            cellc_compiler::world::normalize(&folder.join(p).to_string_lossy().replace('\\', "/"))
+        }
+    });
 }

@@ -191,8 +191,14 @@ pub fn pruned_warnings(artifact: &Artifact) -> Vec<Diagnostic> {
                 d = d.secondary(file, span, "grasp involved");
             }
         }
-        for (arc, reason) in arcs.iter().skip(1).take(4) {
-            d = d.note(format!("also {arc}: {reason}"));
+        let mut seen = vec![format!("{first_arc}: {first_reason}")];
+        for (arc, reason) in arcs.iter().skip(1) {
+            let note = format!("{arc}: {reason}");
+            if seen.contains(&note) || seen.len() > 4 {
+                continue;
+            }
+            d = d.note(format!("also {note}"));
+            seen.push(note);
         }
         if n > 5 {
             d = d.note(format!("and {} more", n - 5));

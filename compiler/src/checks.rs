@@ -16,6 +16,23 @@ pub fn check_cell(cell: &Cell, diagnostics: &mut Vec<Diagnostic>) {
     check_workspaces(cell, diagnostics);
     check_grasps(cell, diagnostics);
     check_transitions(cell, diagnostics);
+    check_requests(cell, diagnostics);
+}
+
+/// A request placement naming a grasp its holder cannot hold is wrong before any plan.
+fn check_requests(cell: &Cell, diagnostics: &mut Vec<Diagnostic>) {
+    for r in &cell.requests {
+        for p in [&r.from, &r.to] {
+            if let Some(g) = p.grasp.filter(|&g| !cell.holds(p.end_effector, g)) {
+                diagnostics.push(diagnostics::placement_grasp_mismatch(
+                    &cell.end_effectors[p.end_effector].name,
+                    &cell.grasps[g].name,
+                    r.origin.file,
+                    r.origin.span,
+                ));
+            }
+        }
+    }
 }
 
 fn check_reach(cell: &Cell, diagnostics: &mut Vec<Diagnostic>) {

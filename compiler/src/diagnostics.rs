@@ -153,6 +153,8 @@ pub enum Sort {
     Object,
     /// A grasp or resting pose.
     Grasp,
+    /// An obstacle.
+    Obstacle,
 }
 
 impl Sort {
@@ -165,6 +167,7 @@ impl Sort {
             Sort::Robot => "a robot model",
             Sort::Object => "an object",
             Sort::Grasp => "a grasp",
+            Sort::Obstacle => "an obstacle",
         }
     }
 
@@ -177,6 +180,7 @@ impl Sort {
             Sort::Robot => "robot",
             Sort::Object => "object",
             Sort::Grasp => "grasp",
+            Sort::Obstacle => "obstacle",
         }
     }
 }

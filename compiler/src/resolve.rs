@@ -30,6 +30,7 @@ enum Entry {
     HolderKind(HolderKindId),
     Robot(RobotId),
     Object(ObjectId),
+    Obstacle,
 }
 
 impl Entry {
@@ -40,6 +41,7 @@ impl Entry {
             Entry::HolderKind(_) => Sort::HolderKind,
             Entry::Robot(_) => Sort::Robot,
             Entry::Object(_) => Sort::Object,
+            Entry::Obstacle => Sort::Obstacle,
         }
     }
 }
@@ -252,6 +254,14 @@ impl Resolver<'_, '_> {
                 }
             }
             ast::Item::Object(obj) => self.declare_object(file, path, units, obj),
+            ast::Item::Obstacle(o) => {
+                let origin = origin(file, o.span, &o.name);
+                if self.add_name(&o.name, Entry::Obstacle, origin) {
+                    if let Some(b) = self.eval(file, units).aabb(&o.aabb) {
+                        self.cell.obstacles.push((o.name.text.clone(), b, origin));
+                    }
+                }
+            }
             ast::Item::WorkspacesFromReach(span) => {
                 let o = Origin {
                     file,
@@ -318,31 +328,6 @@ impl Resolver<'_, '_> {
             | ast::Item::Expect(_)
             | ast::Item::Request(_)
             | ast::Item::Allow(_) => {}
-            ast::Item::Obstacle(o) => {
-                let origin = origin(file, o.span, &o.name);
-                if let Some(first) = self.origins.get(&o.name.text) {
-                    let sort = self.names[&o.name.text].sort();
-                    self.diagnostics.push(diagnostics::duplicate_name(
-                        sort,
-                        &o.name.text,
-                        *first,
-                        origin,
-                    ));
-                    return;
-                }
-                if let Some(first) = self.cell.obstacles.iter().find(|x| x.0 == o.name.text) {
-                    self.diagnostics.push(diagnostics::duplicate_name(
-                        Sort::EndEffector,
-                        &o.name.text,
-                        first.2,
-                        origin,
-                    ));
-                    return;
-                }
-                if let Some(b) = self.eval(file, units).aabb(&o.aabb) {
-                    self.cell.obstacles.push((o.name.text.clone(), b, origin));
-                }
-            }
         }
     }
 

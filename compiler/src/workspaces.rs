@@ -131,6 +131,7 @@ fn derive(cell: &mut Cell, reach: &[(EndEffectorId, Vec<Aabb>)], origin: Origin)
         .chain(cell.objects.iter().map(|(_, o)| o.name.clone()))
         .chain(cell.holder_kinds.iter().map(|(_, k)| k.name.clone()))
         .chain(cell.robots.iter().map(|(_, r)| r.name.clone()))
+        .chain(cell.obstacles.iter().map(|o| o.0.clone()))
         .collect();
     // Name order follows the order of the end-effectors' declarations.
     let mut ordered: Vec<(Vec<EndEffectorId>, Vec<Aabb>)> = regions.into_iter().collect();

@@ -456,6 +456,7 @@ struct RobotInfo {
 
 /// A robot as the world needs it: frames, shapes on them, which frames are joined by a
 /// joint, and the hand on the tip.
+#[derive(Clone)]
 struct PendingRobot {
     name: String,
     frames: usize,
@@ -467,7 +468,7 @@ struct PendingRobot {
 }
 
 /// Collects the bodies of a cell, then [`build`](Self::build)s the world.
-#[derive(Default)]
+#[derive(Default, Clone)]
 pub struct CollisionWorldBuilder {
     robots: Vec<PendingRobot>,
     fixed: Vec<(String, Iso, SharedShape)>,

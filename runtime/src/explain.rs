@@ -939,8 +939,11 @@ impl<'a> Ctx<'a> {
             Infeasibility::NoClosedChain { .. } => "move the arms closer together, or choose \
                  grasps that leave room for both hands"
                 .to_string(),
+            // Collision bodies are named `arm/link`; the cell language writes `arm.link`.
             Infeasibility::Collision { a, b } => format!(
-                "move one of them, or declare `allow contact {a} {b}` if the contact is harmless"
+                "move one of them, or declare `allow contact {} {}` if the contact is harmless",
+                a.replace('/', "."),
+                b.replace('/', ".")
             ),
             Infeasibility::NoPlacement { .. } => format!(
                 "extend the surface into {}, or choose another resting pose",

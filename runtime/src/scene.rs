@@ -365,14 +365,29 @@ impl Scene {
         for (name, b) in &artifact.obstacles {
             builder.add_fixed_box(name, b.min, b.max);
         }
-        for (a, b) in &artifact.allowed_contacts {
-            builder.allow(a, b);
-        }
-        let world = builder
-            .build()
-            .map_err(|e: BuildError| SceneError::Collision {
-                reason: format!("{e:?}"),
-            })?;
+        // A body without collision geometry (an object with no shape, a link with no
+        // `<collision>`) can touch nothing, so allowing its contacts is moot: those pairs
+        // are dropped rather than refused.
+        let mut allowed = artifact.allowed_contacts.clone();
+        let world = loop {
+            let mut attempt = builder.clone();
+            for (a, b) in &allowed {
+                attempt.allow(a, b);
+            }
+            match attempt.build() {
+                Ok(world) => break world,
+                Err(BuildError::UnknownName { name })
+                    if allowed.iter().any(|(a, b)| *a == name || *b == name) =>
+                {
+                    allowed.retain(|(a, b)| *a != name && *b != name);
+                }
+                Err(e) => {
+                    return Err(SceneError::Collision {
+                        reason: e.to_string(),
+                    })
+                }
+            }
+        };
         Ok(Scene {
             robots,
             holders,

@@ -1022,7 +1022,7 @@ fn a_pruned_move_of_the_one_hand_is_explained() {
         .contains("`right/link_4` collides with `shelf`"));
     assert!(ex.suggestions[0]
         .text
-        .contains("allow contact right/link_4 shelf"));
+        .contains("allow contact right.link_4 shelf"));
 }
 
 #[test]

@@ -71,6 +71,8 @@ pub fn run(cell: &Path, output: Option<&Path>, options: &BuildOptions) -> ExitCo
         Some(o) => o.to_path_buf(),
         None => default_output(Path::new(&path), options.encoding),
     };
+    let mut artifact = artifact;
+    crate::artifact_io::paths_relative_to_output(&mut artifact, &output);
     if let Err(e) = std::fs::write(&output, artifact.to_bytes(options.encoding)) {
         eprintln!("error: cannot write `{}`: {e}", output.display());
         return ExitCode::from(1);

@@ -466,25 +466,14 @@ pub fn describe(artifact: &Artifact, name: &str, plan: &Plan) -> String {
         };
         let motion = match &step.motion {
             Some(t) => format!(
-                " [{} s motion]",
-                t.points.last().map_or(0.0, |p| p.0).max(0.0).round_to(2)
+                " [{:.2} s motion]",
+                t.points.last().map_or(0.0, |p| p.0).max(0.0)
             ),
             None => String::new(),
         };
         let _ = writeln!(out, "{:>3}. {line}{motion}", i + 1);
     }
     out
-}
-
-trait Round {
-    fn round_to(self, digits: i32) -> f64;
-}
-
-impl Round for f64 {
-    fn round_to(self, digits: i32) -> f64 {
-        let f = 10f64.powi(digits);
-        (self * f).round() / f
-    }
 }
 
 #[derive(Serialize)]

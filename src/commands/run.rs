@@ -5,7 +5,7 @@ use std::process::ExitCode;
 
 use cellc_runtime::execute::{execute, ExecutionError, Executor, Simulator};
 use cellc_runtime::plan::planner::Planner;
-use cellc_runtime::plan::{Goal, PlanError};
+use cellc_runtime::plan::Goal;
 
 use super::plan::{describe, load, plan_error, prepare, print, PlanArgs, Prepared};
 
@@ -63,11 +63,9 @@ pub fn run(args: &PlanArgs, fail_at: Option<usize>) -> ExitCode {
     }
     match result {
         Ok(run) => {
-            if run.plans.len() > 1 {
-                println!(
-                    "replanned {} time(s) after failed motions",
-                    run.plans.len() - 1
-                );
+            for (i, replan) in run.plans.iter().enumerate().skip(1) {
+                println!("replan {i}, from where the object was:");
+                print!("{}", describe(artifact, &name, replan));
             }
             let object = &artifact.objects[run.plans[0].object as usize];
             let holder = &artifact.end_effectors[run.final_state.end_effector as usize].name;
@@ -99,9 +97,16 @@ pub fn run(args: &PlanArgs, fail_at: Option<usize>) -> ExitCode {
             print(&[plan_error(artifact, &e, span)], &loaded.sources);
             ExitCode::from(1)
         }
+        Err(ExecutionError::FailedAtStart { reason }) => {
+            eprintln!("error: a motion failed ({reason}) before the object left its start; nothing to recover from");
+            ExitCode::from(1)
+        }
+        Err(ExecutionError::TooManyFailures { replans }) => {
+            eprintln!("error: motions kept failing; gave up after {replans} replans");
+            ExitCode::from(1)
+        }
         Err(e) => {
             eprintln!("error: execution failed: {e:?}");
-            let _: Option<PlanError> = None;
             ExitCode::from(1)
         }
     }
