@@ -92,7 +92,82 @@ fn case(c: &mut Criterion, name: &str, a: &Artifact, object: &str) {
     });
 }
 
+/// A geometric cell, verified, with its named requests.
+fn geometric(path: &str) -> Option<(Artifact, cellc_runtime::scene::Scene, Vec<Request>)> {
+    use cellc::fs_world::{FsFiles, FsWorld};
+    if !std::path::Path::new(path).exists() {
+        return None;
+    }
+    let compilation = compile(&FsWorld, path);
+    assert!(!compilation.has_errors(), "{path} has errors");
+    let mut a = cellc_compiler::artifact::lower(
+        compilation.cell.as_ref().unwrap(),
+        &compilation.graphs,
+        &compilation.sources,
+    );
+    let scene = cellc_runtime::scene::Scene::load(&a, &FsFiles).expect("scene loads");
+    cellc_runtime::verify::verify(&mut a, &scene, &Default::default(), &|_, _| {});
+    let requests = a
+        .requests
+        .iter()
+        .map(|r| {
+            let obj = &a.objects[r.object as usize];
+            let place = |p: &cellc_schema::RequestPlacement| Placement {
+                holder: a.end_effectors[p.end_effector as usize].name.clone(),
+                grasp: p.grasp.map(|g| obj.grasps[g as usize].name.clone()),
+                workspace: p.workspace.map(|w| a.workspaces[w as usize].name.clone()),
+                pose: p.pose.as_ref().map(cellc_runtime::math::iso_from_schema),
+            };
+            Request {
+                object: obj.name.clone(),
+                start: place(&r.from),
+                goal: Goal::Placement(place(&r.to)),
+                options: PlanOptions::default(),
+            }
+        })
+        .collect();
+    Some((a, scene, requests))
+}
+
+/// Every named request of a geometric cell, high level only and with joint motions.
+fn geometric_case(c: &mut Criterion, name: &str, path: &str) {
+    let Some((a, scene, requests)) = geometric(path) else {
+        println!("{name}: {path} not found, skipped");
+        return;
+    };
+    let planner = Planner::new(&a, Some(&scene));
+    for motions in [false, true] {
+        let requests: Vec<Request> = requests
+            .iter()
+            .map(|r| Request {
+                options: PlanOptions {
+                    motions,
+                    ..PlanOptions::default()
+                },
+                ..r.clone()
+            })
+            .collect();
+        for r in &requests {
+            planner.plan(r).expect("the cell's requests plan");
+        }
+        let label = if motions {
+            "with_motions"
+        } else {
+            "high_level"
+        };
+        c.bench_function(&format!("{name}_{label}_x{}", requests.len()), |b| {
+            b.iter(|| {
+                for r in &requests {
+                    std::hint::black_box(planner.plan(r).expect("plans"));
+                }
+            })
+        });
+    }
+}
+
 fn benches(c: &mut Criterion) {
+    geometric_case(c, "plan/vito_requests", "cells/vito.cell");
+    geometric_case(c, "plan/assembly_line_request", "cells/assembly_line.cell");
     let fig3 = artifact(
         "fig3.cell",
         &std::fs::read_to_string("cells/fig3.cell").unwrap(),

@@ -265,19 +265,24 @@ fn rest_error(
         let expected = Quat::from_axis_angle(&Vec3::z_axis(), yaw) * rest.rotation;
         symmetry::residual(&(expected.inverse() * pose.rotation), symmetries)
     };
+    // Coarse to fine: 10° steps over the circle, then 1°, 0.1° and 0.01° around the best
+    // (the error is smooth in the turn, so each level only refines the previous one).
     let mut best = (0.0, f64::INFINITY);
-    for k in 0..360 {
-        let yaw = f64::from(k).to_radians();
+    for k in 0..36 {
+        let yaw = f64::from(k * 10).to_radians();
         let e = error_at(yaw);
         if e < best.1 {
             best = (yaw, e);
         }
     }
-    for k in -100..=100 {
-        let yaw = best.0 + f64::from(k) * 0.01_f64.to_radians();
-        let e = error_at(yaw);
-        if e < best.1 {
-            best = (yaw, e);
+    for step in [1.0_f64, 0.1, 0.01] {
+        let center = best.0;
+        for k in -10..=10 {
+            let yaw = center + f64::from(k) * step.to_radians();
+            let e = error_at(yaw);
+            if e < best.1 {
+                best = (yaw, e);
+            }
         }
     }
     (height, best.1)

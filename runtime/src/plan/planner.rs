@@ -376,7 +376,18 @@ impl<'a> Planner<'a> {
         let mut holder: Option<(u32, u32)> = Some((start_state.end_effector, start_state.grasp));
         let mut scratch = SceneScratch::default();
         let options = MotionOptions::default();
-        for step in steps.iter_mut() {
+        // A carry begins where a pick left the object (still touching that surface) and
+        // may end where a put-down needs it (touching the next one): at those ends the
+        // object touches a surface, which the carry's checks must allow.
+        let put_down_after: Vec<Option<u32>> = (0..steps.len())
+            .map(|i| match steps.get(i + 1).map(|s| &s.command) {
+                Some(Command::Grasp { holder, .. }) if !is_arm(*holder) => Some(*holder),
+                _ => None,
+            })
+            .collect();
+        let mut lifted_from: Option<u32> =
+            (!is_arm(start_state.end_effector)).then_some(start_state.end_effector);
+        for (index, step) in steps.iter_mut().enumerate() {
             let (targets, placement, fail_arc) = match &step.command {
                 Command::Move {
                     holder: e,
@@ -384,8 +395,14 @@ impl<'a> Planner<'a> {
                     object: pose,
                     ..
                 } => {
-                    let placement = match holder {
-                        Some((_, g)) if is_arm(*e) => ObjectPlacement::Held {
+                    let touching = lifted_from.take().or(put_down_after[index]);
+                    let placement = match (holder, touching) {
+                        (Some((_, g)), Some(surface)) if is_arm(*e) => ObjectPlacement::Placing {
+                            by: *e,
+                            grasp: grasp_pose(g),
+                            on: surface,
+                        },
+                        (Some((_, g)), None) if is_arm(*e) => ObjectPlacement::Held {
                             by: *e,
                             grasp: grasp_pose(g),
                         },
@@ -429,6 +446,11 @@ impl<'a> Planner<'a> {
                         object_pose = *pose;
                     }
                     let targets = configurations.clone();
+                    // Taken from a surface: the next carry starts touching it.
+                    lifted_from = match holder {
+                        Some((giver, _)) if !is_arm(giver) && is_arm(*receiver) => Some(giver),
+                        _ => None,
+                    };
                     holder = Some((*receiver, *grasp));
                     (targets, placement, step_arc(step))
                 }
