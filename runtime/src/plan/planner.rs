@@ -22,6 +22,18 @@ use crate::math::{iso_from_schema, Iso};
 use crate::motion::{plan_motion, MotionOptions, MotionProblem};
 use crate::scene::{Holder, ObjectPlacement, Scene, SceneScratch};
 
+/// IK settings for request-specific solves: each call is one of several attempts (other
+/// symmetric grasps, other candidate poses), so a few restarts per call find reachable
+/// poses while keeping unreachable ones cheap.
+const SCREENING: IkOptions = IkOptions {
+    max_iterations: 100,
+    restarts: 6,
+    position_tolerance: 1e-4,
+    rotation_tolerance: 1e-3,
+    damping: 0.1,
+    max_step: 1.0,
+};
+
 /// Plans requests on one artifact. Cheap to keep: it holds the search graphs.
 pub struct Planner<'a> {
     artifact: &'a Artifact,
@@ -564,6 +576,7 @@ impl<'a> Planner<'a> {
                     return false;
                 };
                 // Either arm may hold a symmetric object with its grasp turned.
+                // Many candidates are screened, so each gets a few restarts only.
                 let found = turns.iter().find_map(|turn| {
                     let tip = pose * (pose_of(arm.grasp) * turn).inverse();
                     solve_ik(
@@ -572,7 +585,7 @@ impl<'a> Planner<'a> {
                         &IkTarget::Pose(tip),
                         home,
                         rng,
-                        &IkOptions::default(),
+                        &SCREENING,
                     )
                     .ok()
                 });
@@ -710,14 +723,7 @@ impl<'a> Planner<'a> {
             let mut scratch = SceneScratch::default();
             for attempt in 0..8 {
                 let tip = pose * (grasp * turns[attempt % turns.len()]).inverse();
-                match solve_ik(
-                    robot,
-                    base,
-                    &IkTarget::Pose(tip),
-                    home,
-                    rng,
-                    &IkOptions::default(),
-                ) {
+                match solve_ik(robot, base, &IkTarget::Pose(tip), home, rng, &SCREENING) {
                     Ok(q) => {
                         let placement = ObjectPlacement::Resting {
                             on: surface.end_effector,
