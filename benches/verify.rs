@@ -59,6 +59,14 @@ fn benches(c: &mut Criterion) {
     );
     case(
         &mut c,
+        "verify/assembly_line",
+        artifact(
+            "cells/assembly_line.cell",
+            std::fs::read_to_string("cells/assembly_line.cell").unwrap(),
+        ),
+    );
+    case(
+        &mut c,
         "verify/line_5_arms",
         artifact("cells/line5.cell", line::line_cell(5, 8, 2)),
     );

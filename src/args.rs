@@ -59,6 +59,27 @@ pub struct RequestArgs {
     /// Plan the high level only (no joint motions).
     #[arg(long)]
     pub no_motions: bool,
+    /// Arc weights for this request instead of the cell's: `MOVE,TRANSITION` (e.g. `1,2`,
+    /// the original planner's costs).
+    #[arg(long, value_parser = parse_weights)]
+    pub weights: Option<(f64, f64)>,
+    /// Give up when planning takes longer than this many milliseconds.
+    #[arg(long)]
+    pub time_budget: Option<u64>,
+}
+
+fn parse_weights(text: &str) -> Result<(f64, f64), String> {
+    let (a, b) = text
+        .split_once(',')
+        .ok_or("write `MOVE,TRANSITION`, e.g. `1,2`")?;
+    let parse = |s: &str| {
+        s.trim()
+            .parse::<f64>()
+            .ok()
+            .filter(|w| w.is_finite() && *w >= 0.0)
+            .ok_or_else(|| format!("`{s}` is not a weight (a number of zero or more)"))
+    };
+    Ok((parse(a)?, parse(b)?))
 }
 
 /// Flags shared by the commands that report diagnostics.

@@ -274,7 +274,12 @@ fn plan_ui() {
                     object: obj.name.clone(),
                     start: place(&named.from),
                     goal: Goal::Placement(place(&named.to)),
-                    options: PlanOptions::default(),
+                    options: PlanOptions {
+                        time_budget: name
+                            .contains("time_budget")
+                            .then_some(std::time::Duration::ZERO),
+                        ..PlanOptions::default()
+                    },
                 };
                 let error = Planner::new(&a, None)
                     .plan(&req)
@@ -292,5 +297,21 @@ fn plan_ui() {
         insta::assert_snapshot!(format!("{source}\n----- diagnostics -----\n{rendered}"));
         checked += 1;
     });
-    assert_eq!(checked, 3);
+    assert_eq!(checked, 4);
+}
+
+#[test]
+fn request_weights_replace_the_cells() {
+    let a = artifact("cells/fig3.cell");
+    let planner = Planner::new(&a, None);
+    let mut req = request(
+        placement("table", Some("g1"), "w1"),
+        placement("table", Some("g2"), "w3"),
+    );
+    let default = planner.plan(&req).expect("plans");
+    assert!((default.cost - 3.2).abs() < 1e-9, "{}", default.cost);
+    // The original planner's integer costs: a move 1, a transition 2.
+    req.options.weights = Some((1.0, 2.0));
+    let original = planner.plan(&req).expect("plans");
+    assert!((original.cost - 8.0).abs() < 1e-9, "{}", original.cost);
 }

@@ -126,3 +126,49 @@ fn the_colander_is_handed_over_too() {
     assert_eq!(h, ["table", "left", "right", "table"]);
     assert_eq!(s, "handoff");
 }
+
+/// Every motion of every plan, on both geometric cells and for any seed, passes an
+/// independent dense re-check: every point within joint limits and collision-free, with
+/// the object travelling as the plan says; and the simulated run ends at the goal.
+mod trajectories {
+    use super::*;
+    use cellc_runtime::motion::check_trajectory;
+    use cellc_runtime::scene::SceneScratch;
+    use proptest::prelude::*;
+
+    fn cell(path: &str) -> (Artifact, Scene) {
+        let compilation = cellc_compiler::compile(&FsWorld, path);
+        let mut artifact = cellc_compiler::artifact::lower(
+            compilation.cell.as_ref().unwrap(),
+            &compilation.graphs,
+            &compilation.sources,
+        );
+        let scene = Scene::load(&artifact, &FsFiles).expect("scene loads");
+        verify(&mut artifact, &scene, &VerifyOptions::default(), &|_, _| {});
+        (artifact, scene)
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig { cases: 6, ..ProptestConfig::default() })]
+
+        #[test]
+        fn every_trajectory_point_is_within_limits_and_free(seed in 0u64..10_000) {
+            for path in ["cells/vito.cell", "cells/assembly_line.cell"] {
+                let (a, scene) = cell(path);
+                let planner = Planner::new(&a, Some(&scene));
+                for named in &a.requests {
+                    let req = request(&a, &named.name, seed);
+                    let plan = planner.plan(&req).unwrap_or_else(|e| panic!("{path} {}: {e:?}", named.name));
+                    let mut scratch = SceneScratch::default();
+                    for step in &plan.steps {
+                        let (Some(t), Some(context)) = (&step.motion, &step.motion_context) else { continue };
+                        let checked = check_trajectory(&scene, t, &context.stationary, plan.object, &context.placement, 0.03, &mut scratch);
+                        prop_assert!(checked.is_ok(), "{path} {} seed {seed}: {checked:?}", named.name);
+                        let times: Vec<f64> = t.points.iter().map(|p| p.0).collect();
+                        prop_assert!(times.windows(2).all(|w| w[1] > w[0]), "time goes back");
+                    }
+                }
+            }
+        }
+    }
+}

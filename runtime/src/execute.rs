@@ -127,9 +127,9 @@ impl Executor for Simulator<'_> {
                 reason: "injected failure".into(),
             });
         }
-        if let Some(trajectory) = &step.motion {
-            // Follow the trajectory to its end: the arms' joints are concatenated.
-            if let (Some(scene), Some((_, last))) = (self.scene, trajectory.points.last()) {
+        if let (Some(trajectory), Some(scene)) = (&step.motion, self.scene) {
+            // Step through the trajectory; a held object follows its hand at every point.
+            for (_, point) in &trajectory.points {
                 let mut offset = 0;
                 let mut configurations = Vec::new();
                 for &e in &trajectory.arms {
@@ -137,7 +137,7 @@ impl Executor for Simulator<'_> {
                         Holder::Arm { robot, .. } => scene.robots[*robot].n_joints(),
                         _ => 0,
                     };
-                    if let Some(q) = last.get(offset..offset + n) {
+                    if let Some(q) = point.get(offset..offset + n) {
                         configurations.push((e, q.to_vec()));
                     }
                     offset += n;

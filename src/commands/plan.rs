@@ -25,8 +25,10 @@ pub mod codes {
     pub const UNREACHABLE: Code = Code("R0004");
     /// No request to plan: the cell declares none, or none of that name.
     pub const NO_REQUEST: Code = Code("R0005");
+    /// The request's time budget ran out.
+    pub const TIME_BUDGET: Code = Code("R0006");
     /// Every code of this phase.
-    pub const ALL: &[Code] = &[LOCATE, UNREACHABLE, NO_REQUEST];
+    pub const ALL: &[Code] = &[LOCATE, UNREACHABLE, NO_REQUEST, TIME_BUDGET];
 }
 
 /// Output style of `cellc plan`.
@@ -57,6 +59,10 @@ pub struct PlanArgs {
     pub seed: u64,
     /// Plan joint motions too.
     pub motions: bool,
+    /// Arc weights replacing the cell's.
+    pub weights: Option<(f64, f64)>,
+    /// Planning time limit.
+    pub time_budget: Option<std::time::Duration>,
 }
 
 impl PlanArgs {
@@ -71,6 +77,8 @@ impl PlanArgs {
             format,
             seed: request.seed,
             motions: !request.no_motions,
+            weights: request.weights,
+            time_budget: request.time_budget.map(std::time::Duration::from_millis),
         }
     }
 }
@@ -232,6 +240,8 @@ pub fn prepare(args: &PlanArgs, loaded: &Loaded) -> Result<Prepared, ExitCode> {
     let options = PlanOptions {
         seed: args.seed,
         motions: args.motions,
+        weights: args.weights,
+        time_budget: args.time_budget,
         ..PlanOptions::default()
     };
     let (request, name, span) = match (&args.object, &args.from, &args.to) {
@@ -360,6 +370,11 @@ pub fn plan_error(artifact: &Artifact, error: &PlanError, span: Option<u32>) -> 
         PlanError::Locate(e) => Diagnostic::error(codes::LOCATE, e.to_string())
             .help("name a holder, grasp and workspace the cell has, or give a pose that lies in a workspace and matches a grasp"),
         PlanError::Unreachable(u) => crate::explain_report::unreachable(artifact, u),
+        PlanError::TimeBudget { searches } => Diagnostic::error(
+            codes::TIME_BUDGET,
+            format!("planning ran out of its time budget after {searches} backtracks"),
+        )
+        .help("give a larger `--time-budget`, or none; a budget of 0 stops before the first search"),
         _ => Diagnostic::error(codes::UNREACHABLE, "no plan").help("check the request"),
     };
     if let Some((file, at)) = place {

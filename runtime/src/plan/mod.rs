@@ -63,6 +63,11 @@ pub struct PlanOptions {
     pub position_tolerance: f64,
     /// Orientation tolerance for the same, radians.
     pub rotation_tolerance: f64,
+    /// Arc weights for this request (move, transition), instead of the cell's: e.g. the
+    /// original planner's integer costs, or costs from failure statistics.
+    pub weights: Option<(f64, f64)>,
+    /// Give up (with [`PlanError::TimeBudget`]) when planning takes longer than this.
+    pub time_budget: Option<std::time::Duration>,
 }
 
 impl Default for PlanOptions {
@@ -73,6 +78,8 @@ impl Default for PlanOptions {
             motions: true,
             position_tolerance: 0.01,
             rotation_tolerance: 0.05,
+            weights: None,
+            time_budget: None,
         }
     }
 }
@@ -151,6 +158,18 @@ pub struct Step {
     pub motion: Option<Trajectory>,
     /// The graph arc this command carries out (to remove it if the command fails).
     pub arc: Option<ArcRef>,
+    /// What the motion was planned around, so it can be checked again independently.
+    pub motion_context: Option<MotionContext>,
+}
+
+/// The world a motion was planned in: the arms that stood still and how the object
+/// travelled.
+#[derive(Clone, Debug)]
+pub struct MotionContext {
+    /// Arms not moving, at these joint values.
+    pub stationary: Vec<(u32, Vec<f64>)>,
+    /// The object during the motion.
+    pub placement: crate::scene::ObjectPlacement,
 }
 
 /// A planned request.
@@ -214,4 +233,9 @@ pub enum PlanError {
     Locate(LocateError),
     /// No path from the start to the goal.
     Unreachable(Box<Unreachable>),
+    /// The request's time budget ran out before a plan was found.
+    TimeBudget {
+        /// Searches started (the first, and one per backtrack).
+        searches: u32,
+    },
 }

@@ -173,8 +173,20 @@ impl<'a> Planner<'a> {
             _ => false,
         };
         let mut backtracks = 0;
+        let started = std::time::Instant::now();
+        let reweighted = options
+            .weights
+            .map(|w| self.search[object as usize].reweighted(w));
         loop {
-            let search = &self.search[object as usize];
+            if options
+                .time_budget
+                .is_some_and(|budget| started.elapsed() >= budget)
+            {
+                return Err(PlanError::TimeBudget {
+                    searches: backtracks,
+                });
+            }
+            let search = reweighted.as_ref().unwrap_or(&self.search[object as usize]);
             let found = if must_move && goal_indices.contains(&start_index) {
                 search.shortest_leaving(start_index, &goal_indices, &removed)
             } else {
@@ -313,6 +325,7 @@ impl<'a> Planner<'a> {
                             from: arc.from,
                             to: arc.to,
                         }),
+                        motion_context: None,
                     });
                 }
                 ArcKind::Transition => {
@@ -334,6 +347,7 @@ impl<'a> Planner<'a> {
                             from: arc.from,
                             to: arc.to,
                         }),
+                        motion_context: None,
                     });
                     steps.push(Step {
                         command: Command::Ungrasp {
@@ -347,6 +361,7 @@ impl<'a> Planner<'a> {
                             from: arc.from,
                             to: arc.to,
                         }),
+                        motion_context: None,
                     });
                 }
             }
@@ -525,6 +540,10 @@ impl<'a> Planner<'a> {
                         arms[*e as usize] = Some(goal.clone());
                     }
                     step.motion = Some(trajectory);
+                    step.motion_context = Some(super::MotionContext {
+                        stationary: problem.stationary,
+                        placement: problem.placement,
+                    });
                 }
                 Err(error) => {
                     // A retreat that cannot be planned leaves the arm where it is.

@@ -12,6 +12,10 @@ use super::ArcRef;
 /// An object's graph ready for repeated searches.
 pub struct SearchGraph {
     graph: DiGraph<(), (f64, usize)>,
+    /// Per arc: true for moves (to re-weight by kind).
+    is_move: Vec<bool>,
+    /// Weights replacing the artifact's, by kind (move, transition).
+    reweight: Option<(f64, f64)>,
 }
 
 /// A path: node indices, the arcs between them (indices into `Graph::arcs`), its cost.
@@ -39,7 +43,29 @@ impl SearchGraph {
                 (arc.weight, i),
             );
         }
-        SearchGraph { graph: g }
+        SearchGraph {
+            graph: g,
+            is_move: graph.arcs.iter().map(|a| a.kind == ArcKind::Move).collect(),
+            reweight: None,
+        }
+    }
+
+    /// The same graph with every move costing `weights.0` and every transition
+    /// `weights.1`.
+    pub fn reweighted(&self, weights: (f64, f64)) -> SearchGraph {
+        SearchGraph {
+            graph: self.graph.clone(),
+            is_move: self.is_move.clone(),
+            reweight: Some(weights),
+        }
+    }
+
+    fn weight(&self, w: &(f64, usize)) -> f64 {
+        match self.reweight {
+            Some((moves, _)) if self.is_move[w.1] => moves,
+            Some((_, transitions)) => transitions,
+            None => w.0,
+        }
     }
 
     /// The cheapest path from `start` to any of `goals`, not using `removed` arcs. Ties are
@@ -60,7 +86,7 @@ impl SearchGraph {
             &filtered,
             NodeIndex::new(start as usize),
             |n| goal_set.contains(&(n.index() as u32)),
-            |e| e.weight().0,
+            |e| self.weight(e.weight()),
             |_| 0.0,
         )?;
         let nodes: Vec<u32> = nodes.iter().map(|n| n.index() as u32).collect();
@@ -83,7 +109,7 @@ impl SearchGraph {
         let mut best: Option<Path> = None;
         for e in self.graph.edges(NodeIndex::new(start as usize)) {
             let next = e.target().index() as u32;
-            let (weight, arc) = *e.weight();
+            let (weight, arc) = (self.weight(e.weight()), e.weight().1);
             if removed.contains(&ArcRef {
                 from: start,
                 to: next,
@@ -111,7 +137,7 @@ impl SearchGraph {
         }
         self.graph
             .edges_connecting(NodeIndex::new(from as usize), NodeIndex::new(to as usize))
-            .map(|e| *e.weight())
+            .map(|e| (self.weight(e.weight()), e.weight().1))
             .min_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)))
             .map(|(_, i)| i)
     }
