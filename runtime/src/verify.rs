@@ -511,7 +511,25 @@ fn run_check(
             outcome.partner = Some(b);
             // A symmetric object may be held by B in a grasp turned by a symmetry: a ball
             // passed between two hands with the same grasp is held from opposite sides.
-            let turns = crate::symmetry::candidates(&artifact.objects[object as usize].symmetries);
+            let all_turns =
+                crate::symmetry::candidates(&artifact.objects[object as usize].symmetries);
+            // With the same grasp on both sides, the unturned grasp puts both hands in one
+            // place: only turns that send the second hand round to the other side (over
+            // 120°) can work, so only those are tried.
+            let turns: Vec<_> = if ga == gb {
+                let far: Vec<_> = all_turns
+                    .iter()
+                    .copied()
+                    .filter(|t| t.angle() > 2.0)
+                    .collect();
+                if far.is_empty() {
+                    all_turns
+                } else {
+                    far
+                }
+            } else {
+                all_turns
+            };
             for attempt in 0..options.placements {
                 let Some(target) = sample_point(boxes, &mut rng) else {
                     break;
