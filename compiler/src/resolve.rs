@@ -916,16 +916,7 @@ impl Resolver<'_, '_> {
         object: Option<ObjectId>,
         p: &ast::RequestPlacement,
     ) -> Option<RequestPlacement> {
-        let (holder_name, grasp_name) = match &p.holder.object {
-            Some(holder) => (holder, Some(&p.holder.name)),
-            None => (&p.holder.name, None),
-        };
-        let end_effector = self.end_effector(file, holder_name);
-        let grasp = match (grasp_name, object) {
-            (Some(g), Some(object)) => Some(self.grasp_of(file, object, g)),
-            (Some(_), None) => Some(None),
-            (None, _) => None,
-        };
+        let (end_effector, grasp) = self.holder_and_grasp(file, object, &p.holder);
         let (workspace, pose) = match &p.place {
             ast::PlaceSpec::In(w) => (Some(self.workspace(file, w)), None),
             ast::PlaceSpec::At(pose) => (None, Some(self.eval(file, units).pose(pose))),
@@ -1130,23 +1121,35 @@ impl Resolver<'_, '_> {
         });
     }
 
-    fn placement(
+    /// `HOLDER` or `HOLDER.GRASP` of a placement: the end-effector, and the grasp when one
+    /// is written (`Some(None)` when it was written but did not resolve). Every name is
+    /// looked up and reported even when an earlier one failed.
+    fn holder_and_grasp(
         &mut self,
         file: FileId,
         object: Option<ObjectId>,
-        p: &ast::Placement,
-    ) -> Option<Placement> {
-        let (holder_name, grasp_name) = match &p.holder.object {
-            Some(holder) => (holder, Some(&p.holder.name)),
-            None => (&p.holder.name, None),
+        holder: &ast::Qualified,
+    ) -> (Option<EndEffectorId>, Option<Option<GraspId>>) {
+        let (holder_name, grasp_name) = match &holder.object {
+            Some(h) => (h, Some(&holder.name)),
+            None => (&holder.name, None),
         };
-        // Every name is looked up (and reported) even when an earlier one failed.
         let end_effector = self.end_effector(file, holder_name);
         let grasp = match (grasp_name, object) {
             (Some(g), Some(object)) => Some(self.grasp_of(file, object, g)),
             (Some(_), None) => Some(None),
             (None, _) => None,
         };
+        (end_effector, grasp)
+    }
+
+    fn placement(
+        &mut self,
+        file: FileId,
+        object: Option<ObjectId>,
+        p: &ast::Placement,
+    ) -> Option<Placement> {
+        let (end_effector, grasp) = self.holder_and_grasp(file, object, &p.holder);
         let workspace = self.workspace(file, &p.workspace);
         let grasp = match grasp {
             Some(g) => Some(g?),
