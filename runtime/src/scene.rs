@@ -189,6 +189,8 @@ pub enum ObjectPlacement {
         grasp: Iso,
         /// The surface it goes onto.
         on: u32,
+        /// Another arm's hand still on the object (it let go but could not retreat).
+        also: Option<u32>,
     },
     /// Held by two arms at once (a handoff); the pose follows the first.
     Handoff {
@@ -438,7 +440,12 @@ impl Scene {
                     .ok_or(QueryError::NotAnArm(by))?;
                 ObjectState::held(r, &tip, &grasp)
             }
-            ObjectPlacement::Placing { by, grasp, on } => {
+            ObjectPlacement::Placing {
+                by,
+                grasp,
+                on,
+                also,
+            } => {
                 let r = robot_of(by).ok_or(QueryError::NotAnArm(by))?;
                 let tip = self
                     .world
@@ -450,7 +457,13 @@ impl Scene {
                     .copied()
                     .flatten()
                     .ok_or(QueryError::NotASurface(on))?;
-                ObjectState::held(r, &tip, &grasp).also_held_by(CollisionHolder::Fixed(surface))
+                let mut state = ObjectState::held(r, &tip, &grasp)
+                    .also_held_by(CollisionHolder::Fixed(surface));
+                if let Some(other) = also {
+                    let o = robot_of(other).ok_or(QueryError::NotAnArm(other))?;
+                    state = state.also_held_by(CollisionHolder::Robot(o));
+                }
+                state
             }
             ObjectPlacement::Handoff { a, grasp_a, b } => {
                 let ra = robot_of(a).ok_or(QueryError::NotAnArm(a))?;

@@ -412,6 +412,9 @@ impl<'a> Planner<'a> {
                 _ => None,
             })
             .collect();
+        // An arm that let go but could not retreat still has its hand on the object: the
+        // next carry may touch it while it moves the object away.
+        let mut lingering: Option<u32> = None;
         let mut lifted_from: Option<u32> =
             (!is_arm(start_state.end_effector)).then_some(start_state.end_effector);
         for (index, step) in steps.iter_mut().enumerate() {
@@ -428,10 +431,18 @@ impl<'a> Planner<'a> {
                             by: *e,
                             grasp: grasp_pose(g),
                             on: surface,
+                            also: lingering.filter(|l| l != e),
                         },
-                        (Some((_, g)), None) if is_arm(*e) => ObjectPlacement::Held {
-                            by: *e,
-                            grasp: grasp_pose(g),
+                        (Some((_, g)), None) if is_arm(*e) => match lingering.filter(|l| l != e) {
+                            Some(l) => ObjectPlacement::Handoff {
+                                a: *e,
+                                grasp_a: grasp_pose(g),
+                                b: l,
+                            },
+                            None => ObjectPlacement::Held {
+                                by: *e,
+                                grasp: grasp_pose(g),
+                            },
                         },
                         _ => ObjectPlacement::Absent,
                     };
@@ -461,6 +472,7 @@ impl<'a> Planner<'a> {
                             by: giver,
                             grasp: grasp_pose(g),
                             on: *receiver,
+                            also: lingering.filter(|l| *l != giver),
                         },
                         (Some((giver, _)), Some(p)) => ObjectPlacement::Resting {
                             on: giver,
@@ -539,6 +551,9 @@ impl<'a> Planner<'a> {
                     for (e, _, goal) in &moving {
                         arms[*e as usize] = Some(goal.clone());
                     }
+                    if !matches!(step.command, Command::Ungrasp { .. }) {
+                        lingering = None;
+                    }
                     step.motion = Some(trajectory);
                     step.motion_context = Some(super::MotionContext {
                         stationary: problem.stationary,
@@ -547,7 +562,12 @@ impl<'a> Planner<'a> {
                 }
                 Err(error) => {
                     // A retreat that cannot be planned leaves the arm where it is.
-                    let Some(arc) = fail_arc else { continue };
+                    let Some(arc) = fail_arc else {
+                        if let Command::Ungrasp { holder: giver, .. } = &step.command {
+                            lingering = Some(*giver);
+                        }
+                        continue;
+                    };
                     return Err(Failure {
                         arc,
                         reason: Infeasibility::NoPlacement {
