@@ -390,6 +390,62 @@ fn arm(scene: &Scene, e: u32) -> Option<(&crate::robot::Robot, Iso, &[f64])> {
     }
 }
 
+/// One arm holding the object with `grasp` at a given object pose: the IK solve, the
+/// collision check and the witness, shared by holds and rests.
+struct Attempt<'s> {
+    scene: &'s Scene,
+    object: u32,
+    e: u32,
+    robot: &'s crate::robot::Robot,
+    base: Iso,
+    home: &'s [f64],
+    grasp: Iso,
+}
+
+impl Attempt<'_> {
+    /// A witness when the arm reaches the pose free of collisions; otherwise records why
+    /// not in `outcome`.
+    fn run(
+        &self,
+        object_pose: Iso,
+        placement: ObjectPlacement,
+        rng: &mut ChaCha8Rng,
+        options: &VerifyOptions,
+        scratch: &mut SceneScratch,
+        outcome: &mut Outcome,
+    ) -> Option<Witness> {
+        let tip = object_pose * self.grasp.inverse();
+        match solve_ik(
+            self.robot,
+            &self.base,
+            &IkTarget::Pose(tip),
+            self.home,
+            rng,
+            &options.ik,
+        ) {
+            Ok(q) => {
+                match collision(self.scene, &[(self.e, &q)], self.object, placement, scratch) {
+                    None => Some(Witness {
+                        object: iso_to_schema(&object_pose),
+                        configurations: vec![schema::ArmConfiguration {
+                            end_effector: self.e,
+                            joints: q,
+                        }],
+                    }),
+                    Some(pair) => {
+                        outcome.last_collision = Some(pair);
+                        None
+                    }
+                }
+            }
+            Err(error) => {
+                outcome.best_ik.record(self.e, &error);
+                None
+            }
+        }
+    }
+}
+
 /// The colliding pair of a state, or `None` when it is free. A state the collision world
 /// cannot evaluate counts as colliding (with the reason as the pair), never as free.
 fn collision(
@@ -463,31 +519,25 @@ fn run_check(
                     center.coords.into(),
                     Quat::from_axis_angle(&Vec3::z_axis(), yaw),
                 );
-                let tip = object_pose * grasp.inverse();
-                match solve_ik(
+                let placement = ObjectPlacement::Held { by: e, grasp };
+                let attempt = Attempt {
+                    scene,
+                    object,
+                    e,
                     robot,
-                    &base,
-                    &IkTarget::Pose(tip),
+                    base,
                     home,
+                    grasp,
+                };
+                if let Some(witness) = attempt.run(
+                    object_pose,
+                    placement,
                     &mut rng,
-                    &options.ik,
+                    options,
+                    scratch,
+                    &mut outcome,
                 ) {
-                    Ok(q) => {
-                        let placement = ObjectPlacement::Held { by: e, grasp };
-                        match collision(scene, &[(e, &q)], object, placement, scratch) {
-                            None => {
-                                return Ok(Witness {
-                                    object: iso_to_schema(&object_pose),
-                                    configurations: vec![schema::ArmConfiguration {
-                                        end_effector: e,
-                                        joints: q,
-                                    }],
-                                })
-                            }
-                            Some(pair) => outcome.last_collision = Some(pair),
-                        }
-                    }
-                    Err(error) => outcome.best_ik.record(e, &error),
+                    return Ok(witness);
                 }
             }
             Err(outcome.into_reason("the workspace has no volume"))
@@ -651,35 +701,29 @@ fn run_check(
                     Quat::from_axis_angle(&Vec3::z_axis(), yaw),
                 );
                 let object_pose = surface_frame * rest;
-                let tip = object_pose * grasp.inverse();
-                match solve_ik(
+                let placement = ObjectPlacement::Resting {
+                    on: surface,
+                    pose: object_pose,
+                    by: Some(e),
+                };
+                let attempt = Attempt {
+                    scene,
+                    object,
+                    e,
                     robot,
-                    &base,
-                    &IkTarget::Pose(tip),
+                    base,
                     home,
+                    grasp,
+                };
+                if let Some(witness) = attempt.run(
+                    object_pose,
+                    placement,
                     &mut rng,
-                    &options.ik,
+                    options,
+                    scratch,
+                    &mut outcome,
                 ) {
-                    Ok(q) => {
-                        let placement = ObjectPlacement::Resting {
-                            on: surface,
-                            pose: object_pose,
-                            by: Some(e),
-                        };
-                        match collision(scene, &[(e, &q)], object, placement, scratch) {
-                            None => {
-                                return Ok(Witness {
-                                    object: iso_to_schema(&object_pose),
-                                    configurations: vec![schema::ArmConfiguration {
-                                        end_effector: e,
-                                        joints: q,
-                                    }],
-                                })
-                            }
-                            Some(pair) => outcome.last_collision = Some(pair),
-                        }
-                    }
-                    Err(error) => outcome.best_ik.record(e, &error),
+                    return Ok(witness);
                 }
             }
             Err(outcome.into_reason("no resting pose"))
