@@ -509,6 +509,15 @@ fn run_check(
                 return Err(outcome
                     .into_reason("the robot's joints never bring the object into the workspace"));
             }
+            let attempt = Attempt {
+                scene,
+                object,
+                e,
+                robot,
+                base,
+                home,
+                grasp,
+            };
             for _ in 0..options.placements {
                 let Some(center) = sample_point(&scene.workspaces[w as usize], &mut rng) else {
                     break;
@@ -520,15 +529,6 @@ fn run_check(
                     Quat::from_axis_angle(&Vec3::z_axis(), yaw),
                 );
                 let placement = ObjectPlacement::Held { by: e, grasp };
-                let attempt = Attempt {
-                    scene,
-                    object,
-                    e,
-                    robot,
-                    base,
-                    home,
-                    grasp,
-                };
                 if let Some(witness) = attempt.run(
                     object_pose,
                     placement,
@@ -680,6 +680,15 @@ fn run_check(
                     ),
                 });
             }
+            let attempt = Attempt {
+                scene,
+                object,
+                e,
+                robot,
+                base,
+                home,
+                grasp,
+            };
             for _ in 0..options.placements {
                 let area: f64 = regions
                     .iter()
@@ -705,15 +714,6 @@ fn run_check(
                     on: surface,
                     pose: object_pose,
                     by: Some(e),
-                };
-                let attempt = Attempt {
-                    scene,
-                    object,
-                    e,
-                    robot,
-                    base,
-                    home,
-                    grasp,
                 };
                 if let Some(witness) = attempt.run(
                     object_pose,

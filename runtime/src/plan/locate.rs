@@ -390,15 +390,20 @@ pub fn locate(
 }
 
 /// Every state that satisfies a goal.
+/// With a `scene`, a placement goal is located by its pose; without one (abstract cells)
+/// any grasp of the holder in the workspace will do, unless the goal names one.
 pub fn goal_states(
     artifact: &Artifact,
-    scene: &Scene,
+    scene: Option<&Scene>,
     object: u32,
     goal: &Goal,
     options: &PlanOptions,
 ) -> Result<Vec<Node>, LocateError> {
     match goal {
-        Goal::Placement(p) => Ok(vec![locate(artifact, scene, object, p, options)?]),
+        Goal::Placement(p) => match scene {
+            Some(scene) => Ok(vec![locate(artifact, scene, object, p, options)?]),
+            None => abstract_states(artifact, object, p),
+        },
         Goal::Workspace { workspace, holder } => {
             let w = workspace_index(artifact, workspace)?;
             let e = holder
@@ -413,5 +418,72 @@ pub fn goal_states(
                 .filter(|n| n.workspace == w && e.is_none_or(|e| n.end_effector == e))
                 .collect())
         }
+    }
+}
+
+/// The states of a placement in an abstract cell, where there are no poses: the holder's
+/// states in the named workspace, narrowed to the grasp when one is named.
+fn abstract_states(
+    artifact: &Artifact,
+    object: u32,
+    p: &Placement,
+) -> Result<Vec<Node>, LocateError> {
+    let e = holder_index(artifact, &p.holder)?;
+    let Some(ws_name) = &p.workspace else {
+        return Err(LocateError::NoWhere {
+            holder: p.holder.clone(),
+        });
+    };
+    let w = workspace_index(artifact, ws_name)?;
+    let obj = &artifact.objects[object as usize];
+    let candidates: Vec<Node> = obj
+        .graph
+        .nodes
+        .iter()
+        .copied()
+        .filter(|n| n.end_effector == e && n.workspace == w)
+        .collect();
+    match &p.grasp {
+        Some(g) => candidates
+            .iter()
+            .copied()
+            .find(|n| obj.grasps[n.grasp as usize].name == *g)
+            .map(|n| vec![n])
+            .ok_or_else(|| LocateError::UnknownGrasp {
+                holder: p.holder.clone(),
+                name: g.clone(),
+                known: candidates
+                    .iter()
+                    .map(|n| obj.grasps[n.grasp as usize].name.clone())
+                    .collect(),
+            }),
+        None if candidates.is_empty() => Err(LocateError::NotReached {
+            holder: p.holder.clone(),
+            workspace: ws_name.clone(),
+        }),
+        None => Ok(candidates),
+    }
+}
+
+/// The one state of a placement in an abstract cell: the holder, the workspace and (when
+/// the holder has several grasps there) the grasp must be named.
+pub fn locate_abstract(
+    artifact: &Artifact,
+    object: u32,
+    p: &Placement,
+) -> Result<Node, LocateError> {
+    match abstract_states(artifact, object, p)?.as_slice() {
+        [one] => Ok(*one),
+        many => Err(LocateError::GraspNeeded {
+            holder: p.holder.clone(),
+            grasps: many
+                .iter()
+                .map(|n| {
+                    artifact.objects[object as usize].grasps[n.grasp as usize]
+                        .name
+                        .clone()
+                })
+                .collect(),
+        }),
     }
 }

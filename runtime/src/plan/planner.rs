@@ -11,7 +11,7 @@ use cellc_schema::{ArcKind, Artifact, Infeasibility, Node};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
-use super::locate::{goal_states, locate, object_index};
+use super::locate::{goal_states, locate, locate_abstract, object_index};
 use super::search::{simplify, Path, SearchGraph};
 use super::strategy::classify;
 use super::{
@@ -109,16 +109,13 @@ impl<'a> Planner<'a> {
             None => locate_abstract(self.artifact, object, &request.start),
         }
         .map_err(PlanError::Locate)?;
-        let goals = match scene {
-            Some(scene) => goal_states(
-                self.artifact,
-                scene,
-                object,
-                &request.goal,
-                &request.options,
-            ),
-            None => goal_states_abstract(self.artifact, object, &request.goal),
-        }
+        let goals = goal_states(
+            self.artifact,
+            scene,
+            object,
+            &request.goal,
+            &request.options,
+        )
         .map_err(PlanError::Locate)?;
         let goal_pose = match &request.goal {
             super::Goal::Placement(p) => p.pose,
@@ -850,141 +847,5 @@ fn apply(state: &mut WorldState, configurations: &ArmConfigurations, object: Opt
     }
     if object.is_some() {
         state.object = object;
-    }
-}
-
-/// Locating in an abstract cell: the holder, grasp and workspace must be named.
-fn locate_abstract(
-    artifact: &Artifact,
-    object: u32,
-    p: &super::Placement,
-) -> Result<Node, super::LocateError> {
-    use super::LocateError;
-    let e = artifact
-        .end_effectors
-        .iter()
-        .position(|x| x.name == p.holder)
-        .ok_or_else(|| LocateError::UnknownHolder {
-            name: p.holder.clone(),
-            known: artifact
-                .end_effectors
-                .iter()
-                .map(|x| x.name.clone())
-                .collect(),
-        })? as u32;
-    let Some(ws_name) = &p.workspace else {
-        return Err(LocateError::NoWhere {
-            holder: p.holder.clone(),
-        });
-    };
-    let w = artifact
-        .workspaces
-        .iter()
-        .position(|x| &x.name == ws_name)
-        .ok_or_else(|| LocateError::UnknownWorkspace {
-            name: ws_name.clone(),
-            known: artifact.workspaces.iter().map(|x| x.name.clone()).collect(),
-        })? as u32;
-    let candidates: Vec<Node> = artifact.objects[object as usize]
-        .graph
-        .nodes
-        .iter()
-        .copied()
-        .filter(|n| n.end_effector == e && n.workspace == w)
-        .collect();
-    let names = |ns: &[Node]| {
-        ns.iter()
-            .map(|n| {
-                artifact.objects[object as usize].grasps[n.grasp as usize]
-                    .name
-                    .clone()
-            })
-            .collect::<Vec<_>>()
-    };
-    match &p.grasp {
-        Some(g) => candidates
-            .iter()
-            .copied()
-            .find(|n| artifact.objects[object as usize].grasps[n.grasp as usize].name == *g)
-            .ok_or_else(|| LocateError::UnknownGrasp {
-                holder: p.holder.clone(),
-                name: g.clone(),
-                known: names(&candidates),
-            }),
-        None if candidates.len() == 1 => Ok(candidates[0]),
-        None if candidates.is_empty() => Err(LocateError::NotReached {
-            holder: p.holder.clone(),
-            workspace: ws_name.clone(),
-        }),
-        None => Err(LocateError::GraspNeeded {
-            holder: p.holder.clone(),
-            grasps: names(&candidates),
-        }),
-    }
-}
-
-fn goal_states_abstract(
-    artifact: &Artifact,
-    object: u32,
-    goal: &super::Goal,
-) -> Result<Vec<Node>, super::LocateError> {
-    match goal {
-        super::Goal::Placement(p) if p.grasp.is_some() => {
-            Ok(vec![locate_abstract(artifact, object, p)?])
-        }
-        super::Goal::Placement(p) => {
-            // Any grasp of that holder in that workspace.
-            let probe = super::Placement {
-                grasp: None,
-                ..p.clone()
-            };
-            match locate_abstract(artifact, object, &probe) {
-                Ok(n) => Ok(vec![n]),
-                Err(super::LocateError::GraspNeeded { .. }) => {
-                    let e = artifact
-                        .end_effectors
-                        .iter()
-                        .position(|x| x.name == p.holder)
-                        .unwrap_or(usize::MAX) as u32;
-                    let w = artifact
-                        .workspaces
-                        .iter()
-                        .position(|x| Some(&x.name) == p.workspace.as_ref())
-                        .unwrap_or(usize::MAX) as u32;
-                    Ok(artifact.objects[object as usize]
-                        .graph
-                        .nodes
-                        .iter()
-                        .copied()
-                        .filter(|n| n.end_effector == e && n.workspace == w)
-                        .collect())
-                }
-                Err(e) => Err(e),
-            }
-        }
-        super::Goal::Workspace { workspace, holder } => {
-            let w = artifact
-                .workspaces
-                .iter()
-                .position(|x| &x.name == workspace)
-                .ok_or_else(|| super::LocateError::UnknownWorkspace {
-                    name: workspace.clone(),
-                    known: artifact.workspaces.iter().map(|x| x.name.clone()).collect(),
-                })? as u32;
-            let e = holder.as_ref().map(|h| {
-                artifact
-                    .end_effectors
-                    .iter()
-                    .position(|x| &x.name == h)
-                    .map(|i| i as u32)
-            });
-            Ok(artifact.objects[object as usize]
-                .graph
-                .nodes
-                .iter()
-                .copied()
-                .filter(|n| n.workspace == w && e.is_none_or(|e| Some(n.end_effector) == e))
-                .collect())
-        }
     }
 }
