@@ -12,6 +12,9 @@
 
 use serde::{Deserialize, Serialize};
 
+pub mod ids;
+pub use ids::{EndEffectorId, GraspId, NodeId, ObjectId, RobotId, SpanId, WorkspaceId};
+
 /// The value of [`Artifact::format`], identifying the file type.
 pub const FORMAT: &str = "cellc-artifact";
 /// Bumped on every incompatible change of these types.
