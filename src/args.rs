@@ -154,7 +154,7 @@ pub enum Command {
         object: String,
         /// Output format.
         #[arg(long, value_enum, default_value = "dot")]
-        format: crate::commands::graph::GraphFormat,
+        format: GraphFormat,
     },
     /// Plan a move request: a named request of the cell (the first one by default), or one
     /// given with --object, --from and --to (`HOLDER[.GRASP] in WS` or `HOLDER at (x, y, z)
@@ -165,7 +165,7 @@ pub enum Command {
         request: RequestArgs,
         /// Output format.
         #[arg(long, value_enum, default_value = "human")]
-        format: crate::commands::plan::PlanFormat,
+        format: PlanFormat,
     },
     /// Plan a request as `cellc plan` does, then execute it in the kinematic simulator and
     /// report the object's final pose and its error.
@@ -202,4 +202,22 @@ pub enum ImportSource {
         #[arg(short, long)]
         output: PathBuf,
     },
+}
+
+/// Output of `cellc graph`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum GraphFormat {
+    /// Graphviz DOT: a cluster per workspace, solid transitions, dashed moves.
+    Dot,
+    /// JSON with names.
+    Json,
+}
+
+/// Output style of `cellc plan`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum PlanFormat {
+    /// Numbered steps.
+    Human,
+    /// A JSON document.
+    Json,
 }

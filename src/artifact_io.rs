@@ -22,7 +22,8 @@ pub mod codes {
     pub const ALL: &[Code] = &[NOT_AN_ARTIFACT, WRONG_VERSION, CORRUPT];
 }
 
-fn diagnostic(path: &str, error: &ReadError) -> Diagnostic {
+/// The coded diagnostic of an artifact that cannot be read.
+pub fn diagnostic(path: &str, error: &ReadError) -> Diagnostic {
     let (code, help): (Code, String) = match error {
         ReadError::NotAnArtifact => (
             codes::NOT_AN_ARTIFACT,

@@ -9,6 +9,7 @@ pub mod docs;
 pub mod explain_report;
 pub mod fs_world;
 pub mod import;
+pub mod plan_report;
 pub mod render;
 pub mod verify_report;
 
@@ -22,7 +23,7 @@ pub fn all_codes() -> Vec<cellc_lang::Code> {
     codes.extend_from_slice(cellc_compiler::diagnostics::codes::ALL);
     codes.extend_from_slice(artifact_io::codes::ALL);
     codes.extend_from_slice(verify_report::codes::ALL);
-    codes.extend_from_slice(commands::plan::codes::ALL);
+    codes.extend_from_slice(plan_report::codes::ALL);
     codes.extend_from_slice(import::diagnostics::codes::ALL);
     codes
 }
@@ -73,7 +74,7 @@ pub fn dispatch() -> ExitCode {
         }
         args::Command::Info { file } => commands::info::run(&file.to_string_lossy()),
         args::Command::Run { request, fail_at } => commands::run::run(
-            &commands::plan::PlanArgs::new(request, commands::plan::PlanFormat::Human),
+            &commands::plan::PlanArgs::new(request, args::PlanFormat::Human),
             *fail_at,
         ),
         args::Command::Plan { request, format } => {

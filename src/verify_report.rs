@@ -23,14 +23,18 @@ pub mod codes {
 
 /// A scene that cannot be built, labelled at the robot's declaration when the artifact
 /// knows it.
-pub fn scene_error_at(error: &SceneError, artifact: &Artifact) -> Diagnostic {
+pub fn scene_error_at(
+    error: &SceneError,
+    robots: &[cellc_schema::Robot],
+    spans: &[cellc_schema::SourceSpan],
+) -> Diagnostic {
     let robot = match error {
         SceneError::StaleUrdf { robot, .. } | SceneError::Robot { robot, .. } => Some(robot),
         _ => None,
     };
     let place = robot
-        .and_then(|name| artifact.robots.iter().find(|r| &r.name == name))
-        .and_then(|r| span(artifact, r.span));
+        .and_then(|name| robots.iter().find(|r| &r.name == name))
+        .and_then(|r| span(spans, r.span));
     let d = scene_error(error);
     match place {
         Some((file, at)) => d.primary(file, at, "robot declared here"),
@@ -53,8 +57,8 @@ pub fn scene_error(error: &SceneError) -> Diagnostic {
     Diagnostic::error(code, error.to_string()).help(help)
 }
 
-fn span(artifact: &Artifact, index: u32) -> Option<(FileId, Span)> {
-    let s = artifact.spans.get(index as usize)?;
+fn span(spans: &[cellc_schema::SourceSpan], index: u32) -> Option<(FileId, Span)> {
+    let s = spans.get(index as usize)?;
     Some((
         FileId(s.file),
         Span {
@@ -166,7 +170,7 @@ pub fn pruned_warnings(artifact: &Artifact) -> Vec<Diagnostic> {
             )
         };
         let mut d = Diagnostic::warning(codes::PRUNED_ARC, message);
-        if let Some((file, span)) = span(artifact, source) {
+        if let Some((file, span)) = span(&artifact.spans, source) {
             d = d.primary(file, span, first_reason.clone());
         }
         // The grasps involved, so the engineer sees which poses to change.
@@ -187,7 +191,7 @@ pub fn pruned_warnings(artifact: &Artifact) -> Vec<Diagnostic> {
             }
         }
         for s in grasp_spans.into_iter().take(4) {
-            if let Some((file, span)) = span(artifact, s) {
+            if let Some((file, span)) = span(&artifact.spans, s) {
                 d = d.secondary(file, span, "grasp involved");
             }
         }

@@ -1,11 +1,16 @@
 //! Executing plans: an [`Executor`] trait for real drivers, a kinematic [`Simulator`],
-//! and the paper's recovery rule (step 7 of Algorithm 1): when a motion fails, if the
+//! and the paper's recovery rule (step 7 of Algorithm 1): when a step fails, if the
 //! object is still where it started the request fails; otherwise the planner is asked
 //! again from where the object is now.
+//!
+//! The simulator is a check of the plan, not an echo of it: the object's pose always
+//! comes from the forward kinematics of whoever holds it, or from where a hand left it on
+//! a surface, never from the pose written in a command. A grasp whose hand is not where
+//! the object is, or a put-down that leaves the object floating, fails the step.
 
 use cellc_schema::{Artifact, Node};
 
-use crate::math::Iso;
+use crate::math::{iso_from_schema, Iso};
 use crate::plan::planner::{Planner, WorldState};
 use crate::plan::{Command, Plan, PlanError, PlanOptions, Step};
 use crate::scene::{Holder, Scene};
@@ -19,6 +24,75 @@ pub enum StepError {
         /// What happened, for the report.
         reason: String,
     },
+    /// A hand closed where the object is not: its grasp does not match the object's pose.
+    GraspMissed {
+        /// The grasping end-effector.
+        holder: u32,
+        /// Distance between where the grasp puts the object and where it is, metres.
+        position_error: f64,
+        /// Orientation difference up to the object's symmetries, radians.
+        rotation_error: f64,
+    },
+    /// A hand let go of the object where it does not rest on the receiving surface as
+    /// the surface's resting pose says.
+    NotResting {
+        /// The surface.
+        surface: u32,
+        /// Height error above the surface, metres.
+        height_error: f64,
+        /// Orientation error up to a turn about the vertical, radians.
+        rotation_error: f64,
+    },
+    /// A command names a holder that does not hold the object.
+    NotHolding {
+        /// The end-effector the command names.
+        holder: u32,
+        /// The one that holds the object.
+        actual: u32,
+    },
+    /// A motion ends elsewhere than the configuration its command states.
+    MotionMismatch {
+        /// The arm.
+        arm: u32,
+        /// Largest joint difference, radians or metres.
+        joint_error: f64,
+    },
+}
+
+impl std::fmt::Display for StepError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            StepError::MotionFailed { reason } => write!(f, "motion failed: {reason}"),
+            StepError::GraspMissed {
+                holder,
+                position_error,
+                rotation_error,
+            } => write!(
+                f,
+                "end-effector #{holder} grasped {:.1} mm, {:.2} deg away from the object",
+                position_error * 1000.0,
+                rotation_error.to_degrees()
+            ),
+            StepError::NotResting {
+                surface,
+                height_error,
+                rotation_error,
+            } => write!(
+                f,
+                "the object was let go {:.1} mm, {:.2} deg away from resting on surface #{surface}",
+                height_error * 1000.0,
+                rotation_error.to_degrees()
+            ),
+            StepError::NotHolding { holder, actual } => write!(
+                f,
+                "end-effector #{holder} was commanded but #{actual} holds the object"
+            ),
+            StepError::MotionMismatch { arm, joint_error } => write!(
+                f,
+                "the motion of arm #{arm} ends {joint_error:.4} away from its command"
+            ),
+        }
+    }
 }
 
 /// Carries out steps on a robot cell (a driver) or a simulation of it.
@@ -41,8 +115,30 @@ pub struct ObservedObject {
     pub pose: Option<Iso>,
 }
 
-/// A kinematic simulator: arms jump along trajectories, the object is attached to the
-/// holder that grasped it last and detached when let go, and its pose follows the holder.
+/// How far the simulator lets reality differ from a command before failing the step.
+/// IK and loop closure converge to 0.1 mm and 1 mrad; these bounds are ten times that.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SimulatorTolerance {
+    /// Metres.
+    pub position: f64,
+    /// Radians.
+    pub rotation: f64,
+    /// Joint units (radians or metres) between a motion's end and its command.
+    pub joint: f64,
+}
+
+impl Default for SimulatorTolerance {
+    fn default() -> SimulatorTolerance {
+        SimulatorTolerance {
+            position: 1e-3,
+            rotation: 1e-2,
+            joint: 1e-6,
+        }
+    }
+}
+
+/// A kinematic simulator: arms follow trajectories, the object is attached to the holder
+/// that grasped it last and detached when let go, and its pose follows the holder.
 pub struct Simulator<'a> {
     artifact: &'a Artifact,
     scene: Option<&'a Scene>,
@@ -52,6 +148,7 @@ pub struct Simulator<'a> {
     /// Object pose in the holding arm's tip frame, while an arm holds it.
     grasp_in_tip: Option<Iso>,
     arms: Vec<Option<Vec<f64>>>,
+    tolerance: SimulatorTolerance,
     /// Step index (counted over the whole run) whose motion fails, for tests.
     fail_at: Option<usize>,
     executed: usize,
@@ -69,7 +166,7 @@ impl<'a> Simulator<'a> {
         pose: Option<Iso>,
     ) -> Simulator<'a> {
         let arms = WorldState::at_home(scene, artifact.end_effectors.len(), None).arms;
-        Simulator {
+        let mut simulator = Simulator {
             artifact,
             scene,
             object,
@@ -77,10 +174,20 @@ impl<'a> Simulator<'a> {
             pose,
             grasp_in_tip: None,
             arms,
+            tolerance: SimulatorTolerance::default(),
             fail_at: None,
             executed: 0,
             log: Vec::new(),
+        };
+        // An object that starts in a hand sits where that hand's grasp puts it.
+        if simulator.is_arm(state.end_effector) {
+            if let Some(tip) = simulator.tip(state.end_effector) {
+                let grasp = simulator.grasp_pose(state.grasp);
+                simulator.grasp_in_tip = Some(grasp);
+                simulator.pose = Some(tip * grasp);
+            }
         }
+        simulator
     }
 
     /// Makes the motion of step number `index` (0-based, over the whole run) fail.
@@ -89,18 +196,40 @@ impl<'a> Simulator<'a> {
         self
     }
 
+    /// Replaces the default tolerances.
+    pub fn with_tolerance(mut self, tolerance: SimulatorTolerance) -> Self {
+        self.tolerance = tolerance;
+        self
+    }
+
     /// The object's current pose.
     pub fn object_pose(&self) -> Option<Iso> {
         self.pose
     }
 
+    fn is_arm(&self, e: u32) -> bool {
+        self.scene
+            .is_some_and(|s| matches!(s.holders.get(e as usize), Some(Holder::Arm { .. })))
+    }
+
     fn tip(&self, e: u32) -> Option<Iso> {
         let scene = self.scene?;
-        let Holder::Arm { robot, base, .. } = &scene.holders[e as usize] else {
+        let Some(Holder::Arm { robot, base, .. }) = scene.holders.get(e as usize) else {
             return None;
         };
         let q = self.arms.get(e as usize)?.as_ref()?;
-        Some(scene.robots[*robot].tip_pose(base, q))
+        let robot = scene.robots.get(*robot)?;
+        (q.len() == robot.n_joints()).then(|| robot.tip_pose(base, q))
+    }
+
+    fn grasp_pose(&self, g: u32) -> Iso {
+        self.artifact
+            .objects
+            .get(self.object as usize)
+            .and_then(|o| o.grasps.get(g as usize))
+            .and_then(|g| g.pose.as_ref())
+            .map(iso_from_schema)
+            .unwrap_or_else(Iso::identity)
     }
 
     fn set_arms(&mut self, configurations: &[(u32, Vec<f64>)]) {
@@ -113,6 +242,112 @@ impl<'a> Simulator<'a> {
         if let (Some(g), Some(tip)) = (self.grasp_in_tip, self.tip(self.state.end_effector)) {
             self.pose = Some(tip * g);
         }
+    }
+
+    /// Follows a trajectory point by point; a held object follows its hand at every one.
+    fn follow(&mut self, step: &Step) {
+        let (Some(trajectory), Some(scene)) = (&step.motion, self.scene) else {
+            return;
+        };
+        for (_, point) in &trajectory.points {
+            let mut offset = 0;
+            let mut configurations = Vec::new();
+            for &e in &trajectory.arms {
+                let n = match scene.holders.get(e as usize) {
+                    Some(Holder::Arm { robot, .. }) => {
+                        scene.robots.get(*robot).map_or(0, |r| r.n_joints())
+                    }
+                    _ => 0,
+                };
+                if let Some(q) = point.get(offset..offset + n) {
+                    configurations.push((e, q.to_vec()));
+                }
+                offset += n;
+            }
+            self.set_arms(&configurations);
+        }
+    }
+
+    /// Reaches the configurations a command states: by the motion when there is one
+    /// (which must end there), by jumping when the plan has no motions.
+    fn reach(&mut self, step: &Step, configurations: &[(u32, Vec<f64>)]) -> Result<(), StepError> {
+        if step.motion.is_none() {
+            self.set_arms(configurations);
+            return Ok(());
+        }
+        for (e, q) in configurations {
+            let Some(now) = self.arms.get(*e as usize).and_then(|q| q.as_ref()) else {
+                continue;
+            };
+            let joint_error = now
+                .iter()
+                .zip(q)
+                .map(|(a, b)| (a - b).abs())
+                .fold(0.0, f64::max);
+            if joint_error > self.tolerance.joint || now.len() != q.len() {
+                return Err(StepError::MotionMismatch {
+                    arm: *e,
+                    joint_error,
+                });
+            }
+        }
+        Ok(())
+    }
+
+    /// An arm closes its hand with `grasp`: the object must be where that grasp puts it.
+    fn check_grasp(&self, holder: u32, grasp: u32) -> Result<Iso, StepError> {
+        let (Some(tip), Some(pose)) = (self.tip(holder), self.pose) else {
+            return Ok(Iso::identity());
+        };
+        let expected = tip * self.grasp_pose(grasp);
+        let position_error = (expected.translation.vector - pose.translation.vector).norm();
+        let symmetries = self
+            .artifact
+            .objects
+            .get(self.object as usize)
+            .map_or(&[][..], |o| o.symmetries.as_slice());
+        let rotation_error = crate::symmetry::residual(
+            &(expected.rotation.inverse() * pose.rotation),
+            symmetries,
+        );
+        if position_error > self.tolerance.position || rotation_error > self.tolerance.rotation {
+            return Err(StepError::GraspMissed {
+                holder,
+                position_error,
+                rotation_error,
+            });
+        }
+        Ok(tip.inverse() * pose)
+    }
+
+    /// The object is let go onto surface `surface` with its resting pose `rest`: it must
+    /// lie on the top face in that resting pose (up to a turn about the vertical).
+    fn check_rest(&self, surface: u32, rest: u32) -> Result<(), StepError> {
+        let (Some(scene), Some(pose)) = (self.scene, self.pose) else {
+            return Ok(());
+        };
+        let Some(Holder::Surface { slab, .. }) = scene.holders.get(surface as usize) else {
+            return Ok(());
+        };
+        let symmetries = self
+            .artifact
+            .objects
+            .get(self.object as usize)
+            .map_or(&[][..], |o| o.symmetries.as_slice());
+        let (height_error, rotation_error) = crate::plan::locate::rest_error(
+            &pose,
+            &self.grasp_pose(rest),
+            slab.max.z,
+            symmetries,
+        );
+        if height_error > self.tolerance.position || rotation_error > self.tolerance.rotation {
+            return Err(StepError::NotResting {
+                surface,
+                height_error,
+                rotation_error,
+            });
+        }
+        Ok(())
     }
 }
 
@@ -127,24 +362,7 @@ impl Executor for Simulator<'_> {
                 reason: "injected failure".into(),
             });
         }
-        if let (Some(trajectory), Some(scene)) = (&step.motion, self.scene) {
-            // Step through the trajectory; a held object follows its hand at every point.
-            for (_, point) in &trajectory.points {
-                let mut offset = 0;
-                let mut configurations = Vec::new();
-                for &e in &trajectory.arms {
-                    let n = match &scene.holders[e as usize] {
-                        Holder::Arm { robot, .. } => scene.robots[*robot].n_joints(),
-                        _ => 0,
-                    };
-                    if let Some(q) = point.get(offset..offset + n) {
-                        configurations.push((e, q.to_vec()));
-                    }
-                    offset += n;
-                }
-                self.set_arms(&configurations);
-            }
-        }
+        self.follow(step);
         let name = |e: u32| {
             self.artifact
                 .end_effectors
@@ -152,54 +370,59 @@ impl Executor for Simulator<'_> {
                 .map_or("?", |x| x.name.as_str())
                 .to_string()
         };
-        match &step.command {
+        let outcome = match &step.command {
             Command::Move {
                 holder,
                 workspace,
-                object,
                 configurations,
+                ..
             } => {
-                self.set_arms(configurations);
-                if self.grasp_in_tip.is_none() {
-                    if let Some(p) = object {
-                        self.pose = Some(*p);
-                    }
+                if *holder != self.state.end_effector {
+                    Err(StepError::NotHolding {
+                        holder: *holder,
+                        actual: self.state.end_effector,
+                    })
+                } else {
+                    self.reach(step, configurations).map(|()| {
+                        self.state.workspace = *workspace;
+                        format!("{} moves", name(*holder))
+                    })
                 }
-                self.state.workspace = *workspace;
-                self.log
-                    .push(format!("step {}: {} moves", index + 1, name(*holder)));
             }
             Command::Grasp {
                 holder,
                 grasp,
                 workspace,
-                object,
                 configurations,
-            } => {
-                self.set_arms(configurations);
-                if let Some(p) = object {
-                    self.pose = Some(*p);
+                ..
+            } => self.reach(step, configurations).and_then(|()| {
+                if self.is_arm(*holder) {
+                    // Attach: the object stays where it is, in the new hand.
+                    self.grasp_in_tip = Some(self.check_grasp(*holder, *grasp)?);
+                } else {
+                    // Put down: it stays where the giving hand left it.
+                    self.check_rest(*holder, *grasp)?;
+                    self.grasp_in_tip = None;
                 }
                 self.state = Node {
                     end_effector: *holder,
                     grasp: *grasp,
                     workspace: *workspace,
                 };
-                // Attach: remember where the object sits in the new holder's hand.
-                self.grasp_in_tip = match (self.tip(*holder), self.pose) {
-                    (Some(tip), Some(pose)) => Some(tip.inverse() * pose),
-                    _ => None,
-                };
-                self.log
-                    .push(format!("step {}: {} grasps", index + 1, name(*holder)));
+                Ok(format!("{} grasps", name(*holder)))
+            }),
+            Command::Ungrasp { holder, .. } => Ok(format!("{} lets go", name(*holder))),
+        };
+        match outcome {
+            Ok(line) => {
+                self.log.push(format!("step {}: {line}", index + 1));
+                Ok(())
             }
-            Command::Ungrasp { holder, .. } => {
-                self.log
-                    .push(format!("step {}: {} lets go", index + 1, name(*holder)));
+            Err(e) => {
+                self.log.push(format!("step {}: failed: {e}", index + 1));
+                Err(e)
             }
         }
-        let _ = self.object;
-        Ok(())
     }
 
     fn object_state(&self) -> ObservedObject {
@@ -211,6 +434,24 @@ impl Executor for Simulator<'_> {
 
     fn arms(&self) -> Vec<Option<Vec<f64>>> {
         self.arms.clone()
+    }
+}
+
+/// Settings of an execution.
+#[derive(Clone, Debug)]
+pub struct ExecuteOptions {
+    /// How many times a failure may be recovered from by planning again.
+    pub max_replans: u32,
+    /// Settings of those replans.
+    pub plan: PlanOptions,
+}
+
+impl Default for ExecuteOptions {
+    fn default() -> ExecuteOptions {
+        ExecuteOptions {
+            max_replans: 5,
+            plan: PlanOptions::default(),
+        }
     }
 }
 
@@ -231,10 +472,10 @@ pub struct Execution {
 #[derive(Clone, Debug)]
 #[non_exhaustive]
 pub enum ExecutionError {
-    /// A motion failed before the object left its start: nothing to recover from.
+    /// A step failed before the object left its start: nothing to recover from.
     FailedAtStart {
-        /// The executor's reason.
-        reason: String,
+        /// The executor's error.
+        error: StepError,
     },
     /// Replanning from where the object was found no plan.
     Replan(PlanError),
@@ -242,22 +483,22 @@ pub enum ExecutionError {
     TooManyFailures {
         /// Replans done.
         replans: u32,
+        /// The last failure.
+        last: StepError,
     },
 }
 
-/// Executes `plan`, replanning from the object's current state when a motion fails (at
-/// most `max_replans` times).
-#[allow(clippy::too_many_arguments)]
+/// Executes `plan` towards the goal it carries, replanning from the object's current
+/// state when a step fails (at most `options.max_replans` times).
 pub fn execute(
     planner: &Planner<'_>,
     plan: Plan,
-    goals: &[Node],
-    goal_pose: Option<Iso>,
     executor: &mut dyn Executor,
-    options: &PlanOptions,
-    max_replans: u32,
+    options: &ExecuteOptions,
 ) -> Result<Execution, ExecutionError> {
     let start = plan.states.first().copied();
+    let goal = plan.goal.clone();
+    let object = plan.object;
     let mut plans = vec![plan];
     let mut steps_done = 0;
     let mut replans = 0;
@@ -273,14 +514,14 @@ pub fn execute(
                         moved = true;
                     }
                 }
-                Err(StepError::MotionFailed { reason }) => {
-                    failure = Some(reason);
+                Err(error) => {
+                    failure = Some(error);
                     break;
                 }
             }
         }
         let observed = executor.object_state();
-        let Some(reason) = failure else {
+        let Some(error) = failure else {
             return Ok(Execution {
                 steps_done,
                 plans,
@@ -289,20 +530,40 @@ pub fn execute(
             });
         };
         if !moved || Some(observed.state) == start && steps_done == 0 {
-            return Err(ExecutionError::FailedAtStart { reason });
+            return Err(ExecutionError::FailedAtStart { error });
         }
-        if replans >= max_replans {
-            return Err(ExecutionError::TooManyFailures { replans });
+        if replans >= options.max_replans {
+            return Err(ExecutionError::TooManyFailures {
+                replans,
+                last: error,
+            });
         }
         replans += 1;
         let state = WorldState {
             arms: executor.arms(),
             object: observed.pose,
         };
-        let object = plans[0].object;
         let next = planner
-            .plan_from(object, observed.state, goals, goal_pose, state, options)
+            .plan_from(object, observed.state, &goal, state, &options.plan)
             .map_err(ExecutionError::Replan)?;
         plans.push(next);
     }
 }
+
+impl std::fmt::Display for ExecutionError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            ExecutionError::FailedAtStart { error } => {
+                write!(f, "{error} before the object left its start")
+            }
+            ExecutionError::Replan(e) => write!(f, "replanning failed: {e}"),
+            ExecutionError::TooManyFailures { replans, last } => {
+                write!(f, "steps kept failing ({last}); gave up after {replans} replans")
+            }
+        }
+    }
+}
+
+impl std::error::Error for ExecutionError {}
+
+impl std::error::Error for StepError {}

@@ -1,23 +1,47 @@
-//! The cellc runtime: everything that needs geometry and kinematics.
-//!
-//! It reads artifacts only (never the compiler's types), plus the robot models and meshes
-//! they name, handed in as bytes through [`Files`] so the crate itself does no I/O.
+#![doc = include_str!("../README.md")]
 #![warn(missing_docs)]
 
+pub mod cell;
+
+#[doc(hidden)]
 pub mod closed_chain;
+#[doc(hidden)]
 pub mod collision;
+#[doc(hidden)]
 pub mod execute;
+#[doc(hidden)]
 pub mod explain;
+#[doc(hidden)]
 pub mod kinematics;
+#[doc(hidden)]
 pub mod math;
+#[doc(hidden)]
 pub mod motion;
+#[doc(hidden)]
 pub mod plan;
+#[doc(hidden)]
 pub mod robot;
+#[doc(hidden)]
 pub mod scene;
+#[doc(hidden)]
 pub mod symmetry;
+#[doc(hidden)]
 pub mod verify;
 
-/// Supplies file contents (URDFs, meshes) to the runtime.
+pub use cell::{Cell, LoadError};
+pub use cellc_schema::{Artifact, EndEffectorId, GraspId, NodeId, ObjectId, WorkspaceId};
+pub use execute::{
+    ExecuteOptions, Execution, ExecutionError, Executor, ObservedObject, Simulator, StepError,
+};
+pub use explain::Explanation;
+pub use math::Iso;
+pub use plan::{
+    Command, Goal, GoalByName, LocateError, Placement, PlacementByName, Plan, PlanError,
+    PlanGoal, PlanOptions, Request, Step, Strategy, Trajectory, Unreachable,
+};
+pub use verify::VerifyOptions;
+
+/// Supplies file contents (URDFs, meshes) to the runtime, which does no I/O itself.
 pub trait Files {
     /// The bytes of the file at `path`, or why it can't be read.
     fn read(&self, path: &str) -> Result<Vec<u8>, String>;

@@ -30,3 +30,9 @@ pub fn iso_to_schema(p: &Iso) -> cellc_schema::Pose {
         rotation: [q.x, q.y, q.z, q.w],
     }
 }
+
+/// True when every coordinate of the pose is a finite number.
+pub fn is_finite(p: &Iso) -> bool {
+    p.translation.vector.iter().all(|x| x.is_finite())
+        && p.rotation.coords.iter().all(|x| x.is_finite())
+}

@@ -100,7 +100,7 @@ fn has_arms(artifact: &Artifact) -> bool {
 /// Loads the scene and checks every arc; pruned arcs come back as warnings.
 fn verify(artifact: &mut Artifact, seed: u64) -> Result<Vec<Diagnostic>, Diagnostic> {
     let scene = cellc_runtime::scene::Scene::load(artifact, &FsFiles)
-        .map_err(|e| crate::verify_report::scene_error_at(&e, artifact))?;
+        .map_err(|e| crate::verify_report::scene_error_at(&e, &artifact.robots, &artifact.spans))?;
     let options = cellc_runtime::verify::VerifyOptions {
         seed,
         ..Default::default()

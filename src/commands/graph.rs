@@ -3,17 +3,10 @@
 use std::fmt::Write;
 use std::process::ExitCode;
 
+use crate::args::GraphFormat;
+
 use cellc_schema::{ArcKind, Artifact, Object};
 use serde::Serialize;
-
-/// Output of `cellc graph`.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
-pub enum GraphFormat {
-    /// Graphviz DOT: a cluster per workspace, solid transitions, dashed moves.
-    Dot,
-    /// JSON with names.
-    Json,
-}
 
 /// Prints the object-state graph of one object.
 pub fn run(path: &str, object: &str, format: GraphFormat) -> ExitCode {

@@ -1,13 +1,13 @@
 //! `cellc run ...`: plans a request like `cellc plan`, then executes it in the kinematic
-//! simulator, replanning from where the object is when a motion fails.
+//! simulator, replanning from where the object is when a step fails. The final error is
+//! measured on the simulated object, whose pose comes from the kinematics of its holders.
 
 use std::process::ExitCode;
 
-use cellc_runtime::execute::{execute, ExecutionError, Executor, Simulator};
-use cellc_runtime::plan::planner::Planner;
-use cellc_runtime::plan::Goal;
+use cellc_runtime::{ExecuteOptions, ExecutionError};
 
-use super::plan::{describe, load, plan_error, prepare, print, PlanArgs, Prepared};
+use super::plan::{load, prepare, print, PlanArgs, Prepared};
+use crate::plan_report::{describe, plan_error};
 
 /// Plans and simulates; `fail_at` makes the motion of that step (1-based) fail.
 pub fn run(args: &PlanArgs, fail_at: Option<usize>) -> ExitCode {
@@ -23,9 +23,9 @@ pub fn run(args: &PlanArgs, fail_at: Option<usize>) -> ExitCode {
         Ok(p) => p,
         Err(code) => return code,
     };
-    let artifact = &loaded.artifact;
-    let planner = Planner::new(artifact, loaded.scene.as_ref());
-    let plan = match planner.plan(&request) {
+    let cell = &loaded.cell;
+    let artifact = cell.artifact();
+    let plan = match cell.plan(&request) {
         Ok(plan) => plan,
         Err(e) => {
             print(&[plan_error(artifact, &e, span)], &loaded.sources);
@@ -33,30 +33,16 @@ pub fn run(args: &PlanArgs, fail_at: Option<usize>) -> ExitCode {
         }
     };
     print!("{}", describe(artifact, &name, &plan));
-    let goal = *plan.states.last().unwrap_or(&plan.states[0]);
-    let goal_pose = match &request.goal {
-        Goal::Placement(p) => p.pose,
-        Goal::Workspace { .. } => None,
-    };
-    let mut simulator = Simulator::new(
-        artifact,
-        loaded.scene.as_ref(),
-        plan.object,
-        plan.states[0],
-        request.start.pose,
-    );
+    let goal_pose = plan.goal.pose;
+    let mut simulator = cell.simulator(&plan);
     if let Some(step) = fail_at {
         simulator = simulator.fail_motion_at(step.saturating_sub(1));
     }
-    let result = execute(
-        &planner,
-        plan,
-        &[goal],
-        goal_pose,
-        &mut simulator,
-        &request.options,
-        5,
-    );
+    let options = ExecuteOptions {
+        max_replans: 5,
+        plan: request.options.clone(),
+    };
+    let result = cell.execute(plan, &mut simulator, &options);
     println!("simulation:");
     for line in &simulator.log {
         println!("  {line}");
@@ -80,33 +66,35 @@ pub fn run(args: &PlanArgs, fail_at: Option<usize>) -> ExitCode {
                 print!("final object pose: ({:.4}, {:.4}, {:.4})", t.x, t.y, t.z);
                 match goal_pose {
                     Some(g) => {
+                        // A turn by one of the object's symmetries leaves it unchanged.
                         let d = g.inverse() * pose;
+                        let rotation =
+                            cellc_runtime::symmetry::residual(&d.rotation, &object.symmetries);
                         println!(
                             "; error {:.2} mm, {:.3} deg from the goal",
-                            d.translation.vector.norm() * 1000.0,
-                            d.rotation.angle().to_degrees()
+                            (pose.translation.vector - g.translation.vector).norm() * 1000.0,
+                            rotation.to_degrees()
                         );
                     }
                     None => println!(),
                 }
             }
-            let _ = simulator.object_state();
             ExitCode::SUCCESS
         }
         Err(ExecutionError::Replan(e)) => {
             print(&[plan_error(artifact, &e, span)], &loaded.sources);
             ExitCode::from(1)
         }
-        Err(ExecutionError::FailedAtStart { reason }) => {
-            eprintln!("error: a motion failed ({reason}) before the object left its start; nothing to recover from");
+        Err(ExecutionError::FailedAtStart { error }) => {
+            eprintln!("error: {error} before the object left its start; nothing to recover from");
             ExitCode::from(1)
         }
-        Err(ExecutionError::TooManyFailures { replans }) => {
-            eprintln!("error: motions kept failing; gave up after {replans} replans");
+        Err(ExecutionError::TooManyFailures { replans, last }) => {
+            eprintln!("error: steps kept failing ({last}); gave up after {replans} replans");
             ExitCode::from(1)
         }
         Err(e) => {
-            eprintln!("error: execution failed: {e:?}");
+            eprintln!("error: execution failed: {e}");
             ExitCode::from(1)
         }
     }

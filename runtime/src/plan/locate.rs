@@ -90,6 +90,15 @@ pub enum LocateError {
         /// Nearest grasps and how far off they are.
         nearest: Vec<NearMiss>,
     },
+    /// The request uses an id the artifact does not have (a caller's bug, not a name).
+    NoSuchId {
+        /// What the id was meant to name.
+        kind: super::names::IdKind,
+        /// The id.
+        id: u32,
+    },
+    /// A pose of the request has a coordinate that is not a finite number.
+    NonFinitePose,
     /// A hand holds the object but the request does not say how.
     GraspNeeded {
         /// Holder.
@@ -146,6 +155,8 @@ impl std::fmt::Display for LocateError {
                 "the pose matches no grasp or resting pose of `{holder}` in `{workspace}`; nearest: {}",
                 misses(nearest)
             ),
+            LocateError::NoSuchId { kind, id } => write!(f, "the request names {kind} #{id}, which the cell does not have"),
+            LocateError::NonFinitePose => write!(f, "a pose of the request is not finite (NaN or infinite coordinates)"),
             LocateError::GraspNeeded { holder, grasps } => {
                 write!(f, "say which grasp `{holder}` holds the object with: {}", list(grasps))
             }
@@ -153,49 +164,8 @@ impl std::fmt::Display for LocateError {
     }
 }
 
-/// Index of the object named `name`.
-pub fn object_index(artifact: &Artifact, name: &str) -> Result<u32, LocateError> {
-    artifact
-        .objects
-        .iter()
-        .position(|o| o.name == name)
-        .map(|i| i as u32)
-        .ok_or_else(|| LocateError::UnknownObject {
-            name: name.to_string(),
-            known: artifact.objects.iter().map(|o| o.name.clone()).collect(),
-        })
-}
-
-fn holder_index(artifact: &Artifact, name: &str) -> Result<u32, LocateError> {
-    artifact
-        .end_effectors
-        .iter()
-        .position(|e| e.name == name)
-        .map(|i| i as u32)
-        .ok_or_else(|| LocateError::UnknownHolder {
-            name: name.to_string(),
-            known: artifact
-                .end_effectors
-                .iter()
-                .map(|e| e.name.clone())
-                .collect(),
-        })
-}
-
-fn workspace_index(artifact: &Artifact, name: &str) -> Result<u32, LocateError> {
-    artifact
-        .workspaces
-        .iter()
-        .position(|w| w.name == name)
-        .map(|i| i as u32)
-        .ok_or_else(|| LocateError::UnknownWorkspace {
-            name: name.to_string(),
-            known: artifact.workspaces.iter().map(|w| w.name.clone()).collect(),
-        })
-}
-
 /// Grasps of `object` that end-effector `e` can hold.
-fn grasps_of(artifact: &Artifact, object: u32, e: u32) -> Vec<u32> {
+pub(crate) fn grasps_of(artifact: &Artifact, object: u32, e: u32) -> Vec<u32> {
     let kind = artifact.end_effectors[e as usize].kind;
     artifact.objects[object as usize]
         .grasps
@@ -253,7 +223,7 @@ fn workspace_at(artifact: &Artifact, scene: &Scene, position: &Point) -> Result<
 /// How far `pose` is from resting as `rest` on a surface whose top face is at `top`:
 /// (height error, orientation error up to a turn about the vertical and the object's
 /// symmetries).
-fn rest_error(
+pub(crate) fn rest_error(
     pose: &Iso,
     rest: &Iso,
     top: f64,
@@ -296,8 +266,8 @@ pub fn locate(
     placement: &Placement,
     options: &PlanOptions,
 ) -> Result<Node, LocateError> {
-    let workspace = placement.workspace.as_deref();
-    let e = holder_index(artifact, &placement.holder)?;
+    let e = placement.holder.0;
+    let holder_name = || artifact.end_effectors[e as usize].name.clone();
     let grasps = grasps_of(artifact, object, e);
     let names = |gs: &[u32]| -> Vec<String> {
         gs.iter()
@@ -308,18 +278,18 @@ pub fn locate(
             })
             .collect()
     };
-    let w = match (workspace, &placement.pose) {
-        (Some(name), _) => workspace_index(artifact, name)?,
+    let w = match (placement.workspace, &placement.pose) {
+        (Some(w), _) => w.0,
         (None, Some(pose)) => workspace_at(artifact, scene, &Point::from(pose.translation.vector))?,
         (None, None) => {
             return Err(LocateError::NoWhere {
-                holder: placement.holder.clone(),
+                holder: holder_name(),
             })
         }
     };
     if !artifact.end_effectors[e as usize].reaches.contains(&w) {
         return Err(LocateError::NotReached {
-            holder: placement.holder.clone(),
+            holder: holder_name(),
             workspace: artifact.workspaces[w as usize].name.clone(),
         });
     }
@@ -328,15 +298,15 @@ pub fn locate(
         grasp: g,
         workspace: w,
     };
-    if let Some(name) = &placement.grasp {
+    if let Some(g) = placement.grasp {
         return grasps
             .iter()
             .copied()
-            .find(|&g| artifact.objects[object as usize].grasps[g as usize].name == *name)
+            .find(|&h| h == g.0)
             .map(node)
             .ok_or_else(|| LocateError::UnknownGrasp {
-                holder: placement.holder.clone(),
-                name: name.clone(),
+                holder: holder_name(),
+                name: grasp_name(artifact, object, g.0),
                 known: names(&grasps),
             });
     }
@@ -367,7 +337,7 @@ pub fn locate(
                     Ok(node(g))
                 }
                 _ => Err(LocateError::NoGrasp {
-                    holder: placement.holder.clone(),
+                    holder: holder_name(),
                     workspace: artifact.workspaces[w as usize].name.clone(),
                     nearest: misses
                         .iter()
@@ -383,7 +353,7 @@ pub fn locate(
         }
         _ if grasps.len() == 1 => Ok(node(grasps[0])),
         _ => Err(LocateError::GraspNeeded {
-            holder: placement.holder.clone(),
+            holder: holder_name(),
             grasps: names(&grasps),
         }),
     }
@@ -405,11 +375,8 @@ pub fn goal_states(
             None => abstract_states(artifact, object, p),
         },
         Goal::Workspace { workspace, holder } => {
-            let w = workspace_index(artifact, workspace)?;
-            let e = holder
-                .as_deref()
-                .map(|h| holder_index(artifact, h))
-                .transpose()?;
+            let w = workspace.0;
+            let e = holder.map(|h| h.0);
             Ok(artifact.objects[object as usize]
                 .graph
                 .nodes
@@ -428,13 +395,14 @@ fn abstract_states(
     object: u32,
     p: &Placement,
 ) -> Result<Vec<Node>, LocateError> {
-    let e = holder_index(artifact, &p.holder)?;
-    let Some(ws_name) = &p.workspace else {
+    let e = p.holder.0;
+    let holder_name = || artifact.end_effectors[e as usize].name.clone();
+    let Some(w) = p.workspace else {
         return Err(LocateError::NoWhere {
-            holder: p.holder.clone(),
+            holder: holder_name(),
         });
     };
-    let w = workspace_index(artifact, ws_name)?;
+    let w = w.0;
     let obj = &artifact.objects[object as usize];
     let candidates: Vec<Node> = obj
         .graph
@@ -443,26 +411,34 @@ fn abstract_states(
         .copied()
         .filter(|n| n.end_effector == e && n.workspace == w)
         .collect();
-    match &p.grasp {
+    match p.grasp {
         Some(g) => candidates
             .iter()
             .copied()
-            .find(|n| obj.grasps[n.grasp as usize].name == *g)
+            .find(|n| n.grasp == g.0)
             .map(|n| vec![n])
             .ok_or_else(|| LocateError::UnknownGrasp {
-                holder: p.holder.clone(),
-                name: g.clone(),
+                holder: holder_name(),
+                name: grasp_name(artifact, object, g.0),
                 known: candidates
                     .iter()
                     .map(|n| obj.grasps[n.grasp as usize].name.clone())
                     .collect(),
             }),
         None if candidates.is_empty() => Err(LocateError::NotReached {
-            holder: p.holder.clone(),
-            workspace: ws_name.clone(),
+            holder: holder_name(),
+            workspace: artifact.workspaces[w as usize].name.clone(),
         }),
         None => Ok(candidates),
     }
+}
+
+/// The name of grasp `g` of `object`, for messages (`#g` if the id is out of range).
+fn grasp_name(artifact: &Artifact, object: u32, g: u32) -> String {
+    artifact.objects[object as usize]
+        .grasps
+        .get(g as usize)
+        .map_or_else(|| format!("#{g}"), |x| x.name.clone())
 }
 
 /// The one state of a placement in an abstract cell: the holder, the workspace and (when
@@ -475,7 +451,7 @@ pub fn locate_abstract(
     match abstract_states(artifact, object, p)?.as_slice() {
         [one] => Ok(*one),
         many => Err(LocateError::GraspNeeded {
-            holder: p.holder.clone(),
+            holder: artifact.end_effectors[p.holder.index()].name.clone(),
             grasps: many
                 .iter()
                 .map(|n| {
@@ -487,3 +463,5 @@ pub fn locate_abstract(
         }),
     }
 }
+
+impl std::error::Error for LocateError {}

@@ -9,11 +9,12 @@
 //! the path afterwards, never chosen in advance.
 
 pub mod locate;
+pub mod names;
 pub mod planner;
 pub mod search;
 pub mod strategy;
 
-use cellc_schema::{Infeasibility, Node};
+use cellc_schema::{EndEffectorId, GraspId, Infeasibility, Node, ObjectId, WorkspaceId};
 
 use crate::math::Iso;
 
@@ -22,25 +23,53 @@ pub use strategy::Strategy;
 
 /// Where an object is: held or supported by `holder`, at `pose` (the object's pose in the
 /// cell) or somewhere in `workspace` (abstract cells have no geometry). The grasp may be
-/// named; otherwise it is inferred from the pose (surfaces) or from the holder having a
+/// given; otherwise it is inferred from the pose (surfaces) or from the holder having a
 /// single grasp.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct Placement {
-    /// End-effector name.
-    pub holder: String,
-    /// Grasp or resting pose name, when known.
-    pub grasp: Option<String>,
-    /// Workspace name, when known (needed when there is no pose).
-    pub workspace: Option<String>,
+    /// The end-effector holding or supporting the object.
+    pub holder: EndEffectorId,
+    /// Grasp or resting pose, when known.
+    pub grasp: Option<GraspId>,
+    /// Workspace, when known (needed when there is no pose).
+    pub workspace: Option<WorkspaceId>,
     /// Object pose in the cell.
     pub pose: Option<Iso>,
 }
 
 /// Where the object must end.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, PartialEq)]
 pub enum Goal {
     /// Exactly there (the holder is normally a fixed surface).
     Placement(Placement),
+    /// Anywhere in a workspace, held by `holder` if given.
+    Workspace {
+        /// The workspace.
+        workspace: WorkspaceId,
+        /// The end-effector, if it matters.
+        holder: Option<EndEffectorId>,
+    },
+}
+
+/// A [`Placement`] written with names, as people and task planners give it; resolved to
+/// ids once, by [`names::placement`], with did-you-mean errors.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PlacementByName {
+    /// End-effector name.
+    pub holder: String,
+    /// Grasp or resting pose name, when known.
+    pub grasp: Option<String>,
+    /// Workspace name, when known.
+    pub workspace: Option<String>,
+    /// Object pose in the cell.
+    pub pose: Option<Iso>,
+}
+
+/// A [`Goal`] written with names.
+#[derive(Clone, Debug, PartialEq)]
+pub enum GoalByName {
+    /// Exactly there.
+    Placement(PlacementByName),
     /// Anywhere in a workspace, held by `holder` if given.
     Workspace {
         /// Workspace name.
@@ -87,14 +116,30 @@ impl Default for PlanOptions {
 /// A move request.
 #[derive(Clone, Debug)]
 pub struct Request {
-    /// Object name.
-    pub object: String,
+    /// The object to move.
+    pub object: ObjectId,
     /// Where it is.
     pub start: Placement,
     /// Where it must go.
     pub goal: Goal,
     /// Settings.
     pub options: PlanOptions,
+}
+
+/// The typed request of a request the cell declares.
+pub fn named_request(named: &cellc_schema::NamedRequest, options: PlanOptions) -> Request {
+    let placement = |p: &cellc_schema::RequestPlacement| Placement {
+        holder: EndEffectorId(p.end_effector),
+        grasp: p.grasp.map(GraspId),
+        workspace: p.workspace.map(WorkspaceId),
+        pose: p.pose.as_ref().map(crate::math::iso_from_schema),
+    };
+    Request {
+        object: ObjectId(named.object),
+        start: placement(&named.from),
+        goal: Goal::Placement(placement(&named.to)),
+        options,
+    }
 }
 
 /// Joint values of every arm at a moment: (end-effector, joints).
@@ -172,11 +217,26 @@ pub struct MotionContext {
     pub placement: crate::scene::ObjectPlacement,
 }
 
+/// What a plan must achieve: every state that satisfies the goal and, for a placement
+/// goal with geometry, the exact pose. A plan carries it so that executing (and replanning
+/// after a failure) needs nothing but the plan.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PlanGoal {
+    /// States that satisfy the goal.
+    pub states: Vec<Node>,
+    /// The object pose the goal asks for, when it asks for one.
+    pub pose: Option<Iso>,
+}
+
 /// A planned request.
 #[derive(Clone, Debug)]
 pub struct Plan {
     /// Object index in the artifact.
     pub object: u32,
+    /// Where the object was when planning started (its pose, when known).
+    pub start_pose: Option<Iso>,
+    /// What the plan achieves.
+    pub goal: PlanGoal,
     /// The state path, simplified (one move per run of moves).
     pub states: Vec<Node>,
     /// Commands in order.
@@ -239,3 +299,21 @@ pub enum PlanError {
         searches: u32,
     },
 }
+
+impl std::fmt::Display for PlanError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            PlanError::Locate(e) => e.fmt(f),
+            PlanError::Unreachable(u) => write!(
+                f,
+                "no plan reaches the goal ({} states reachable from the start)",
+                u.reachable.len()
+            ),
+            PlanError::TimeBudget { searches } => {
+                write!(f, "the time budget ran out after {searches} searches")
+            }
+        }
+    }
+}
+
+impl std::error::Error for PlanError {}

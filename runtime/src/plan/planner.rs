@@ -11,11 +11,12 @@ use cellc_schema::{ArcKind, Artifact, Infeasibility, Node};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
-use super::locate::{goal_states, locate, locate_abstract, object_index};
+use super::locate::{goal_states, locate, locate_abstract};
 use super::search::{simplify, Path, SearchGraph};
 use super::strategy::classify;
 use super::{
-    ArcRef, ArmConfigurations, Command, Plan, PlanError, PlanOptions, Request, Step, Unreachable,
+    ArcRef, ArmConfigurations, Command, Plan, PlanError, PlanGoal, PlanOptions, Request, Step,
+    Unreachable,
 };
 use crate::kinematics::{solve_ik, IkError, IkOptions, IkTarget};
 use crate::math::{iso_from_schema, Iso};
@@ -38,7 +39,7 @@ const SCREENING: IkOptions = IkOptions {
 pub struct Planner<'a> {
     artifact: &'a Artifact,
     scene: Option<&'a Scene>,
-    search: Vec<SearchGraph>,
+    search: std::borrow::Cow<'a, [SearchGraph]>,
 }
 
 /// Where the plan stands while commands are realised.
@@ -77,15 +78,25 @@ impl<'a> Planner<'a> {
     /// A planner over an artifact; `scene` gives geometry (None: abstract cells, high level
     /// only).
     pub fn new(artifact: &'a Artifact, scene: Option<&'a Scene>) -> Planner<'a> {
-        let search = artifact
-            .objects
-            .iter()
-            .map(|o| SearchGraph::new(&o.graph))
-            .collect();
         Planner {
             artifact,
             scene,
-            search,
+            search: std::borrow::Cow::Owned(SearchGraph::for_artifact(artifact)),
+        }
+    }
+
+    /// A planner that borrows search graphs built earlier (one per object, from
+    /// [`SearchGraph::for_artifact`] on the same artifact), so a long-lived cell does not
+    /// index its graphs again for every request.
+    pub fn with_search(
+        artifact: &'a Artifact,
+        scene: Option<&'a Scene>,
+        search: &'a [SearchGraph],
+    ) -> Planner<'a> {
+        Planner {
+            artifact,
+            scene,
+            search: std::borrow::Cow::Borrowed(search),
         }
     }
 
@@ -96,7 +107,8 @@ impl<'a> Planner<'a> {
 
     /// Plans a request from scratch (arms at home).
     pub fn plan(&self, request: &Request) -> Result<Plan, PlanError> {
-        let object = object_index(self.artifact, &request.object).map_err(PlanError::Locate)?;
+        super::names::check_request(self.artifact, request).map_err(PlanError::Locate)?;
+        let object = request.object.0;
         let scene = self.scene.filter(|s| s.has_kinematics());
         let start = match scene {
             Some(scene) => locate(
@@ -117,28 +129,33 @@ impl<'a> Planner<'a> {
             &request.options,
         )
         .map_err(PlanError::Locate)?;
-        let goal_pose = match &request.goal {
-            super::Goal::Placement(p) => p.pose,
-            super::Goal::Workspace { .. } => None,
+        let goal = PlanGoal {
+            states: goals,
+            pose: match &request.goal {
+                super::Goal::Placement(p) => p.pose,
+                super::Goal::Workspace { .. } => None,
+            },
         };
         let state = WorldState::at_home(
             self.scene,
             self.artifact.end_effectors.len(),
             request.start.pose,
         );
-        self.plan_from(object, start, &goals, goal_pose, state, &request.options)
+        self.plan_from(object, start, &goal, state, &request.options)
     }
 
-    /// Plans from a given state (used again when execution fails part way).
+    /// Plans from a given state towards `goal` (used again when execution fails part way).
     pub fn plan_from(
         &self,
         object: u32,
         start: Node,
-        goals: &[Node],
-        goal_pose: Option<Iso>,
+        goal: &PlanGoal,
         state: WorldState,
         options: &PlanOptions,
     ) -> Result<Plan, PlanError> {
+        let goals = goal.states.as_slice();
+        let goal_pose = goal.pose;
+        let start_pose = state.object;
         let graph = &self.artifact.objects[object as usize].graph;
         let index_of = |n: &Node| graph.nodes.iter().position(|m| m == n).map(|i| i as u32);
         let start_index = index_of(&start);
@@ -198,6 +215,8 @@ impl<'a> Planner<'a> {
                     let states: Vec<Node> = kept.iter().map(|&i| graph.nodes[i as usize]).collect();
                     return Ok(Plan {
                         object,
+                        start_pose,
+                        goal: goal.clone(),
                         strategy: classify(self.artifact, &states),
                         states,
                         steps,

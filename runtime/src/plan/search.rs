@@ -10,6 +10,7 @@ use petgraph::visit::EdgeFiltered;
 use super::ArcRef;
 
 /// An object's graph ready for repeated searches.
+#[derive(Clone, Debug)]
 pub struct SearchGraph {
     graph: DiGraph<(), (f64, usize)>,
     /// Per arc: true for moves (to re-weight by kind).
@@ -30,6 +31,15 @@ pub struct Path {
 }
 
 impl SearchGraph {
+    /// The search graphs of every object of an artifact, in object order.
+    pub fn for_artifact(artifact: &cellc_schema::Artifact) -> Vec<SearchGraph> {
+        artifact
+            .objects
+            .iter()
+            .map(|o| SearchGraph::new(&o.graph))
+            .collect()
+    }
+
     /// Indexes the artifact's graph of one object.
     pub fn new(graph: &Graph) -> SearchGraph {
         let mut g = DiGraph::with_capacity(graph.nodes.len(), graph.arcs.len());

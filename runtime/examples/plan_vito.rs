@@ -1,0 +1,45 @@
+//! Plans and simulates the Vito cell's handoff through the runtime's front door.
+//!
+//! `cargo run -p cellc-runtime --example plan_vito [REQUEST]`. A task planner would read
+//! the artifact `cellc build` wrote; here the cell is compiled in memory first.
+
+use cellc_runtime::{Cell, ExecuteOptions, Files, PlanOptions, VerifyOptions};
+
+/// Files read from the repository.
+struct Disk;
+
+impl Files for Disk {
+    fn read(&self, path: &str) -> Result<Vec<u8>, String> {
+        std::fs::read(path).map_err(|e| e.to_string())
+    }
+}
+
+impl cellc_compiler::world::World for Disk {
+    fn read(&self, path: &str) -> Result<String, String> {
+        std::fs::read_to_string(path).map_err(|e| e.to_string())
+    }
+}
+
+/// The artifact of `cells/vito.cell`, as `cellc build` writes it (without verification).
+fn vito_artifact() -> Vec<u8> {
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../cells/vito.cell");
+    let compiled = cellc_compiler::compile(&Disk, path);
+    let cell = compiled.cell.as_ref().expect("vito.cell compiles");
+    let artifact = cellc_compiler::artifact::lower(cell, &compiled.graphs, &compiled.sources);
+    artifact.to_bytes(cellc_schema::Encoding::Json)
+}
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let name = std::env::args().nth(1).unwrap_or("handoff_cylinder".into());
+
+    let mut cell = Cell::load(&vito_artifact(), &Disk)?;
+    cell.verify(&VerifyOptions::default());
+    let request = cell.named_request(&name, PlanOptions::default()).ok_or("no such request")?;
+    let plan = cell.plan(&request)?;
+    println!("{name}: {} in {} steps", plan.strategy, plan.steps.len());
+    let mut simulator = cell.simulator(&plan);
+    let run = cell.execute(plan, &mut simulator, &ExecuteOptions::default())?;
+    let holder = &cell.artifact().end_effectors[run.final_state.end_effector as usize].name;
+    println!("done: held by `{holder}` after {} steps", run.steps_done);
+    Ok(())
+}

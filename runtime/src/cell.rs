@@ -1,0 +1,182 @@
+//! The front door: a loaded cell that plans, executes and explains move requests.
+//!
+//! A task planner embeds the runtime through [`Cell`] alone: load an artifact's bytes
+//! (with a [`Files`] that supplies the robot models and meshes it names), resolve names to
+//! typed ids once, then plan, execute and explain with ids. The building blocks behind it
+//! (kinematics, collision, motion planning, verification) stay reachable for benches and
+//! tools, but nothing here needs them.
+
+use cellc_schema::{Artifact, Body, EndEffectorId, GraspId, ObjectId, ReadError, WorkspaceId};
+
+use crate::execute::{ExecuteOptions, Execution, ExecutionError, Executor, Simulator};
+use crate::explain::Explanation;
+use crate::plan::planner::Planner;
+use crate::plan::search::SearchGraph;
+use crate::plan::{
+    names, GoalByName, LocateError, Plan, PlanError, PlanOptions, PlacementByName, Request,
+    Unreachable,
+};
+use crate::scene::{Scene, SceneError};
+use crate::verify::{VerifyOptions, VerifyReport};
+use crate::Files;
+
+/// Why an artifact could not be loaded.
+#[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
+pub enum LoadError {
+    /// The bytes are not a readable artifact (not one, an old format, damaged).
+    Artifact(ReadError),
+    /// The robot models, meshes or collision world could not be built.
+    Scene(SceneError),
+}
+
+impl std::fmt::Display for LoadError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            LoadError::Artifact(e) => e.fmt(f),
+            LoadError::Scene(e) => e.fmt(f),
+        }
+    }
+}
+
+impl std::error::Error for LoadError {}
+
+/// A cell ready to answer move requests: the artifact, its geometry (when it has arms)
+/// and the search graphs of every object, built once.
+pub struct Cell {
+    artifact: Artifact,
+    scene: Option<Scene>,
+    search: Vec<SearchGraph>,
+}
+
+impl Cell {
+    /// Loads an artifact from its bytes (JSON or binary); robot models and meshes are read
+    /// through `files`, relative paths as the artifact records them.
+    pub fn load(bytes: &[u8], files: &dyn Files) -> Result<Cell, LoadError> {
+        let (artifact, _) = Artifact::from_bytes(bytes).map_err(LoadError::Artifact)?;
+        Cell::from_artifact(artifact, files)
+    }
+
+    /// Makes an artifact already in memory ready to plan (e.g. one just compiled).
+    pub fn from_artifact(artifact: Artifact, files: &dyn Files) -> Result<Cell, LoadError> {
+        let has_arms = artifact
+            .end_effectors
+            .iter()
+            .any(|e| matches!(e.body, Body::Arm { .. }));
+        let scene = if has_arms {
+            Some(Scene::load(&artifact, files).map_err(LoadError::Scene)?)
+        } else {
+            None
+        };
+        let search = SearchGraph::for_artifact(&artifact);
+        Ok(Cell {
+            artifact,
+            scene,
+            search,
+        })
+    }
+
+    /// Checks every arc kinematically (when the artifact was built without) and keeps
+    /// witnesses and pruned arcs, as `cellc build` does.
+    pub fn verify(&mut self, options: &VerifyOptions) -> Option<VerifyReport> {
+        let scene = self.scene.as_ref()?;
+        let report = crate::verify::verify(&mut self.artifact, scene, options, &|_, _| {});
+        self.search = SearchGraph::for_artifact(&self.artifact);
+        Some(report)
+    }
+
+    /// The artifact.
+    pub fn artifact(&self) -> &Artifact {
+        &self.artifact
+    }
+
+    /// The geometry, for cells with arms.
+    pub fn scene(&self) -> Option<&Scene> {
+        self.scene.as_ref()
+    }
+
+    /// The object named `name`.
+    pub fn object(&self, name: &str) -> Result<ObjectId, LocateError> {
+        names::object(&self.artifact, name)
+    }
+
+    /// The end-effector named `name`.
+    pub fn end_effector(&self, name: &str) -> Result<EndEffectorId, LocateError> {
+        names::end_effector(&self.artifact, name)
+    }
+
+    /// The workspace named `name`.
+    pub fn workspace(&self, name: &str) -> Result<WorkspaceId, LocateError> {
+        names::workspace(&self.artifact, name)
+    }
+
+    /// The grasp of `object` named `name` that `holder` can hold.
+    pub fn grasp(
+        &self,
+        object: ObjectId,
+        holder: EndEffectorId,
+        name: &str,
+    ) -> Result<GraspId, LocateError> {
+        names::grasp(&self.artifact, object, holder, name)
+    }
+
+    /// A request given with names: "move `object` from `start` to `goal`".
+    pub fn request(
+        &self,
+        object: &str,
+        start: &PlacementByName,
+        goal: &GoalByName,
+        options: PlanOptions,
+    ) -> Result<Request, LocateError> {
+        let object = self.object(object)?;
+        Ok(Request {
+            object,
+            start: names::placement(&self.artifact, object, start)?,
+            goal: names::goal(&self.artifact, object, goal)?,
+            options,
+        })
+    }
+
+    /// The request the cell declares under `name` (`request NAME: ...`), or `None`.
+    pub fn named_request(&self, name: &str, options: PlanOptions) -> Option<Request> {
+        let named = self.artifact.requests.iter().find(|r| r.name == name)?;
+        Some(crate::plan::named_request(named, options))
+    }
+
+    /// Plans a request from the cell at rest (every arm at home).
+    pub fn plan(&self, request: &Request) -> Result<Plan, PlanError> {
+        self.planner().plan(request)
+    }
+
+    /// Executes a plan on `executor`, replanning from where the object is when a step
+    /// fails; the plan carries its goal.
+    pub fn execute(
+        &self,
+        plan: Plan,
+        executor: &mut dyn Executor,
+        options: &ExecuteOptions,
+    ) -> Result<Execution, ExecutionError> {
+        crate::execute::execute(&self.planner(), plan, executor, options)
+    }
+
+    /// A kinematic simulator of the cell, starting where `plan` starts.
+    pub fn simulator(&self, plan: &Plan) -> Simulator<'_> {
+        Simulator::new(
+            &self.artifact,
+            self.scene.as_ref(),
+            plan.object,
+            plan.states[0],
+            plan.start_pose,
+        )
+    }
+
+    /// Why a request has no plan: the two sides, the cut, and checked suggestions.
+    pub fn explain(&self, unreachable: &Unreachable) -> Explanation {
+        crate::explain::explain(&self.artifact, unreachable)
+    }
+
+    /// The planner over this cell (internal: shares the search graphs built at load).
+    pub fn planner(&self) -> Planner<'_> {
+        Planner::with_search(&self.artifact, self.scene.as_ref(), &self.search)
+    }
+}

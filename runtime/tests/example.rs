@@ -1,0 +1,10 @@
+//! Runs the front-door example, so `cargo test` proves it works and not only compiles.
+
+#[path = "../examples/plan_vito.rs"]
+#[allow(dead_code)]
+mod plan_vito;
+
+#[test]
+fn the_vito_example_plans_and_executes() {
+    plan_vito::main().expect("the example runs");
+}

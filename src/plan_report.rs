@@ -1,0 +1,336 @@
+//! Plans and planning failures in words: numbered steps, the JSON document, and coded
+//! diagnostics for requests that cannot be located, reached or planned in time.
+
+use std::fmt::Write as _;
+
+use cellc_lang::{Diagnostic, FileId};
+use cellc_runtime::math::Iso;
+use cellc_runtime::plan::{Command, LocateError, Plan, PlanError};
+use cellc_schema::Artifact;
+use serde::Serialize;
+
+/// Codes of planning requests.
+pub mod codes {
+    use cellc_lang::Code;
+    /// The request names something the cell does not have, or a pose matches no state.
+    pub const LOCATE: Code = Code("R0003");
+    /// No plan reaches the goal.
+    pub const UNREACHABLE: Code = Code("R0004");
+    /// No request to plan: the cell declares none, or none of that name.
+    pub const NO_REQUEST: Code = Code("R0005");
+    /// The request's time budget ran out.
+    pub const TIME_BUDGET: Code = Code("R0006");
+    /// Every code of this phase.
+    pub const ALL: &[Code] = &[LOCATE, UNREACHABLE, NO_REQUEST, TIME_BUDGET];
+}
+
+/// No request to plan: none declared, or none of that name.
+pub fn no_request(artifact: &Artifact, wanted: Option<&str>) -> Diagnostic {
+    let known: Vec<String> = artifact
+        .requests
+        .iter()
+        .map(|r| format!("`{}`", r.name))
+        .collect();
+    let message = match wanted {
+        Some(n) => format!("the cell declares no request `{n}`"),
+        None => "the cell declares no request".to_string(),
+    };
+    let help = if known.is_empty() {
+        "declare one (`request NAME: OBJECT from HOLDER in WS to HOLDER in WS`) or give --object, --from and --to".to_string()
+    } else {
+        format!("its requests are {}", known.join(", "))
+    };
+    Diagnostic::error(codes::NO_REQUEST, message).help(help)
+}
+
+/// A planning failure as a diagnostic, labelled at the request when it is a named one.
+pub fn plan_error(artifact: &Artifact, error: &PlanError, span: Option<u32>) -> Diagnostic {
+    let place = span.and_then(|s| artifact.spans.get(s as usize)).map(|s| {
+        (
+            FileId(s.file),
+            cellc_lang::Span {
+                start: s.start,
+                end: s.end,
+            },
+        )
+    });
+    let mut d = match error {
+        PlanError::Locate(e) => Diagnostic::error(codes::LOCATE, e.to_string()).help(
+            did_you_mean(e).unwrap_or_else(|| "name a holder, grasp and workspace the cell has, or give a pose that lies in a workspace and matches a grasp".into()),
+        ),
+        PlanError::Unreachable(u) => crate::explain_report::unreachable(artifact, u),
+        PlanError::TimeBudget { searches } => Diagnostic::error(
+            codes::TIME_BUDGET,
+            format!("planning ran out of its time budget after {searches} backtracks"),
+        )
+        .help("give a larger `--time-budget`, or none; a budget of 0 stops before the first search"),
+        _ => Diagnostic::error(codes::UNREACHABLE, "no plan").help("check the request"),
+    };
+    if let Some((file, at)) = place {
+        if d.labels.is_empty() {
+            d = d.primary(file, at, "this request");
+        } else {
+            d = d.secondary(file, at, "this request");
+        }
+    }
+    d
+}
+
+/// "did you mean `x`?" for an unknown name close to a known one.
+fn did_you_mean(error: &LocateError) -> Option<String> {
+    let (name, known) = match error {
+        LocateError::UnknownObject { name, known }
+        | LocateError::UnknownHolder { name, known }
+        | LocateError::UnknownWorkspace { name, known }
+        | LocateError::UnknownGrasp { name, known, .. } => (name, known),
+        _ => return None,
+    };
+    cellc_lang::diagnostic::did_you_mean(name, known.iter().map(String::as_str))
+        .map(|s| format!("did you mean `{s}`?"))
+}
+
+fn ee(a: &Artifact, e: u32) -> &str {
+    a.end_effectors
+        .get(e as usize)
+        .map_or("?", |x| x.name.as_str())
+}
+
+fn ws(a: &Artifact, w: u32) -> &str {
+    a.workspaces
+        .get(w as usize)
+        .map_or("?", |x| x.name.as_str())
+}
+
+fn pose_text(p: &Option<Iso>) -> String {
+    match p {
+        Some(p) => {
+            let t = p.translation.vector;
+            format!(" at ({:.3}, {:.3}, {:.3})", t.x, t.y, t.z)
+        }
+        None => String::new(),
+    }
+}
+
+/// The plan as numbered steps.
+pub fn describe(artifact: &Artifact, name: &str, plan: &Plan) -> String {
+    let object = &artifact.objects[plan.object as usize];
+    let grasp = |g: u32| {
+        object
+            .grasps
+            .get(g as usize)
+            .map_or("?", |x| x.name.as_str())
+    };
+    let mut out = String::new();
+    let _ = writeln!(
+        out,
+        "plan `{name}` for `{}`: {} (cost {:.2}, {} steps{})",
+        object.name,
+        plan.strategy,
+        plan.cost,
+        plan.steps.len(),
+        if plan.backtracks > 0 {
+            format!(", {} backtracks", plan.backtracks)
+        } else {
+            String::new()
+        }
+    );
+    let holders: Vec<&str> = {
+        let mut v: Vec<&str> = Vec::new();
+        for s in &plan.states {
+            let h = ee(artifact, s.end_effector);
+            if v.last() != Some(&h) {
+                v.push(h);
+            }
+        }
+        v
+    };
+    let _ = writeln!(out, "holders: {}", holders.join(" -> "));
+    for (i, step) in plan.steps.iter().enumerate() {
+        let line = match &step.command {
+            Command::Move {
+                holder,
+                workspace,
+                object: pose,
+                ..
+            } => format!(
+                "move     `{}` carries it to `{}`{}",
+                ee(artifact, *holder),
+                ws(artifact, *workspace),
+                pose_text(pose)
+            ),
+            Command::Grasp {
+                holder,
+                grasp: g,
+                workspace,
+                object: pose,
+                ..
+            } => format!(
+                "grasp    `{}` takes it with `{}` in `{}`{}",
+                ee(artifact, *holder),
+                grasp(*g),
+                ws(artifact, *workspace),
+                pose_text(pose)
+            ),
+            Command::Ungrasp {
+                holder, grasp: g, ..
+            } => {
+                format!(
+                    "ungrasp  `{}` lets go of `{}`",
+                    ee(artifact, *holder),
+                    grasp(*g)
+                )
+            }
+        };
+        let motion = match &step.motion {
+            Some(t) => format!(
+                " [{:.2} s motion]",
+                t.points.last().map_or(0.0, |p| p.0).max(0.0)
+            ),
+            None => String::new(),
+        };
+        let _ = writeln!(out, "{:>3}. {line}{motion}", i + 1);
+    }
+    out
+}
+
+#[derive(Serialize)]
+struct JsonPlan<'a> {
+    request: &'a str,
+    object: &'a str,
+    strategy: String,
+    cost: f64,
+    backtracks: u32,
+    holders: Vec<&'a str>,
+    states: Vec<JsonState<'a>>,
+    steps: Vec<JsonStep<'a>>,
+}
+
+#[derive(Serialize)]
+struct JsonState<'a> {
+    end_effector: &'a str,
+    grasp: &'a str,
+    workspace: &'a str,
+}
+
+#[derive(Serialize)]
+struct JsonStep<'a> {
+    command: &'static str,
+    end_effector: &'a str,
+    grasp: Option<&'a str>,
+    workspace: &'a str,
+    object_position: Option<[f64; 3]>,
+    object_rotation: Option<[f64; 4]>,
+    configurations: Vec<(&'a str, Vec<f64>)>,
+    motion: Option<JsonTrajectory<'a>>,
+}
+
+#[derive(Serialize)]
+struct JsonTrajectory<'a> {
+    arms: Vec<&'a str>,
+    /// (time in s, concatenated joints of `arms`).
+    points: &'a [(f64, Vec<f64>)],
+}
+
+pub fn json<'a>(artifact: &'a Artifact, name: &'a str, plan: &'a Plan) -> impl Serialize + 'a {
+    let object = &artifact.objects[plan.object as usize];
+    let grasp = |g: u32| {
+        object
+            .grasps
+            .get(g as usize)
+            .map_or("?", |x| x.name.as_str())
+    };
+    let mut holders: Vec<&str> = Vec::new();
+    for s in &plan.states {
+        let h = ee(artifact, s.end_effector);
+        if holders.last() != Some(&h) {
+            holders.push(h);
+        }
+    }
+    let pose = |p: &Option<Iso>| {
+        p.as_ref().map(|p| {
+            let s = cellc_runtime::math::iso_to_schema(p);
+            (s.translation, s.rotation)
+        })
+    };
+    JsonPlan {
+        request: name,
+        object: &object.name,
+        strategy: plan.strategy.to_string(),
+        cost: plan.cost,
+        backtracks: plan.backtracks,
+        holders,
+        states: plan
+            .states
+            .iter()
+            .map(|s| JsonState {
+                end_effector: ee(artifact, s.end_effector),
+                grasp: grasp(s.grasp),
+                workspace: ws(artifact, s.workspace),
+            })
+            .collect(),
+        steps: plan
+            .steps
+            .iter()
+            .map(|step| {
+                let (command, holder, g, w, p, configurations) = match &step.command {
+                    Command::Move {
+                        holder,
+                        workspace,
+                        object,
+                        configurations,
+                    } => (
+                        "move",
+                        *holder,
+                        None,
+                        *workspace,
+                        pose(object),
+                        configurations.clone(),
+                    ),
+                    Command::Grasp {
+                        holder,
+                        grasp: g,
+                        workspace,
+                        object,
+                        configurations,
+                    } => (
+                        "grasp",
+                        *holder,
+                        Some(grasp(*g)),
+                        *workspace,
+                        pose(object),
+                        configurations.clone(),
+                    ),
+                    Command::Ungrasp {
+                        holder,
+                        grasp: g,
+                        workspace,
+                        object,
+                    } => (
+                        "ungrasp",
+                        *holder,
+                        Some(grasp(*g)),
+                        *workspace,
+                        pose(object),
+                        Vec::new(),
+                    ),
+                };
+                JsonStep {
+                    command,
+                    end_effector: ee(artifact, holder),
+                    grasp: g,
+                    workspace: ws(artifact, w),
+                    object_position: p.map(|p| p.0),
+                    object_rotation: p.map(|p| p.1),
+                    configurations: configurations
+                        .into_iter()
+                        .map(|(e, q)| (ee(artifact, e), q))
+                        .collect(),
+                    motion: step.motion.as_ref().map(|t| JsonTrajectory {
+                        arms: t.arms.iter().map(|&e| ee(artifact, e)).collect(),
+                        points: &t.points,
+                    }),
+                }
+            })
+            .collect(),
+    }
+}
