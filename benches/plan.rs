@@ -6,7 +6,7 @@
 use cellc_compiler::{compile, MemoryWorld};
 use cellc_runtime::plan::planner::Planner;
 use cellc_runtime::plan::{Goal, Placement, PlanOptions, Request};
-use cellc_schema::{Artifact, Node};
+use cellc_schema::{Artifact, Node, ObjectId};
 use criterion::{criterion_group, criterion_main, Criterion};
 
 fn artifact(path: &str, text: &str) -> Artifact {
@@ -20,18 +20,11 @@ fn artifact(path: &str, text: &str) -> Artifact {
     )
 }
 
-fn request(a: &Artifact, object: usize, from: Node, to: Node) -> Request {
-    let obj = &a.objects[object];
-    let place = |n: Node| Placement {
-        holder: a.end_effectors[n.end_effector as usize].name.clone(),
-        grasp: Some(obj.grasps[n.grasp as usize].name.clone()),
-        workspace: Some(a.workspaces[n.workspace as usize].name.clone()),
-        pose: None,
-    };
+fn request(object: usize, from: Node, to: Node) -> Request {
     Request {
-        object: obj.name.clone(),
-        start: place(from),
-        goal: Goal::Placement(place(to)),
+        object: ObjectId(object as u32),
+        start: Placement::at_state(from),
+        goal: Goal::Placement(Placement::at_state(to)),
         options: PlanOptions {
             motions: false,
             ..PlanOptions::default()
@@ -56,7 +49,7 @@ fn pairs(a: &Artifact, object: usize) -> Vec<(Node, Node)> {
         if s.workspace == g.workspace {
             continue;
         }
-        if planner.plan(&request(a, object, s, g)).is_ok() {
+        if planner.plan(&request(object, s, g)).is_ok() {
             out.push((s, g));
         }
         if out.len() == 5 {
@@ -74,7 +67,7 @@ fn case(c: &mut Criterion, name: &str, a: &Artifact, object: &str) {
         .expect("object exists");
     let requests: Vec<Request> = pairs(a, index)
         .into_iter()
-        .map(|(s, g)| request(a, index, s, g))
+        .map(|(s, g)| request(index, s, g))
         .collect();
     assert_eq!(requests.len(), 5, "{name}: five start/goal pairs");
     let planner = Planner::new(a, None);
@@ -110,21 +103,7 @@ fn geometric(path: &str) -> Option<(Artifact, cellc_runtime::scene::Scene, Vec<R
     let requests = a
         .requests
         .iter()
-        .map(|r| {
-            let obj = &a.objects[r.object as usize];
-            let place = |p: &cellc_schema::RequestPlacement| Placement {
-                holder: a.end_effectors[p.end_effector as usize].name.clone(),
-                grasp: p.grasp.map(|g| obj.grasps[g as usize].name.clone()),
-                workspace: p.workspace.map(|w| a.workspaces[w as usize].name.clone()),
-                pose: p.pose.as_ref().map(cellc_runtime::math::iso_from_schema),
-            };
-            Request {
-                object: obj.name.clone(),
-                start: place(&r.from),
-                goal: Goal::Placement(place(&r.to)),
-                options: PlanOptions::default(),
-            }
-        })
+        .map(|r| cellc_runtime::plan::named_request(r, PlanOptions::default()))
         .collect();
     Some((a, scene, requests))
 }

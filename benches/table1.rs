@@ -38,13 +38,15 @@ use std::path::Path;
 use std::time::Instant;
 
 use cellc::fs_world::{FsFiles, FsWorld};
-use cellc_runtime::execute::{execute, Simulator};
+use cellc_runtime::execute::{execute, ExecuteOptions, Simulator};
 use cellc_runtime::math::{iso_from_schema, Iso};
 use cellc_runtime::plan::planner::Planner;
 use cellc_runtime::plan::{Goal, Placement, PlanOptions, Request};
 use cellc_runtime::scene::Scene;
 use cellc_runtime::verify::{verify, VerifyOptions};
-use cellc_schema::{ArcKind, Artifact, Body, Node, RequestPlacement};
+use cellc_schema::{
+    ArcKind, Artifact, Body, EndEffectorId, GraspId, Node, ObjectId, RequestPlacement, WorkspaceId,
+};
 
 /// One column of the paper's Table I (times in seconds).
 struct Paper {
@@ -173,9 +175,9 @@ struct Pair {
 }
 
 impl Pair {
-    fn request(&self, object: &str, seed: u64, motions: bool) -> Request {
+    fn request(&self, object: u32, seed: u64, motions: bool) -> Request {
         Request {
-            object: object.to_string(),
+            object: ObjectId(object),
             start: self.start.clone(),
             goal: Goal::Placement(self.goal.clone()),
             options: PlanOptions {
@@ -218,12 +220,11 @@ fn geometric(path: &str) -> Result<Geometric, String> {
     })
 }
 
-fn placement_of(a: &Artifact, object: u32, p: &RequestPlacement) -> Placement {
-    let obj = &a.objects[object as usize];
+fn placement_of(p: &RequestPlacement) -> Placement {
     Placement {
-        holder: a.end_effectors[p.end_effector as usize].name.clone(),
-        grasp: p.grasp.map(|g| obj.grasps[g as usize].name.clone()),
-        workspace: p.workspace.map(|w| a.workspaces[w as usize].name.clone()),
+        holder: EndEffectorId(p.end_effector),
+        grasp: p.grasp.map(GraspId),
+        workspace: p.workspace.map(WorkspaceId),
         pose: p.pose.as_ref().map(iso_from_schema),
     }
 }
@@ -259,22 +260,16 @@ fn candidates(a: &Artifact, object: u32, geometric: bool) -> Vec<(Node, Option<I
     out
 }
 
-fn placement_at(a: &Artifact, object: u32, node: Node, pose: Option<Iso>) -> Placement {
-    let obj = &a.objects[object as usize];
+fn placement_at(node: Node, pose: Option<Iso>) -> Placement {
     match pose {
         // A pose on a surface: located by pose, as a Cartesian request is.
         Some(pose) => Placement {
-            holder: a.end_effectors[node.end_effector as usize].name.clone(),
+            holder: EndEffectorId(node.end_effector),
             grasp: None,
             workspace: None,
             pose: Some(pose),
         },
-        None => Placement {
-            holder: a.end_effectors[node.end_effector as usize].name.clone(),
-            grasp: Some(obj.grasps[node.grasp as usize].name.clone()),
-            workspace: Some(a.workspaces[node.workspace as usize].name.clone()),
-            pose: None,
-        },
+        None => Placement::at_state(node),
     }
 }
 
@@ -289,8 +284,8 @@ fn pairs(planner: &Planner<'_>, object: u32, geometric: bool) -> Vec<Pair> {
         .filter(|r| r.object == object)
         .map(|r| Pair {
             what: format!("request {}", r.name),
-            start: placement_of(a, object, &r.from),
-            goal: placement_of(a, object, &r.to),
+            start: placement_of(&r.from),
+            goal: placement_of(&r.to),
         })
         .collect();
     let cands = candidates(a, object, geometric);
@@ -318,8 +313,8 @@ fn pairs(planner: &Planner<'_>, object: u32, geometric: bool) -> Vec<Pair> {
                         a.end_effectors[g.0.end_effector as usize].name,
                         a.workspaces[g.0.workspace as usize].name
                     ),
-                    start: placement_at(a, object, s.0, s.1),
-                    goal: placement_at(a, object, g.0, g.1),
+                    start: placement_at(s.0, s.1),
+                    goal: placement_at(g.0, g.1),
                 });
             }
         }
@@ -329,9 +324,9 @@ fn pairs(planner: &Planner<'_>, object: u32, geometric: bool) -> Vec<Pair> {
         if out.len() == 5 {
             break;
         }
-        let checked = planner.plan(&pair.request(name, 0, false)).and_then(|_| {
+        let checked = planner.plan(&pair.request(object, 0, false)).and_then(|_| {
             if geometric {
-                planner.plan(&pair.request(name, 0, true)).map(|_| ())
+                planner.plan(&pair.request(object, 0, true)).map(|_| ())
             } else {
                 Ok(())
             }
@@ -349,12 +344,14 @@ fn pairs(planner: &Planner<'_>, object: u32, geometric: bool) -> Vec<Pair> {
 }
 
 /// A placement as `cellc plan --from/--to` reads it (metres and degrees).
-fn cli(p: &Placement) -> String {
-    let holder = match &p.grasp {
-        Some(g) => format!("{}.{g}", p.holder),
-        None => p.holder.clone(),
+fn cli(a: &Artifact, object: u32, p: &Placement) -> String {
+    let holder = &a.end_effectors[p.holder.index()].name;
+    let holder = match p.grasp {
+        Some(g) => format!("{holder}.{}", a.objects[object as usize].grasps[g.index()].name),
+        None => holder.clone(),
     };
-    match (&p.pose, &p.workspace) {
+    let workspace = p.workspace.map(|w| &a.workspaces[w.index()].name);
+    match (&p.pose, workspace) {
         (Some(pose), _) => {
             let t = pose.translation.vector;
             let (r, pi, y) = pose.rotation.euler_angles();
@@ -402,8 +399,8 @@ fn measure(
         eprintln!(
             "  {label}: {} (cellc plan --object {object} --from '{}' --to '{}')",
             p.what,
-            cli(&p.start),
-            cli(&p.goal)
+            cli(a, index, &p.start),
+            cli(a, index, &p.goal)
         );
     }
     let mut row = Row {
@@ -426,7 +423,7 @@ fn measure(
     for trial in 0..trials {
         let seed = trial as u64;
         for (pair, stats) in pairs.iter().zip(per_pair.iter_mut()) {
-            let request = pair.request(object, seed, false);
+            let request = pair.request(index, seed, false);
             let t = Instant::now();
             let plan = planner.plan(&request);
             let seconds = t.elapsed().as_secs_f64();
@@ -442,26 +439,17 @@ fn measure(
             let Some(total) = row.total.as_mut() else {
                 continue;
             };
-            let request = pair.request(object, seed, true);
+            let request = pair.request(index, seed, true);
             let t = Instant::now();
             let outcome = match planner.plan(&request) {
                 Ok(plan) => {
-                    let goal = *plan.states.last().expect("a path");
-                    let goal_pose = match &request.goal {
-                        Goal::Placement(p) => p.pose,
-                        Goal::Workspace { .. } => None,
-                    };
                     let mut simulator =
-                        Simulator::new(a, scene, plan.object, plan.states[0], request.start.pose);
-                    execute(
-                        planner,
-                        plan,
-                        &[goal],
-                        goal_pose,
-                        &mut simulator,
-                        &request.options,
-                        5,
-                    )
+                        Simulator::new(a, scene, plan.object, plan.states[0], plan.start_pose);
+                    let options = ExecuteOptions {
+                        max_replans: 5,
+                        plan: request.options.clone(),
+                    };
+                    execute(planner, plan, &mut simulator, &options)
                     .map(|_| ())
                     .map_err(|e| format!("execution: {e:?}"))
                 }

@@ -9,13 +9,12 @@
 use std::collections::BTreeMap;
 
 use cellc::fs_world::{FsFiles, FsWorld};
-use cellc_runtime::execute::{execute, Simulator};
-use cellc_runtime::math::iso_from_schema;
+use cellc_runtime::execute::{execute, ExecuteOptions, Simulator};
 use cellc_runtime::plan::planner::Planner;
-use cellc_runtime::plan::{Command, Goal, Placement, Plan, PlanOptions, Request};
+use cellc_runtime::plan::{Command, Goal, Plan, PlanOptions, Request};
 use cellc_runtime::scene::Scene;
 use cellc_runtime::verify::{verify, VerifyOptions};
-use cellc_schema::{Artifact, RequestPlacement};
+use cellc_schema::Artifact;
 
 const CELL: &str = "cells/assembly_line.cell";
 
@@ -40,18 +39,6 @@ fn verified(seed: u64) -> (Artifact, Scene) {
     (artifact, scene)
 }
 
-fn placement(artifact: &Artifact, object: u32, p: &RequestPlacement) -> Placement {
-    let obj = &artifact.objects[object as usize];
-    Placement {
-        holder: artifact.end_effectors[p.end_effector as usize].name.clone(),
-        grasp: p.grasp.map(|g| obj.grasps[g as usize].name.clone()),
-        workspace: p
-            .workspace
-            .map(|w| artifact.workspaces[w as usize].name.clone()),
-        pose: p.pose.as_ref().map(iso_from_schema),
-    }
-}
-
 /// The cell's request `line`, with joint motions, for `seed`.
 fn line_request(artifact: &Artifact, seed: u64) -> Request {
     let named = artifact
@@ -59,15 +46,13 @@ fn line_request(artifact: &Artifact, seed: u64) -> Request {
         .iter()
         .find(|r| r.name == "line")
         .expect("the cell declares the request `line`");
-    Request {
-        object: artifact.objects[named.object as usize].name.clone(),
-        start: placement(artifact, named.object, &named.from),
-        goal: Goal::Placement(placement(artifact, named.object, &named.to)),
-        options: PlanOptions {
+    cellc_runtime::plan::named_request(
+        named,
+        PlanOptions {
             seed,
             ..PlanOptions::default()
         },
-    }
+    )
 }
 
 /// The holders of a plan, in order, each once per run.
@@ -271,17 +256,13 @@ fn plan_and_run(seed: u64) {
         Some(&scene),
         plan.object,
         plan.states[0],
-        request.start.pose,
+        plan.start_pose,
     );
-    let run = execute(
-        &planner,
-        plan,
-        &[goal],
-        Some(goal_pose),
-        &mut simulator,
-        &request.options,
-        0,
-    )
+    let options = ExecuteOptions {
+        max_replans: 0,
+        plan: request.options.clone(),
+    };
+    let run = execute(&planner, plan, &mut simulator, &options)
     .unwrap_or_else(|e| panic!("seed {seed}: execution failed: {e:?}"));
     assert_eq!(run.plans.len(), 1, "seed {seed}: no replan");
     assert_eq!(run.final_state, goal);

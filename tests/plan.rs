@@ -6,9 +6,11 @@
 use std::collections::HashSet;
 
 use cellc::fs_world::FsWorld;
-use cellc_runtime::execute::{execute, ExecutionError, Executor, Simulator};
+use cellc_runtime::execute::{execute, ExecuteOptions, ExecutionError, Executor, Simulator};
 use cellc_runtime::plan::planner::Planner;
-use cellc_runtime::plan::{Command, Goal, Placement, Plan, PlanError, PlanOptions, Request};
+use cellc_runtime::plan::{
+    names, Command, Goal, LocateError, PlacementByName, Plan, PlanError, PlanOptions, Request,
+};
 use cellc_schema::{ArcKind, Artifact, Node};
 use proptest::prelude::*;
 
@@ -19,8 +21,8 @@ fn artifact(path: &str) -> Artifact {
     cellc_compiler::artifact::lower(cell, &compilation.graphs, &compilation.sources)
 }
 
-fn placement(holder: &str, grasp: Option<&str>, workspace: &str) -> Placement {
-    Placement {
+fn placement(holder: &str, grasp: Option<&str>, workspace: &str) -> PlacementByName {
+    PlacementByName {
         holder: holder.into(),
         grasp: grasp.map(Into::into),
         workspace: Some(workspace.into()),
@@ -28,11 +30,13 @@ fn placement(holder: &str, grasp: Option<&str>, workspace: &str) -> Placement {
     }
 }
 
-fn request(from: Placement, to: Placement) -> Request {
+/// A request for the cylinder, its names resolved as the front door does.
+fn request(a: &Artifact, from: PlacementByName, to: PlacementByName) -> Request {
+    let object = names::object(a, "cylinder").expect("the cell has a cylinder");
     Request {
-        object: "cylinder".into(),
-        start: from,
-        goal: Goal::Placement(to),
+        object,
+        start: names::placement(a, object, &from).expect("known names"),
+        goal: Goal::Placement(names::placement(a, object, &to).expect("known names")),
         options: PlanOptions {
             motions: false,
             ..PlanOptions::default()
@@ -57,6 +61,7 @@ fn fig8_is_a_direct_handoff() {
     let planner = Planner::new(&a, None);
     let plan = planner
         .plan(&request(
+            &a,
             placement("left_arm", Some("g5"), "w1"),
             placement("right_arm", Some("g7"), "w3"),
         ))
@@ -83,6 +88,7 @@ fn fig9_goes_through_the_table() {
     let planner = Planner::new(&a, None);
     let plan = planner
         .plan(&request(
+            &a,
             placement("left_arm", Some("g6"), "w1"),
             placement("right_arm", Some("g9"), "w3"),
         ))
@@ -160,6 +166,7 @@ proptest! {
         let ws = |n: &Node| a.workspaces[n.workspace as usize].name.clone();
         let planner = Planner::new(&a, None);
         let result = planner.plan(&request(
+            &a,
             placement(&name(&s), Some(&grasp(&s)), &ws(&s)),
             placement(&name(&g), Some(&grasp(&g)), &ws(&g)),
         ));
@@ -185,6 +192,7 @@ fn a_failed_motion_after_the_first_step_replans_from_the_new_state() {
     let a = artifact("cells/fig3.cell");
     let planner = Planner::new(&a, None);
     let req = request(
+        &a,
         placement("table", Some("g1"), "w1"),
         placement("table", Some("g2"), "w3"),
     );
@@ -193,7 +201,11 @@ fn a_failed_motion_after_the_first_step_replans_from_the_new_state() {
     let goal = *plan.states.last().unwrap();
     // The first step (left arm grasps in w1) succeeds; the motion of the third fails.
     let mut sim = Simulator::new(&a, None, plan.object, start, None).fail_motion_at(2);
-    let run = execute(&planner, plan, &[goal], None, &mut sim, &req.options, 3).expect("recovers");
+    let options = ExecuteOptions {
+        max_replans: 3,
+        plan: req.options.clone(),
+    };
+    let run = execute(&planner, plan, &mut sim, &options).expect("recovers");
     assert_eq!(run.plans.len(), 2, "one replan");
     assert_eq!(run.final_state, goal);
     // The replan starts where the object was when the motion failed: held by the arm.
@@ -210,13 +222,15 @@ fn a_failure_before_the_object_moved_is_final() {
     let a = artifact("cells/fig3.cell");
     let planner = Planner::new(&a, None);
     let req = request(
+        &a,
         placement("table", Some("g1"), "w1"),
         placement("table", Some("g2"), "w3"),
     );
     let plan = planner.plan(&req).expect("plans");
     let (start, goal) = (plan.states[0], *plan.states.last().unwrap());
+    let _ = goal;
     let mut sim = Simulator::new(&a, None, plan.object, start, None).fail_motion_at(0);
-    let result = execute(&planner, plan, &[goal], None, &mut sim, &req.options, 3);
+    let result = execute(&planner, plan, &mut sim, &ExecuteOptions::default());
     assert!(
         matches!(result, Err(ExecutionError::FailedAtStart { .. })),
         "{result:?}"
@@ -227,17 +241,22 @@ fn a_failure_before_the_object_moved_is_final() {
 #[test]
 fn unknown_names_are_located_errors() {
     let a = artifact("cells/fig3.cell");
-    let planner = Planner::new(&a, None);
-    let result = planner.plan(&request(
-        placement("tabel", Some("g1"), "w1"),
-        placement("table", None, "w3"),
-    ));
-    match result {
-        Err(PlanError::Locate(e)) => {
-            assert!(e.to_string().contains("no end-effector `tabel`"), "{e}")
-        }
+    let object = names::object(&a, "cylinder").expect("known");
+    let result = names::placement(&a, object, &placement("tabel", Some("g1"), "w1"));
+    let error = match result {
+        Err(e @ LocateError::UnknownHolder { .. }) => e,
         other => panic!("{other:?}"),
-    }
+    };
+    assert!(error.to_string().contains("no end-effector `tabel`"), "{error}");
+    // The CLI says what was meant.
+    let d = cellc::plan_report::plan_error(&a, &PlanError::Locate(error), None);
+    assert_eq!(d.help.as_deref(), Some("did you mean `table`?"));
+    // Grasps are scoped per object and per holder: `g7` is the right arm's.
+    let result = names::placement(&a, object, &placement("left_arm", Some("g7"), "w1"));
+    assert!(
+        matches!(result, Err(LocateError::UnknownGrasp { ref known, .. }) if known.len() == 3),
+        "{result:?}"
+    );
 }
 
 /// UI tests of planning: `tests/ui/plan/CODE_what.cell` is compiled and its first request
@@ -261,30 +280,21 @@ fn plan_ui() {
             &compilation.sources,
         );
         let diagnostic = match a.requests.first() {
-            None => cellc::commands::plan::no_request(&a, None),
+            None => cellc::plan_report::no_request(&a, None),
             Some(named) => {
-                let obj = &a.objects[named.object as usize];
-                let place = |p: &cellc_schema::RequestPlacement| Placement {
-                    holder: a.end_effectors[p.end_effector as usize].name.clone(),
-                    grasp: p.grasp.map(|g| obj.grasps[g as usize].name.clone()),
-                    workspace: p.workspace.map(|w| a.workspaces[w as usize].name.clone()),
-                    pose: None,
-                };
-                let req = Request {
-                    object: obj.name.clone(),
-                    start: place(&named.from),
-                    goal: Goal::Placement(place(&named.to)),
-                    options: PlanOptions {
+                let req = cellc_runtime::plan::named_request(
+                    named,
+                    PlanOptions {
                         time_budget: name
                             .contains("time_budget")
                             .then_some(std::time::Duration::ZERO),
                         ..PlanOptions::default()
                     },
-                };
+                );
                 let error = Planner::new(&a, None)
                     .plan(&req)
                     .expect_err("the request must fail");
-                cellc::commands::plan::plan_error(&a, &error, Some(named.span))
+                cellc::plan_report::plan_error(&a, &error, Some(named.span))
             }
         };
         assert_eq!(diagnostic.code.as_str(), code, "{name}");
@@ -305,6 +315,7 @@ fn request_weights_replace_the_cells() {
     let a = artifact("cells/fig3.cell");
     let planner = Planner::new(&a, None);
     let mut req = request(
+        &a,
         placement("table", Some("g1"), "w1"),
         placement("table", Some("g2"), "w3"),
     );

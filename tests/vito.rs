@@ -1,60 +1,42 @@
 //! The paper's Vito behaviours emerge from `cells/vito.cell` without any strategy being
 //! chosen: each named request plans to the expected sequence of holders, with joint
-//! motions, and executes in the kinematic simulator to its goal.
+//! motions, and executes in the kinematic simulator to its goal. The simulator derives the
+//! object's pose from its holders' kinematics, so a plan that does not really reach the
+//! object fails there, and every trajectory is re-checked four times finer than planned.
 
 use cellc::fs_world::{FsFiles, FsWorld};
-use cellc_runtime::execute::{execute, Simulator};
-use cellc_runtime::math::iso_from_schema;
-use cellc_runtime::plan::planner::Planner;
-use cellc_runtime::plan::{Goal, Placement, PlanOptions, Request};
-use cellc_runtime::scene::Scene;
-use cellc_runtime::verify::{verify, VerifyOptions};
-use cellc_schema::Artifact;
+use cellc_runtime::plan::PlanOptions;
+use cellc_runtime::{Cell, Command, ExecuteOptions, ExecutionError, Executor, StepError};
+use cellc_runtime::{Plan, VerifyOptions};
 
-fn vito() -> (Artifact, Scene) {
-    let compilation = cellc_compiler::compile(&FsWorld, "cells/vito.cell");
-    assert!(compilation.diagnostics.is_empty(), "vito.cell is not clean");
-    let mut artifact = cellc_compiler::artifact::lower(
+/// A shipped cell compiled, loaded through the front door and verified.
+fn cell(path: &str) -> Cell {
+    let compilation = cellc_compiler::compile(&FsWorld, path);
+    assert!(compilation.diagnostics.is_empty(), "{path} is not clean");
+    let artifact = cellc_compiler::artifact::lower(
         compilation.cell.as_ref().unwrap(),
         &compilation.graphs,
         &compilation.sources,
     );
-    let scene = Scene::load(&artifact, &FsFiles).expect("scene loads");
-    verify(&mut artifact, &scene, &VerifyOptions::default(), &|_, _| {});
-    (artifact, scene)
+    let mut cell = Cell::from_artifact(artifact, &FsFiles).expect("loads");
+    cell.verify(&VerifyOptions::default());
+    cell
 }
 
-fn request(a: &Artifact, name: &str, seed: u64) -> Request {
-    let r = a
-        .requests
-        .iter()
-        .find(|r| r.name == name)
-        .unwrap_or_else(|| panic!("request `{name}`"));
-    let obj = &a.objects[r.object as usize];
-    let place = |p: &cellc_schema::RequestPlacement| Placement {
-        holder: a.end_effectors[p.end_effector as usize].name.clone(),
-        grasp: p.grasp.map(|g| obj.grasps[g as usize].name.clone()),
-        workspace: p.workspace.map(|w| a.workspaces[w as usize].name.clone()),
-        pose: p.pose.as_ref().map(iso_from_schema),
+fn plan(cell: &Cell, name: &str, seed: u64) -> Plan {
+    let options = PlanOptions {
+        seed,
+        ..PlanOptions::default()
     };
-    Request {
-        object: obj.name.clone(),
-        start: place(&r.from),
-        goal: Goal::Placement(place(&r.to)),
-        options: PlanOptions {
-            seed,
-            ..PlanOptions::default()
-        },
-    }
+    let request = cell.named_request(name, options).expect("declared");
+    cell.plan(&request)
+        .unwrap_or_else(|e| panic!("{name}: {e:?}"))
 }
 
 /// Plans and simulates a named request; returns the holder sequence and the strategy.
-fn behaviour(a: &Artifact, scene: &Scene, name: &str, seed: u64) -> (Vec<String>, String) {
-    let planner = Planner::new(a, Some(scene));
-    let req = request(a, name, seed);
-    let plan = planner
-        .plan(&req)
-        .unwrap_or_else(|e| panic!("{name}: {e:?}"));
+fn behaviour(cell: &Cell, name: &str, seed: u64) -> (Vec<String>, String) {
+    let a = cell.artifact();
+    let plan = plan(cell, name, seed);
     let mut holders: Vec<String> = Vec::new();
     for s in &plan.states {
         let h = a.end_effectors[s.end_effector as usize].name.clone();
@@ -69,83 +51,149 @@ fn behaviour(a: &Artifact, scene: &Scene, name: &str, seed: u64) -> (Vec<String>
         "{name}: no motions"
     );
     let goal = *plan.states.last().unwrap();
-    let goal_pose = match &req.goal {
-        Goal::Placement(p) => p.pose,
-        Goal::Workspace { .. } => None,
+    let goal_pose = plan.goal.pose;
+    let mut sim = cell.simulator(&plan);
+    let options = ExecuteOptions {
+        max_replans: 0,
+        ..ExecuteOptions::default()
     };
-    let mut sim = Simulator::new(a, Some(scene), plan.object, plan.states[0], req.start.pose);
-    let run = execute(
-        &planner,
-        plan,
-        &[goal],
-        goal_pose,
-        &mut sim,
-        &req.options,
-        0,
-    )
-    .unwrap_or_else(|e| panic!("{name}: {e:?}"));
+    let run = cell
+        .execute(plan, &mut sim, &options)
+        .unwrap_or_else(|e| panic!("{name}: {e:?}"));
     assert_eq!(
         run.final_state, goal,
         "{name}: the simulation ends elsewhere"
     );
+    // The final pose is where the last hand left the object, not a copy of the goal.
     if let (Some(want), Some(got)) = (goal_pose, run.final_pose) {
-        assert!(
-            (want.inverse() * got).translation.vector.norm() < 1e-3,
-            "{name}: final pose off"
-        );
+        let off = (want.translation.vector - got.translation.vector).norm();
+        assert!(off < 1e-3, "{name}: final pose {off} m off");
     }
     (holders, strategy)
 }
 
 #[test]
 fn the_five_vito_behaviours_emerge() {
-    let (a, scene) = vito();
+    let cell = cell("cells/vito.cell");
     for seed in [0, 1] {
-        let (h, s) = behaviour(&a, &scene, "handoff_cylinder", seed);
+        let (h, s) = behaviour(&cell, "handoff_cylinder", seed);
         assert_eq!(h, ["table", "left", "right", "table"]);
         assert_eq!(s, "handoff");
-        let (h, s) = behaviour(&a, &scene, "single_arm_regrasp", seed);
+        let (h, s) = behaviour(&cell, "single_arm_regrasp", seed);
         assert_eq!(h, ["left", "table", "left", "table"]);
         assert_eq!(s, "single-arm regrasp via surface");
-        let (h, s) = behaviour(&a, &scene, "dual_arm_regrasp", seed);
+        let (h, s) = behaviour(&cell, "dual_arm_regrasp", seed);
         assert_eq!(h, ["left", "table", "right", "table"]);
         assert_eq!(s, "dual-arm regrasp via surface");
-        let (h, s) = behaviour(&a, &scene, "pick_and_place", seed);
+        let (h, s) = behaviour(&cell, "pick_and_place", seed);
         assert_eq!(h, ["table", "left", "table"]);
         assert_eq!(s, "pick-and-place");
         // Trashing: the bin is a non-movable end-effector like the table.
-        let (h, _) = behaviour(&a, &scene, "trash", seed);
+        let (h, _) = behaviour(&cell, "trash", seed);
         assert_eq!(h, ["table", "right", "bin"]);
     }
 }
 
 #[test]
 fn the_colander_is_handed_over_too() {
-    let (a, scene) = vito();
-    let (h, s) = behaviour(&a, &scene, "handoff_colander", 0);
+    let cell = cell("cells/vito.cell");
+    let (h, s) = behaviour(&cell, "handoff_colander", 0);
     assert_eq!(h, ["table", "left", "right", "table"]);
     assert_eq!(s, "handoff");
 }
 
+/// The simulator checks the plan instead of echoing it: a grasp whose arm configuration
+/// was tampered with (the hand ends 5 cm away from the object) fails at that step, and
+/// the failure is recovered from by replanning from where the object really is.
+#[test]
+fn a_wrong_grasp_command_is_caught_by_the_simulator() {
+    let cell = cell("cells/vito.cell");
+    let mut plan = plan(&cell, "handoff_cylinder", 0);
+    let scene = cell.scene().expect("geometric");
+    // The first grasp by an arm: the left hand picking the cylinder off the table.
+    let (index, arm) = plan
+        .steps
+        .iter()
+        .enumerate()
+        .find_map(|(i, s)| match &s.command {
+            Command::Grasp { holder, .. } if *holder == 1 || *holder == 2 => Some((i, *holder)),
+            _ => None,
+        })
+        .expect("a grasp by an arm");
+    let step = &mut plan.steps[index];
+    step.motion = None;
+    if let Command::Grasp { configurations, .. } = &mut step.command {
+        for (e, q) in configurations.iter_mut().filter(|(e, _)| *e == arm) {
+            let _ = e;
+            // Turning the shoulder by 0.1 rad swings the hand well off the object.
+            q[0] += 0.1;
+        }
+    }
+    let _ = scene;
+    let mut sim = cell.simulator(&plan);
+    let steps_before: Vec<_> = plan.steps[..index].to_vec();
+    for s in &steps_before {
+        sim.execute(s).expect("the untouched steps run");
+    }
+    match sim.execute(&plan.steps[index]) {
+        Err(StepError::GraspMissed { position_error, .. }) => {
+            assert!(position_error > 0.01, "{position_error}")
+        }
+        other => panic!("the tampered grasp was not caught: {other:?}"),
+    }
+    // Through `execute`, the object never left the table: the failure is final.
+    let mut sim = cell.simulator(&plan);
+    let result = cell.execute(plan, &mut sim, &ExecuteOptions::default());
+    assert!(
+        matches!(
+            result,
+            Err(ExecutionError::FailedAtStart {
+                error: StepError::GraspMissed { .. }
+            })
+        ),
+        "{result:?}"
+    );
+}
+
 /// Every motion of every plan, on both geometric cells and for any seed, passes an
-/// independent dense re-check: every point within joint limits and collision-free, with
-/// the object travelling as the plan says; and the simulated run ends at the goal.
+/// independent re-check four times finer than the planner's own: every point within joint
+/// limits and collision-free, with the object travelling as the plan says.
 mod trajectories {
     use super::*;
-    use cellc_runtime::motion::check_trajectory;
+    use cellc_runtime::motion::{check_trajectory, MotionOptions};
     use cellc_runtime::scene::SceneScratch;
-    use proptest::prelude::*;
+    use proptest::test_runner::{Config, TestCaseError, TestRunner};
 
-    fn cell(path: &str) -> (Artifact, Scene) {
-        let compilation = cellc_compiler::compile(&FsWorld, path);
-        let mut artifact = cellc_compiler::artifact::lower(
-            compilation.cell.as_ref().unwrap(),
-            &compilation.graphs,
-            &compilation.sources,
-        );
-        let scene = Scene::load(&artifact, &FsFiles).expect("scene loads");
-        verify(&mut artifact, &scene, &VerifyOptions::default(), &|_, _| {});
-        (artifact, scene)
+    /// The re-check's resolution: a quarter of the planner's.
+    fn fine() -> f64 {
+        MotionOptions::default().collision_resolution / 4.0
+    }
+
+    /// Re-checks every trajectory of a plan; returns how many it checked.
+    fn recheck(cell: &Cell, plan: &Plan, resolution: f64) -> Result<usize, String> {
+        let scene = cell.scene().expect("geometric");
+        let mut scratch = SceneScratch::default();
+        let mut checked = 0;
+        for step in &plan.steps {
+            let (Some(t), Some(context)) = (&step.motion, &step.motion_context) else {
+                continue;
+            };
+            check_trajectory(
+                scene,
+                t,
+                &context.stationary,
+                plan.object,
+                &context.placement,
+                resolution,
+                &mut scratch,
+            )
+            .map_err(|e| format!("{e:?}"))?;
+            if !t.points.windows(2).all(|w| w[1].0 > w[0].0) {
+                return Err("time goes back".into());
+            }
+            checked += 1;
+        }
+        Ok(checked)
     }
 
     /// Found by the property below: verified with seed 0, planned with seed 1002, arm 1
@@ -154,49 +202,75 @@ mod trajectories {
     /// has been carried away.
     #[test]
     fn a_giver_that_cannot_retreat_does_not_block_the_next_carry() {
-        let (a, scene) = cell("cells/assembly_line.cell");
-        let planner = Planner::new(&a, Some(&scene));
-        let plan = planner.plan(&request(&a, "line", 1002)).expect("plans");
-        let mut scratch = SceneScratch::default();
-        for step in &plan.steps {
-            if let (Some(t), Some(context)) = (&step.motion, &step.motion_context) {
-                check_trajectory(
-                    &scene,
-                    t,
-                    &context.stationary,
-                    plan.object,
-                    &context.placement,
-                    0.03,
-                    &mut scratch,
-                )
-                .expect("trajectory re-checks");
-            }
-        }
+        let cell = cell("cells/assembly_line.cell");
+        let plan = plan(&cell, "line", 1002);
+        let checked = recheck(&cell, &plan, fine()).expect("trajectories re-check");
+        assert!(checked > 10, "{checked} trajectories");
     }
 
-    proptest! {
-        #![proptest_config(ProptestConfig { cases: 6, ..ProptestConfig::default() })]
+    /// The re-check can fail: a trajectory bent through the table is refused.
+    #[test]
+    fn the_recheck_refuses_a_trajectory_through_the_table() {
+        let cell = cell("cells/vito.cell");
+        let mut plan = plan(&cell, "handoff_cylinder", 0);
+        assert!(recheck(&cell, &plan, fine()).is_ok());
+        let step = plan
+            .steps
+            .iter_mut()
+            .find(|s| s.motion.as_ref().is_some_and(|t| t.points.len() >= 3))
+            .expect("a motion with an inner point");
+        let t = step.motion.as_mut().expect("motion");
+        // Bend the elbow of the first arm far down at the middle point: into the table.
+        let middle = t.points.len() / 2;
+        t.points[middle].1[1] += 1.4;
+        t.points[middle].1[3] += 1.4;
+        assert!(recheck(&cell, &plan, fine()).is_err());
+    }
 
-        #[test]
-        fn every_trajectory_point_is_within_limits_and_free(seed in 0u64..10_000) {
-            for path in ["cells/vito.cell", "cells/assembly_line.cell"] {
-                let (a, scene) = cell(path);
-                let planner = Planner::new(&a, Some(&scene));
-                for named in &a.requests {
-                    let req = request(&a, &named.name, seed);
-                    // The property is about the plans that exist; a rare motion give-up that
-                    // leaves a request unplanned is not a violation of it.
-                    let Ok(plan) = planner.plan(&req) else { continue };
-                    let mut scratch = SceneScratch::default();
-                    for step in &plan.steps {
-                        let (Some(t), Some(context)) = (&step.motion, &step.motion_context) else { continue };
-                        let checked = check_trajectory(&scene, t, &context.stationary, plan.object, &context.placement, 0.03, &mut scratch);
-                        prop_assert!(checked.is_ok(), "{path} {} seed {seed}: {checked:?}", named.name);
-                        let times: Vec<f64> = t.points.iter().map(|p| p.0).collect();
-                        prop_assert!(times.windows(2).all(|w| w[1] > w[0]), "time goes back");
+    #[test]
+    fn every_trajectory_point_is_within_limits_and_free() {
+        let cells: Vec<(&str, Cell)> = ["cells/vito.cell", "cells/assembly_line.cell"]
+            .into_iter()
+            .map(|p| (p, cell(p)))
+            .collect();
+        let n_requests: usize = cells.iter().map(|(_, c)| c.artifact().requests.len()).sum();
+        let cases = 6;
+        let planned = std::cell::Cell::new(0usize);
+        let trajectories = std::cell::Cell::new(0usize);
+        let mut runner = TestRunner::new(Config {
+            cases,
+            ..Config::default()
+        });
+        runner
+            .run(&(0u64..10_000), |seed| {
+                for (path, cell) in &cells {
+                    for named in &cell.artifact().requests {
+                        let options = PlanOptions {
+                            seed,
+                            ..PlanOptions::default()
+                        };
+                        let request = cell.named_request(&named.name, options).expect("declared");
+                        // A rare motion give-up may leave a request unplanned; the count
+                        // below bounds how often.
+                        let Ok(plan) = cell.plan(&request) else {
+                            continue;
+                        };
+                        planned.set(planned.get() + 1);
+                        let n = recheck(cell, &plan, fine()).map_err(|e| {
+                            TestCaseError::fail(format!("{path} {} seed {seed}: {e}", named.name))
+                        })?;
+                        trajectories.set(trajectories.get() + n);
                     }
                 }
-            }
-        }
+                Ok(())
+            })
+            .unwrap_or_else(|e| panic!("{e}"));
+        let (planned, trajectories) = (planned.get(), trajectories.get());
+        let asked = cases as usize * n_requests;
+        assert!(
+            planned * 10 >= asked * 9,
+            "only {planned} of {asked} requests planned"
+        );
+        assert!(trajectories >= planned * 2, "{trajectories} trajectories");
     }
 }

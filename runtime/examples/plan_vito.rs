@@ -29,7 +29,7 @@ fn vito_artifact() -> Vec<u8> {
     artifact.to_bytes(cellc_schema::Encoding::Json)
 }
 
-fn main() -> Result<(), Box<dyn std::error::Error>> {
+pub fn main() -> Result<(), Box<dyn std::error::Error>> {
     let name = std::env::args().nth(1).unwrap_or("handoff_cylinder".into());
 
     let mut cell = Cell::load(&vito_artifact(), &Disk)?;

@@ -37,6 +37,19 @@ pub struct Placement {
     pub pose: Option<Iso>,
 }
 
+impl Placement {
+    /// Exactly the state `node` (holder, grasp and workspace), without a pose: how a
+    /// caller that already works on the graph names a placement.
+    pub fn at_state(node: Node) -> Placement {
+        Placement {
+            holder: EndEffectorId(node.end_effector),
+            grasp: Some(GraspId(node.grasp)),
+            workspace: Some(WorkspaceId(node.workspace)),
+            pose: None,
+        }
+    }
+}
+
 /// Where the object must end.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Goal {
