@@ -6,7 +6,7 @@ use cellc_lang::{Diagnostic, FileId, Span};
 use cellc_runtime::plan::Unreachable;
 use cellc_schema::Artifact;
 
-use crate::plan_report::codes;
+use crate::runtime_codes as codes;
 
 fn place(artifact: &Artifact, span: u32) -> Option<(FileId, Span)> {
     let s = artifact.spans.get(span as usize)?;

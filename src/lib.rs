@@ -11,6 +11,7 @@ pub mod fs_world;
 pub mod import;
 pub mod plan_report;
 pub mod render;
+pub mod runtime_codes;
 pub mod verify_report;
 
 use std::process::ExitCode;

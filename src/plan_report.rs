@@ -9,20 +9,7 @@ use cellc_runtime::plan::{Command, LocateError, Plan, PlanError};
 use cellc_schema::Artifact;
 use serde::Serialize;
 
-/// Codes of planning requests.
-pub mod codes {
-    use cellc_lang::Code;
-    /// The request names something the cell does not have, or a pose matches no state.
-    pub const LOCATE: Code = Code("R0003");
-    /// No plan reaches the goal.
-    pub const UNREACHABLE: Code = Code("R0004");
-    /// No request to plan: the cell declares none, or none of that name.
-    pub const NO_REQUEST: Code = Code("R0005");
-    /// The request's time budget ran out.
-    pub const TIME_BUDGET: Code = Code("R0006");
-    /// Every code of this phase.
-    pub const ALL: &[Code] = &[LOCATE, UNREACHABLE, NO_REQUEST, TIME_BUDGET];
-}
+pub use crate::runtime_codes as codes;
 
 /// No request to plan: none declared, or none of that name.
 pub fn no_request(artifact: &Artifact, wanted: Option<&str>) -> Diagnostic {

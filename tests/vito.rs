@@ -102,46 +102,50 @@ fn the_colander_is_handed_over_too() {
     assert_eq!(s, "handoff");
 }
 
-/// The simulator checks the plan instead of echoing it: a grasp whose arm configuration
-/// was tampered with (the hand ends 5 cm away from the object) fails at that step, and
-/// the failure is recovered from by replanning from where the object really is.
-#[test]
-fn a_wrong_grasp_command_is_caught_by_the_simulator() {
-    let cell = cell("cells/vito.cell");
-    let mut plan = plan(&cell, "handoff_cylinder", 0);
+/// Tampers with the first grasp by an arm at or after step `from`: the motion is
+/// dropped and the grasping arm's shoulder turned by 0.1 rad, which swings its hand
+/// several centimetres off the object. Returns the step's index.
+fn tamper_with_a_grasp(cell: &Cell, plan: &mut Plan, from: usize) -> usize {
     let scene = cell.scene().expect("geometric");
-    // The first grasp by an arm: the left hand picking the cylinder off the table.
-    let (index, arm) = plan
-        .steps
-        .iter()
-        .enumerate()
-        .find_map(|(i, s)| match &s.command {
-            Command::Grasp { holder, .. } if *holder == 1 || *holder == 2 => Some((i, *holder)),
-            _ => None,
-        })
+    let is_arm = |e: u32| {
+        matches!(
+            scene.holders[e as usize],
+            cellc_runtime::scene::Holder::Arm { .. }
+        )
+    };
+    let index = (from..plan.steps.len())
+        .find(|&i| matches!(&plan.steps[i].command, Command::Grasp { holder, .. } if is_arm(*holder)))
         .expect("a grasp by an arm");
     let step = &mut plan.steps[index];
     step.motion = None;
-    if let Command::Grasp { configurations, .. } = &mut step.command {
-        for (e, q) in configurations.iter_mut().filter(|(e, _)| *e == arm) {
-            let _ = e;
-            // Turning the shoulder by 0.1 rad swings the hand well off the object.
+    if let Command::Grasp {
+        holder,
+        configurations,
+        ..
+    } = &mut step.command
+    {
+        for (_, q) in configurations.iter_mut().filter(|(e, _)| e == holder) {
             q[0] += 0.1;
         }
     }
-    let _ = scene;
+    index
+}
+
+/// The simulator checks the plan instead of echoing it: a pick whose arm configuration
+/// was tampered with fails at that step, before the object moved, so the run fails.
+#[test]
+fn a_wrong_pick_is_caught_by_the_simulator() {
+    let cell = cell("cells/vito.cell");
+    let mut plan = plan(&cell, "handoff_cylinder", 0);
+    let index = tamper_with_a_grasp(&cell, &mut plan, 0);
+    assert_eq!(index, 0, "the plan starts with the pick");
     let mut sim = cell.simulator(&plan);
-    let steps_before: Vec<_> = plan.steps[..index].to_vec();
-    for s in &steps_before {
-        sim.execute(s).expect("the untouched steps run");
-    }
-    match sim.execute(&plan.steps[index]) {
+    match sim.execute(&plan.steps[0]) {
         Err(StepError::GraspMissed { position_error, .. }) => {
             assert!(position_error > 0.01, "{position_error}")
         }
         other => panic!("the tampered grasp was not caught: {other:?}"),
     }
-    // Through `execute`, the object never left the table: the failure is final.
     let mut sim = cell.simulator(&plan);
     let result = cell.execute(plan, &mut sim, &ExecuteOptions::default());
     assert!(
@@ -152,6 +156,27 @@ fn a_wrong_grasp_command_is_caught_by_the_simulator() {
             })
         ),
         "{result:?}"
+    );
+}
+
+/// A handoff whose receiving arm was tampered with fails at the handoff; the object is
+/// then in the giver's hand, so the run replans from there and still reaches the goal.
+#[test]
+fn a_wrong_handoff_is_caught_and_recovered_from() {
+    let cell = cell("cells/vito.cell");
+    let mut plan = plan(&cell, "handoff_cylinder", 0);
+    let index = tamper_with_a_grasp(&cell, &mut plan, 1);
+    let goal = *plan.states.last().expect("states");
+    let mut sim = cell.simulator(&plan);
+    let run = cell
+        .execute(plan, &mut sim, &ExecuteOptions::default())
+        .expect("recovers");
+    assert_eq!(run.plans.len(), 2, "one replan");
+    assert_eq!(run.final_state, goal);
+    assert!(
+        sim.log[index].contains("failed") && sim.log[index].contains("grasped"),
+        "{:?}",
+        sim.log
     );
 }
 
@@ -208,23 +233,32 @@ mod trajectories {
         assert!(checked > 10, "{checked} trajectories");
     }
 
-    /// The re-check can fail: a trajectory bent through the table is refused.
+    /// The re-check can fail: bending the middle of a carry (each joint in turn, by up to
+    /// 1.5 rad, within limits) makes it collide somewhere, and the re-check says so.
     #[test]
-    fn the_recheck_refuses_a_trajectory_through_the_table() {
+    fn the_recheck_refuses_a_bent_trajectory() {
         let cell = cell("cells/vito.cell");
-        let mut plan = plan(&cell, "handoff_cylinder", 0);
+        let plan = plan(&cell, "handoff_cylinder", 0);
         assert!(recheck(&cell, &plan, fine()).is_ok());
-        let step = plan
+        let index = plan
             .steps
-            .iter_mut()
-            .find(|s| s.motion.as_ref().is_some_and(|t| t.points.len() >= 3))
+            .iter()
+            .position(|s| s.motion.as_ref().is_some_and(|t| t.points.len() >= 3))
             .expect("a motion with an inner point");
-        let t = step.motion.as_mut().expect("motion");
-        // Bend the elbow of the first arm far down at the middle point: into the table.
-        let middle = t.points.len() / 2;
-        t.points[middle].1[1] += 1.4;
-        t.points[middle].1[3] += 1.4;
-        assert!(recheck(&cell, &plan, fine()).is_err());
+        let mut collisions = 0;
+        for joint in 0..7 {
+            for delta in [-1.5, -1.0, -0.5, 0.5, 1.0, 1.5] {
+                let mut bent = plan.clone();
+                let t = bent.steps[index].motion.as_mut().expect("motion");
+                let middle = t.points.len() / 2;
+                t.points[middle].1[joint] += delta;
+                match recheck(&cell, &bent, fine()) {
+                    Err(e) if e.starts_with("Collision") => collisions += 1,
+                    _ => {}
+                }
+            }
+        }
+        assert!(collisions > 0, "no bend was refused as a collision");
     }
 
     #[test]
