@@ -16,10 +16,12 @@ pub mod codes {
     pub const NOT_AN_ARTIFACT: Code = Code("E0501");
     /// The artifact is of another format version.
     pub const WRONG_VERSION: Code = Code("E0502");
-    /// The artifact is truncated or corrupted.
+    /// The artifact is truncated, corrupted or damaged (its checksum does not match).
     pub const CORRUPT: Code = Code("E0503");
+    /// The artifact decodes and matches its checksum but is inconsistent.
+    pub const INVALID: Code = Code("E0504");
     /// Every code of this phase.
-    pub const ALL: &[Code] = &[NOT_AN_ARTIFACT, WRONG_VERSION, CORRUPT];
+    pub const ALL: &[Code] = &[NOT_AN_ARTIFACT, WRONG_VERSION, CORRUPT, INVALID];
 }
 
 /// The coded diagnostic of an artifact that cannot be read.
@@ -33,9 +35,13 @@ pub fn diagnostic(path: &str, error: &ReadError) -> Diagnostic {
             codes::WRONG_VERSION,
             "rebuild the artifact from its cell with this cellc: `cellc build CELL -o OUT`".into(),
         ),
-        ReadError::Corrupt { .. } => (
+        ReadError::Corrupt { .. } | ReadError::Damaged => (
             codes::CORRUPT,
             "rebuild the artifact with `cellc build`; the file was cut short or changed after it was written".into(),
+        ),
+        ReadError::Invalid(_) => (
+            codes::INVALID,
+            "rebuild the artifact with `cellc build`; a file that matches its checksum but not the format was not written by cellc as it is".into(),
         ),
         _ => (codes::CORRUPT, "rebuild the artifact with `cellc build`".into()),
     };

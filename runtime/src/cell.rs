@@ -57,8 +57,12 @@ impl Cell {
         Cell::from_artifact(artifact, files)
     }
 
-    /// Makes an artifact already in memory ready to plan (e.g. one just compiled).
+    /// Makes an artifact already in memory ready to plan (e.g. one just compiled). It is
+    /// validated as one read from bytes is, so no caller can hand the planner an index it
+    /// did not check.
     pub fn from_artifact(artifact: Artifact, files: &dyn Files) -> Result<Cell, LoadError> {
+        cellc_schema::validate::validate(&artifact)
+            .map_err(|e| LoadError::Artifact(ReadError::Invalid(e)))?;
         let has_arms = artifact
             .end_effectors
             .iter()

@@ -13,12 +13,14 @@
 use serde::{Deserialize, Serialize};
 
 pub mod ids;
+pub mod validate;
 pub use ids::{EndEffectorId, GraspId, NodeId, ObjectId, RobotId, SpanId, WorkspaceId};
 
 /// The value of [`Artifact::format`], identifying the file type.
 pub const FORMAT: &str = "cellc-artifact";
-/// Bumped on every incompatible change of these types.
-pub const FORMAT_VERSION: u32 = 1;
+/// Bumped on every incompatible change of these types or of the encodings. Version 2
+/// added the content checksum.
+pub const FORMAT_VERSION: u32 = 2;
 /// First bytes of the binary encoding.
 pub const MAGIC: &[u8; 8] = b"CELLCART";
 
@@ -542,6 +544,11 @@ pub enum ReadError {
         /// What the decoder said.
         detail: String,
     },
+    /// The content is not what was written: its checksum does not match.
+    Damaged,
+    /// The content decodes and its checksum matches, but it is inconsistent (an index out
+    /// of range, a number outside its domain): not written by cellc as it is.
+    Invalid(validate::Invalid),
 }
 
 impl std::fmt::Display for ReadError {
@@ -557,54 +564,104 @@ impl std::fmt::Display for ReadError {
             ReadError::Corrupt { detail } => {
                 write!(f, "the artifact is truncated or corrupted: {detail}")
             }
+            ReadError::Damaged => f.write_str(
+                "the artifact is damaged: its content does not match its checksum",
+            ),
+            ReadError::Invalid(invalid) => write!(f, "the artifact is inconsistent: {invalid}"),
         }
     }
 }
 
 impl std::error::Error for ReadError {}
 
+/// Prefix of a JSON artifact: the checksum comes first so that it can be checked on the
+/// exact bytes that follow, whatever they contain.
+const JSON_CHECKSUM: &[u8] = b"{\"checksum\":\"";
+/// Hex digits of a SHA-256.
+const HEX_LEN: usize = 64;
+
+/// Lowercase hex SHA-256 of `bytes`: the one content hash of the project (source files,
+/// URDFs, artifact checksums).
+pub fn sha256_hex(bytes: &[u8]) -> String {
+    use sha2::Digest;
+    let digest = sha2::Sha256::digest(bytes);
+    let mut out = String::with_capacity(HEX_LEN);
+    for b in digest {
+        out.push_str(&format!("{b:02x}"));
+    }
+    out
+}
+
 impl Artifact {
-    /// Encodes the artifact.
+    /// Encodes the artifact, with a SHA-256 of the content so damage is detected.
+    ///
+    /// JSON: `{"checksum":"HEX",` followed by the artifact's fields; the checksum is over
+    /// the artifact's own JSON (`{` and the rest). Binary: `MAGIC`, the version, the 32
+    /// bytes of the checksum, then postcard.
     pub fn to_bytes(&self, encoding: Encoding) -> Vec<u8> {
         match encoding {
             Encoding::Json => {
                 // Serialising plain data with string keys cannot fail.
-                let mut bytes = serde_json::to_vec(self).unwrap_or_default();
-                bytes.push(b'\n');
+                let mut content = serde_json::to_vec(self).unwrap_or_default();
+                content.push(b'\n');
+                let mut bytes = JSON_CHECKSUM.to_vec();
+                bytes.extend_from_slice(sha256_hex(&content).as_bytes());
+                bytes.extend_from_slice(b"\",");
+                bytes.extend_from_slice(content.get(1..).unwrap_or_default());
                 bytes
             }
             Encoding::Binary => {
+                let content = postcard::to_stdvec(self).unwrap_or_default();
                 let mut bytes = MAGIC.to_vec();
                 bytes.extend_from_slice(&FORMAT_VERSION.to_le_bytes());
-                bytes.extend(postcard::to_stdvec(self).unwrap_or_default());
+                {
+                    use sha2::Digest;
+                    bytes.extend_from_slice(&sha2::Sha256::digest(&content));
+                }
+                bytes.extend(content);
                 bytes
             }
         }
     }
 
-    /// Decodes an artifact in either encoding, checking its format and version first so
-    /// that an old file is reported as old, not as corrupt.
+    /// Decodes an artifact in either encoding and validates it. The format and version are
+    /// read first, so that an old file is reported as old, not as damaged; then the
+    /// checksum, so that damage is reported as damage; then the content is decoded and
+    /// [`validate::validate`]d, so that nothing downstream indexes unchecked data.
     pub fn from_bytes(bytes: &[u8]) -> Result<(Artifact, Encoding), ReadError> {
+        let (artifact, encoding) = Artifact::decode(bytes)?;
+        validate::validate(&artifact).map_err(ReadError::Invalid)?;
+        Ok((artifact, encoding))
+    }
+
+    fn decode(bytes: &[u8]) -> Result<(Artifact, Encoding), ReadError> {
+        let corrupt = |detail: &str| ReadError::Corrupt {
+            detail: detail.to_string(),
+        };
         if let Some(rest) = bytes.strip_prefix(MAGIC.as_slice()) {
             let version = rest
                 .get(..4)
                 .and_then(|v| v.try_into().ok())
                 .map(u32::from_le_bytes)
-                .ok_or_else(|| ReadError::Corrupt {
-                    detail: "the file ends inside its header".into(),
-                })?;
+                .ok_or_else(|| corrupt("the file ends inside its header"))?;
             if version != FORMAT_VERSION {
                 return Err(ReadError::WrongVersion {
                     found: version,
                     expected: FORMAT_VERSION,
                 });
             }
-            let (artifact, left) =
-                postcard::take_from_bytes::<Artifact>(&rest[4..]).map_err(|e| {
-                    ReadError::Corrupt {
-                        detail: e.to_string(),
-                    }
-                })?;
+            let checksum = rest
+                .get(4..36)
+                .ok_or_else(|| corrupt("the file ends inside its header"))?;
+            let content = &rest[36..];
+            {
+                use sha2::Digest;
+                if sha2::Sha256::digest(content).as_slice() != checksum {
+                    return Err(ReadError::Damaged);
+                }
+            }
+            let (artifact, left) = postcard::take_from_bytes::<Artifact>(content)
+                .map_err(|e| corrupt(&e.to_string()))?;
             if !left.is_empty() {
                 return Err(ReadError::Corrupt {
                     detail: format!("{} bytes after the end of the artifact", left.len()),
@@ -617,13 +674,28 @@ impl Artifact {
             format: String,
             format_version: u32,
         }
-        let header: Header = match serde_json::from_slice(bytes) {
-            Ok(h) => h,
-            Err(e) if e.is_eof() && bytes.starts_with(b"{\"format\":\"cellc-artifact\"") => {
-                return Err(ReadError::Corrupt {
-                    detail: e.to_string(),
-                })
+        // With a checksum, the content is checked before anything is parsed, so a damaged
+        // file is reported as damaged whatever the damage did to its syntax.
+        let content = match bytes.strip_prefix(JSON_CHECKSUM) {
+            Some(after) => {
+                let (hex, rest) = (after.get(..HEX_LEN), after.get(HEX_LEN..));
+                let (Some(hex), Some(rest)) = (hex, rest.and_then(|r| r.strip_prefix(b"\",")))
+                else {
+                    return Err(corrupt("the checksum is malformed or cut short"));
+                };
+                let mut content = Vec::with_capacity(rest.len() + 1);
+                content.push(b'{');
+                content.extend_from_slice(rest);
+                if sha256_hex(&content).as_bytes() != hex {
+                    return Err(ReadError::Damaged);
+                }
+                Some(content)
             }
+            None => None,
+        };
+        let header: Header = match serde_json::from_slice(content.as_deref().unwrap_or(bytes)) {
+            Ok(h) => h,
+            Err(e) if content.is_some() => return Err(corrupt(&e.to_string())),
             Err(_) => return Err(ReadError::NotAnArtifact),
         };
         if header.format != FORMAT {
@@ -635,10 +707,9 @@ impl Artifact {
                 expected: FORMAT_VERSION,
             });
         }
-        serde_json::from_slice(bytes)
+        let content = content.ok_or_else(|| corrupt("the checksum is missing"))?;
+        serde_json::from_slice(&content)
             .map(|a| (a, Encoding::Json))
-            .map_err(|e| ReadError::Corrupt {
-                detail: e.to_string(),
-            })
+            .map_err(|e| corrupt(&e.to_string()))
     }
 }

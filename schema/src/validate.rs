@@ -1,0 +1,446 @@
+//! Validation of an artifact read from outside: every index in range, every number
+//! finite and in its domain, every reference resolvable.
+//!
+//! An artifact is untrusted input (it may be stale, damaged past its checksum, or written
+//! by hand to attack a planner). [`Artifact::from_bytes`](crate::Artifact::from_bytes)
+//! runs [`validate`] after decoding, so that nothing downstream ever indexes with a number
+//! it did not check. The rules are those the compiler's lowering guarantees; a finding
+//! names the offending field by its path (`objects[0].graph.arcs[17].to`) and says what is
+//! wrong with it, never echoing the field's content beyond numbers.
+
+use crate::{
+    Aabb, Arc, Artifact, Body, Graph, Holder, Infeasibility, Pose, RequestPlacement, Shape,
+};
+
+/// Why an artifact is inconsistent.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Invalid {
+    /// Where: a path of field names and indices.
+    pub path: String,
+    /// What is wrong, e.g. "index 12 out of range (9 nodes)".
+    pub problem: String,
+}
+
+impl std::fmt::Display for Invalid {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "`{}`: {}", self.path, self.problem)
+    }
+}
+
+/// Largest magnitude accepted for a coordinate or size, metres: a cell is a room, not a
+/// planet, and larger numbers only serve to overflow later arithmetic.
+pub const MAX_COORDINATE: f64 = 1.0e6;
+
+/// Checks everything the runtime relies on; the first finding is returned.
+pub fn validate(a: &Artifact) -> Result<(), Invalid> {
+    let mut v = Validator { a, path: Vec::new() };
+    v.artifact()
+}
+
+struct Validator<'a> {
+    a: &'a Artifact,
+    path: Vec<String>,
+}
+
+type Check = Result<(), Invalid>;
+
+impl Validator<'_> {
+    fn fail(&self, problem: impl Into<String>) -> Invalid {
+        Invalid {
+            path: self.path.join("."),
+            problem: problem.into(),
+        }
+    }
+
+    /// Runs `f` with `name` appended to the path.
+    fn at<T>(&mut self, name: impl Into<String>, f: impl FnOnce(&mut Self) -> T) -> T {
+        self.path.push(name.into());
+        let out = f(self);
+        self.path.pop();
+        out
+    }
+
+    fn index(&mut self, field: &str, value: u32, len: usize, what: &str) -> Check {
+        if (value as usize) < len {
+            Ok(())
+        } else {
+            self.at(field, |v| {
+                Err(v.fail(format!("index {value} out of range ({len} {what})")))
+            })
+        }
+    }
+
+    fn span(&mut self, field: &str, value: u32) -> Check {
+        let n = self.a.spans.len();
+        self.index(field, value, n, "spans")
+    }
+
+    fn number(&mut self, field: &str, x: f64) -> Check {
+        if x.is_finite() && x.abs() <= MAX_COORDINATE {
+            Ok(())
+        } else {
+            self.at(field, |v| {
+                Err(v.fail(format!("{x} is not a finite number of sensible size")))
+            })
+        }
+    }
+
+    fn positive(&mut self, field: &str, x: f64) -> Check {
+        self.number(field, x)?;
+        if x > 0.0 {
+            Ok(())
+        } else {
+            self.at(field, |v| Err(v.fail(format!("{x} must be positive"))))
+        }
+    }
+
+    /// An arc weight: finite and not negative, as the compiler requires (E0205), so the
+    /// shortest-path search is sound.
+    fn weight(&mut self, field: &str, x: f64) -> Check {
+        self.number(field, x)?;
+        if x >= 0.0 {
+            Ok(())
+        } else {
+            self.at(field, |v| Err(v.fail(format!("{x} is negative"))))
+        }
+    }
+
+    fn pose(&mut self, field: &str, p: &Pose) -> Check {
+        self.at(field, |v| {
+            for (i, x) in p.translation.iter().enumerate() {
+                v.number(&format!("translation[{i}]"), *x)?;
+            }
+            if !p.rotation.iter().all(|x| x.is_finite()) {
+                return Err(v.fail("the rotation is not finite"));
+            }
+            let norm = p.rotation.iter().map(|x| x * x).sum::<f64>().sqrt();
+            if (norm - 1.0).abs() > 1e-6 {
+                return Err(v.fail(format!("the rotation quaternion has norm {norm}, not 1")));
+            }
+            Ok(())
+        })
+    }
+
+    fn aabb(&mut self, field: &str, b: &Aabb) -> Check {
+        self.at(field, |v| {
+            for i in 0..3 {
+                v.number(&format!("min[{i}]"), b.min[i])?;
+                v.number(&format!("max[{i}]"), b.max[i])?;
+                if b.min[i] > b.max[i] {
+                    return Err(v.fail(format!("min[{i}] is above max[{i}]")));
+                }
+            }
+            Ok(())
+        })
+    }
+
+    fn shape(&mut self, field: &str, s: &Shape) -> Check {
+        self.at(field, |v| match s {
+            Shape::Box { size } => {
+                for (i, x) in size.iter().enumerate() {
+                    v.positive(&format!("size[{i}]"), *x)?;
+                }
+                Ok(())
+            }
+            Shape::Cylinder { radius, height } => {
+                v.positive("radius", *radius)?;
+                v.positive("height", *height)
+            }
+            Shape::Sphere { radius } => v.positive("radius", *radius),
+            Shape::Mesh { path } if path.is_empty() => Err(v.fail("the mesh path is empty")),
+            Shape::Mesh { .. } => Ok(()),
+        })
+    }
+
+    fn artifact(&mut self) -> Check {
+        let a = self.a;
+        for (i, s) in a.spans.iter().enumerate() {
+            self.at(format!("spans[{i}]"), |v| {
+                v.index("file", s.file, a.sources.len(), "sources")?;
+                if s.start > s.end {
+                    return Err(v.fail("start is after end"));
+                }
+                Ok(())
+            })?;
+        }
+        self.at("weights", |v| {
+            v.weight("move_weight", a.weights.move_weight)?;
+            v.weight("transition_weight", a.weights.transition_weight)
+        })?;
+        for (i, r) in a.robots.iter().enumerate() {
+            self.at(format!("robots[{i}]"), |v| {
+                v.span("span", r.span)?;
+                for (j, joint) in r.joints.iter().enumerate() {
+                    v.at(format!("joints[{j}]"), |v| {
+                        if let Some(lower) = joint.lower {
+                            v.number("lower", lower)?;
+                        }
+                        if let Some(upper) = joint.upper {
+                            v.number("upper", upper)?;
+                        }
+                        match (joint.lower, joint.upper) {
+                            (Some(l), Some(u)) if l > u => Err(v.fail("lower limit above upper")),
+                            (Some(_), None) | (None, Some(_)) => {
+                                Err(v.fail("only one limit is given"))
+                            }
+                            _ => Ok(()),
+                        }
+                    })?;
+                }
+                Ok(())
+            })?;
+        }
+        for (i, k) in a.holder_kinds.iter().enumerate() {
+            self.at(format!("holder_kinds[{i}]"), |v| {
+                for (j, solid) in k.solids.iter().enumerate() {
+                    v.at(format!("solids[{j}]"), |v| {
+                        v.shape("shape", &solid.shape)?;
+                        v.pose("pose", &solid.pose)
+                    })?;
+                }
+                Ok(())
+            })?;
+        }
+        for (i, w) in a.workspaces.iter().enumerate() {
+            self.at(format!("workspaces[{i}]"), |v| {
+                v.span("span", w.span)?;
+                for (j, b) in w.boxes.iter().enumerate() {
+                    v.aabb(&format!("boxes[{j}]"), b)?;
+                }
+                Ok(())
+            })?;
+        }
+        for i in 0..a.end_effectors.len() {
+            self.at(format!("end_effectors[{i}]"), |v| v.end_effector(i))?;
+        }
+        for i in 0..a.objects.len() {
+            self.at(format!("objects[{i}]"), |v| v.object(i))?;
+        }
+        if let Some(adjacency) = &a.adjacency {
+            for (i, (x, y)) in adjacency.pairs.iter().enumerate() {
+                self.at(format!("adjacency.pairs[{i}]"), |v| {
+                    v.index("0", *x, a.workspaces.len(), "workspaces")?;
+                    v.index("1", *y, a.workspaces.len(), "workspaces")
+                })?;
+            }
+        }
+        for (i, (_, b)) in a.obstacles.iter().enumerate() {
+            self.aabb(&format!("obstacles[{i}]"), b)?;
+        }
+        for (i, r) in a.requests.iter().enumerate() {
+            self.at(format!("requests[{i}]"), |v| {
+                v.span("span", r.span)?;
+                v.index("object", r.object, a.objects.len(), "objects")?;
+                let n_grasps = a.objects[r.object as usize].grasps.len();
+                v.at("from", |v| v.placement(&r.from, n_grasps))?;
+                v.at("to", |v| v.placement(&r.to, n_grasps))
+            })?;
+        }
+        Ok(())
+    }
+
+    fn placement(&mut self, p: &RequestPlacement, n_grasps: usize) -> Check {
+        let a = self.a;
+        self.index("end_effector", p.end_effector, a.end_effectors.len(), "end-effectors")?;
+        if let Some(g) = p.grasp {
+            self.index("grasp", g, n_grasps, "grasps")?;
+        }
+        if let Some(w) = p.workspace {
+            self.index("workspace", w, a.workspaces.len(), "workspaces")?;
+        }
+        if let Some(pose) = &p.pose {
+            self.pose("pose", pose)?;
+        }
+        Ok(())
+    }
+
+    fn end_effector(&mut self, i: usize) -> Check {
+        let a = self.a;
+        let e = &a.end_effectors[i];
+        self.span("span", e.span)?;
+        if let Some(k) = e.kind {
+            self.index("kind", k, a.holder_kinds.len(), "holder kinds")?;
+        }
+        for (j, w) in e.reaches.iter().enumerate() {
+            self.index(&format!("reaches[{j}]"), *w, a.workspaces.len(), "workspaces")?;
+        }
+        for (j, b) in e.reach_boxes.iter().enumerate() {
+            self.aabb(&format!("reach_boxes[{j}]"), b)?;
+        }
+        self.at("body", |v| match &e.body {
+            Body::Abstract => Ok(()),
+            Body::Arm { robot, base, home } => {
+                v.index("robot", *robot, a.robots.len(), "robots")?;
+                v.pose("base", base)?;
+                v.joints("home", *robot, home)
+            }
+            Body::Surface { slab, reach_height } => {
+                v.aabb("slab", slab)?;
+                v.number("reach_height", *reach_height)?;
+                if *reach_height < 0.0 {
+                    return Err(v.fail("reach_height is negative"));
+                }
+                Ok(())
+            }
+        })
+    }
+
+    /// Joint values of robot `robot`: one per joint, finite, within its limits.
+    fn joints(&mut self, field: &str, robot: u32, q: &[f64]) -> Check {
+        let joints = &self.a.robots[robot as usize].joints;
+        self.at(field, |v| {
+            if q.len() != joints.len() {
+                return Err(v.fail(format!(
+                    "{} values for a chain of {} joints",
+                    q.len(),
+                    joints.len()
+                )));
+            }
+            for (j, (x, joint)) in q.iter().zip(joints).enumerate() {
+                v.number(&format!("[{j}]"), *x)?;
+                let slack = 1e-9;
+                if joint.lower.is_some_and(|l| *x < l - slack)
+                    || joint.upper.is_some_and(|u| *x > u + slack)
+                {
+                    return v.at(format!("[{j}]"), |v| Err(v.fail("outside the joint's limits")));
+                }
+            }
+            Ok(())
+        })
+    }
+
+    fn object(&mut self, i: usize) -> Check {
+        let a = self.a;
+        let o = &a.objects[i];
+        self.span("span", o.span)?;
+        if let Some(shape) = &o.shape {
+            self.shape("shape", shape)?;
+        }
+        for (j, s) in o.symmetries.iter().enumerate() {
+            self.at(format!("symmetries[{j}]"), |v| {
+                for (k, x) in s.axis.iter().enumerate() {
+                    v.number(&format!("axis[{k}]"), *x)?;
+                }
+                if s.axis.iter().map(|x| x * x).sum::<f64>() < 1e-12 {
+                    return Err(v.fail("the axis is zero"));
+                }
+                if s.order == Some(0) {
+                    return Err(v.fail("order 0"));
+                }
+                Ok(())
+            })?;
+        }
+        for (j, g) in o.grasps.iter().enumerate() {
+            self.at(format!("grasps[{j}]"), |v| {
+                v.span("span", g.span)?;
+                match g.holder {
+                    Holder::EndEffector(e) => {
+                        v.index("holder", e, a.end_effectors.len(), "end-effectors")
+                    }
+                    Holder::Kind(k) => v.index("holder", k, a.holder_kinds.len(), "holder kinds"),
+                }?;
+                match &g.pose {
+                    Some(p) => v.pose("pose", p),
+                    None => Ok(()),
+                }
+            })?;
+        }
+        for (j, t) in o.transitions.iter().enumerate() {
+            self.at(format!("transitions[{j}]"), |v| {
+                v.span("span", t.span)?;
+                v.index("from", t.from, o.grasps.len(), "grasps")?;
+                v.index("to", t.to, o.grasps.len(), "grasps")
+            })?;
+        }
+        self.at("graph", |v| v.graph(&o.graph, o.grasps.len()))
+    }
+
+    fn graph(&mut self, g: &Graph, n_grasps: usize) -> Check {
+        let a = self.a;
+        for (i, n) in g.nodes.iter().enumerate() {
+            self.at(format!("nodes[{i}]"), |v| {
+                v.index("end_effector", n.end_effector, a.end_effectors.len(), "end-effectors")?;
+                v.index("grasp", n.grasp, n_grasps, "grasps")?;
+                v.index("workspace", n.workspace, a.workspaces.len(), "workspaces")
+            })?;
+        }
+        for (i, arc) in g.arcs.iter().enumerate() {
+            self.at(format!("arcs[{i}]"), |v| v.arc(arc, g))?;
+        }
+        for (i, p) in g.pruned.iter().enumerate() {
+            self.at(format!("pruned[{i}]"), |v| {
+                v.at("arc", |v| v.arc(&p.arc, g))?;
+                v.at("reason", |v| v.reason(&p.reason))
+            })?;
+        }
+        for (i, w) in g.witnesses.iter().enumerate() {
+            self.at(format!("witnesses[{i}]"), |v| {
+                v.pose("object", &w.object)?;
+                for (j, c) in w.configurations.iter().enumerate() {
+                    v.at(format!("configurations[{j}]"), |v| {
+                        v.index("end_effector", c.end_effector, a.end_effectors.len(), "end-effectors")?;
+                        match &a.end_effectors[c.end_effector as usize].body {
+                            Body::Arm { robot, .. } => v.joints("joints", *robot, &c.joints),
+                            _ => Err(v.fail("a configuration of an end-effector that is no arm")),
+                        }
+                    })?;
+                }
+                Ok(())
+            })?;
+        }
+        Ok(())
+    }
+
+    fn arc(&mut self, arc: &Arc, g: &Graph) -> Check {
+        self.index("from", arc.from, g.nodes.len(), "nodes")?;
+        self.index("to", arc.to, g.nodes.len(), "nodes")?;
+        self.weight("weight", arc.weight)?;
+        self.span("source", arc.source)?;
+        if let Some(via) = arc.via {
+            self.span("via", via)?;
+        }
+        if let Some(w) = arc.witness {
+            self.index("witness", w, g.witnesses.len(), "witnesses")?;
+        }
+        Ok(())
+    }
+
+    fn reason(&mut self, r: &Infeasibility) -> Check {
+        let n = self.a.end_effectors.len();
+        match r {
+            Infeasibility::NoIkSolution {
+                end_effector,
+                position_error,
+                rotation_error,
+                ..
+            } => {
+                self.index("end_effector", *end_effector, n, "end-effectors")?;
+                self.error_value("position_error", *position_error)?;
+                self.error_value("rotation_error", *rotation_error)
+            }
+            Infeasibility::NoClosedChain {
+                a,
+                b,
+                position_error,
+                rotation_error,
+                ..
+            } => {
+                self.index("a", *a, n, "end-effectors")?;
+                self.index("b", *b, n, "end-effectors")?;
+                self.error_value("position_error", *position_error)?;
+                self.error_value("rotation_error", *rotation_error)
+            }
+            Infeasibility::Collision { .. } | Infeasibility::NoPlacement { .. } => Ok(()),
+        }
+    }
+
+    /// A residual: finite and not negative (an unreached target may be infinitely far in
+    /// JSON terms only as `null`, which does not decode into a number).
+    fn error_value(&mut self, field: &str, x: f64) -> Check {
+        if x.is_finite() && x >= 0.0 {
+            Ok(())
+        } else {
+            self.at(field, |v| Err(v.fail(format!("{x} is not a residual"))))
+        }
+    }
+}
