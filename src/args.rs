@@ -44,14 +44,14 @@ pub struct RequestArgs {
     #[arg(long)]
     pub request: Option<String>,
     /// The object to move, for a request given here.
-    #[arg(long)]
+    #[arg(long, requires_all = ["from", "to"], conflicts_with = "request")]
     pub object: Option<String>,
     /// Where the object is: `HOLDER[.GRASP] in WS` or `HOLDER at (x, y, z) [rpy (r, p, y)]`
     /// (metres and degrees unless written).
-    #[arg(long)]
+    #[arg(long, requires_all = ["object", "to"])]
     pub from: Option<String>,
     /// Where it must go, in the same form.
-    #[arg(long)]
+    #[arg(long, requires_all = ["object", "from"])]
     pub to: Option<String>,
     /// Seed of the randomized solvers.
     #[arg(long, default_value_t = 0)]

@@ -9,6 +9,7 @@ pub mod docs;
 pub mod explain_report;
 pub mod fs_world;
 pub mod import;
+pub mod output;
 pub mod plan_report;
 pub mod render;
 pub mod runtime_codes;
@@ -25,6 +26,7 @@ pub fn all_codes() -> Vec<cellc_lang::Code> {
     codes.extend_from_slice(artifact_io::codes::ALL);
     codes.extend_from_slice(verify_report::codes::ALL);
     codes.extend_from_slice(plan_report::codes::ALL);
+    codes.extend_from_slice(output::codes::ALL);
     codes.extend_from_slice(import::diagnostics::codes::ALL);
     codes
 }

@@ -1,6 +1,7 @@
 //! Renders diagnostics three ways: human (miette), short (one line each, for editors and
 //! CI annotations) and JSON (a stable schema for programs).
 
+use std::borrow::Cow;
 use std::fmt;
 
 use cellc_lang::{Diagnostic, FileId, Severity, SourceMap};
@@ -25,6 +26,48 @@ pub enum Color {
     Always,
     /// Plain text (files, snapshots, pipes).
     Never,
+}
+
+/// Characters that could drive a terminal or reorder what it shows: C0 controls but tab
+/// and newline, DEL, C1 controls, and the bidirectional embeddings and overrides.
+fn is_hostile(c: char) -> bool {
+    (c.is_control() && c != '\n' && c != '\t')
+        || matches!(c, '\u{200E}' | '\u{200F}' | '\u{202A}'..='\u{202E}' | '\u{2066}'..='\u{2069}')
+}
+
+/// Text for a terminal: hostile characters written as `\u{1b}`, so a name or a string
+/// from an untrusted file is shown, never obeyed.
+pub fn escape(text: &str) -> Cow<'_, str> {
+    if !text.chars().any(is_hostile) {
+        return Cow::Borrowed(text);
+    }
+    let mut out = String::with_capacity(text.len() + 8);
+    for c in text.chars() {
+        if is_hostile(c) {
+            out.push_str(&format!("\\u{{{:x}}}", c as u32));
+        } else {
+            out.push(c);
+        }
+    }
+    Cow::Owned(out)
+}
+
+/// Source text for snippets: each hostile character replaced by as many `?` as it has
+/// bytes, so every span still points at the same bytes (a `\r` before `\n` is kept).
+fn neutralize(text: &str) -> Cow<'_, str> {
+    let hostile = |(i, c): (usize, char)| is_hostile(c) && !(c == '\r' && text[i + 1..].starts_with('\n'));
+    if !text.char_indices().any(hostile) {
+        return Cow::Borrowed(text);
+    }
+    let mut out = String::with_capacity(text.len());
+    for (i, c) in text.char_indices() {
+        if hostile((i, c)) {
+            out.extend(std::iter::repeat_n('?', c.len_utf8()));
+        } else {
+            out.push(c);
+        }
+    }
+    Cow::Owned(out)
 }
 
 /// Human rendering of a list of diagnostics, with a summary line.
@@ -60,10 +103,10 @@ pub fn short(diagnostics: &[Diagnostic], sources: &SourceMap) -> String {
                 let (line, col) = file.line_col(label.span.start);
                 out.push_str(&format!(
                     "{}:{line}:{col}: {}[{}]: {}{}\n",
-                    file.path,
+                    escape(&file.path),
                     d.severity.as_str(),
                     d.code,
-                    d.message,
+                    escape(&d.message),
                     notes_suffix(d)
                 ));
             }
@@ -71,7 +114,7 @@ pub fn short(diagnostics: &[Diagnostic], sources: &SourceMap) -> String {
                 "{}[{}]: {}{}\n",
                 d.severity.as_str(),
                 d.code,
-                d.message,
+                escape(&d.message),
                 notes_suffix(d)
             )),
         }
@@ -85,7 +128,7 @@ fn notes_suffix(d: &Diagnostic) -> String {
     if d.notes.is_empty() {
         String::new()
     } else {
-        format!(" ({})", d.notes.join("; "))
+        format!(" ({})", escape(&d.notes.join("; ")))
     }
 }
 
@@ -238,15 +281,16 @@ struct Related {
 impl<'a> Report<'a> {
     fn new(diagnostic: &'a Diagnostic, sources: &SourceMap) -> Report<'a> {
         let file = diagnostic.primary_label().map(|l| l.file);
-        let source = file.map(|f| {
+        let named = |f: FileId| {
             let s = sources.get(f);
-            NamedSource::new(s.path.clone(), s.text.clone())
-        });
+            NamedSource::new(escape(&s.path).into_owned(), neutralize(&s.text).into_owned())
+        };
+        let source = file.map(named);
         let mut labels = Vec::new();
         let mut related = Vec::new();
         for label in &diagnostic.labels {
             let span = label.span.start as usize..label.span.end as usize;
-            let text = (!label.message.is_empty()).then(|| label.message.clone());
+            let text = (!label.message.is_empty()).then(|| escape(&label.message).into_owned());
             let labeled = if label.primary {
                 LabeledSpan::new_primary_with_span(text, span)
             } else {
@@ -255,20 +299,19 @@ impl<'a> Report<'a> {
             if Some(label.file) == file {
                 labels.push(labeled);
             } else {
-                let s = sources.get(label.file);
                 related.push(Related {
-                    message: label.message.clone(),
-                    source: NamedSource::new(s.path.clone(), s.text.clone()),
+                    message: escape(&label.message).into_owned(),
+                    source: named(label.file),
                     label: labeled,
                 });
             }
         }
-        let mut help = diagnostic.help.clone();
+        let mut help = diagnostic.help.as_deref().map(|h| escape(h).into_owned());
         if !diagnostic.notes.is_empty() {
             let notes = diagnostic
                 .notes
                 .iter()
-                .map(|n| format!("note: {n}"))
+                .map(|n| format!("note: {}", escape(n)))
                 .collect::<Vec<_>>()
                 .join("\n");
             help = Some(match help {
@@ -295,7 +338,7 @@ impl fmt::Debug for Report<'_> {
 
 impl fmt::Display for Report<'_> {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(&self.diagnostic.message)
+        f.write_str(&escape(&self.diagnostic.message))
     }
 }
 

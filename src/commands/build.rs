@@ -71,10 +71,25 @@ pub fn run(cell: &Path, output: Option<&Path>, options: &BuildOptions) -> ExitCo
         Some(o) => o.to_path_buf(),
         None => default_output(Path::new(&path), options.encoding),
     };
+    // Every file the build read is an input: the cell, its includes, robot models, meshes.
+    let mut inputs: Vec<PathBuf> = compilation
+        .sources
+        .iter()
+        .map(|(_, f)| PathBuf::from(&f.path))
+        .collect();
+    inputs.extend(artifact.robots.iter().map(|r| PathBuf::from(&r.urdf_path)));
+    let solids = artifact.holder_kinds.iter().flat_map(|k| k.solids.iter().map(|s| &s.shape));
+    let shapes = artifact.objects.iter().filter_map(|o| o.shape.as_ref());
+    inputs.extend(solids.chain(shapes).filter_map(|shape| match shape {
+        cellc_schema::Shape::Mesh { path } => Some(PathBuf::from(path)),
+        _ => None,
+    }));
+    inputs.push(cell.to_path_buf());
     let mut artifact = artifact;
     crate::artifact_io::paths_relative_to_output(&mut artifact, &output);
-    if let Err(e) = std::fs::write(&output, artifact.to_bytes(options.encoding)) {
-        eprintln!("error: cannot write `{}`: {e}", output.display());
+    let bytes = artifact.to_bytes(options.encoding);
+    if let Err(d) = crate::output::write(&output, &bytes, inputs.iter().map(PathBuf::as_path)) {
+        eprint!("{}", render::human(&[d], &compilation.sources, color));
         return ExitCode::from(1);
     }
     if options.explain {

@@ -11,8 +11,12 @@ pub fn run(code: &str) -> ExitCode {
             ExitCode::SUCCESS
         }
         None => {
-            eprintln!("error: `{code}` is not a cellc diagnostic code");
-            eprintln!("help: codes look like `E0101` or `W0001`; see docs/diagnostics/");
+            let d = cellc_lang::Diagnostic::error(
+                crate::output::codes::UNKNOWN_CODE,
+                format!("`{code}` is not a cellc diagnostic code"),
+            )
+            .help("codes look like `E0101` or `W0001`; docs/diagnostics/ has a page for each");
+            crate::commands::plan::print(&[d], &cellc_lang::SourceMap::new());
             ExitCode::from(2)
         }
     }

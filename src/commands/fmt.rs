@@ -16,7 +16,12 @@ pub fn run(files: &[PathBuf], check: bool) -> ExitCode {
         let text = match std::fs::read_to_string(path) {
             Ok(text) => text,
             Err(e) => {
-                eprintln!("error[E0308]: cannot read `{display}`: {e}");
+                let d = cellc_lang::Diagnostic::error(
+                    cellc_compiler::diagnostics::codes::FILE_UNREADABLE,
+                    format!("cannot read `{display}`: {e}"),
+                )
+                .help("check the path and that the file is readable");
+                eprint!("{}", render::human(&[d], &SourceMap::new(), Color::Never));
                 failed = true;
                 continue;
             }
@@ -43,8 +48,8 @@ pub fn run(files: &[PathBuf], check: bool) -> ExitCode {
         if check {
             println!("would reformat {display}");
             failed = true;
-        } else if let Err(e) = std::fs::write(path, formatted) {
-            eprintln!("error: cannot write `{display}`: {e}");
+        } else if let Err(d) = crate::output::write(path, formatted.as_bytes(), []) {
+            eprint!("{}", render::human(&[d], &SourceMap::new(), Color::Never));
             failed = true;
         }
     }

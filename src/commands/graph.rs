@@ -15,11 +15,16 @@ pub fn run(path: &str, object: &str, format: GraphFormat) -> ExitCode {
     };
     let Some(obj) = artifact.objects.iter().find(|o| o.name == object) else {
         let known: Vec<&str> = artifact.objects.iter().map(|o| o.name.as_str()).collect();
-        eprintln!("error[E0101]: unknown object `{object}`");
-        match cellc_lang::diagnostic::did_you_mean(object, known.iter().copied()) {
-            Some(s) => eprintln!("help: did you mean `{s}`?"),
-            None => eprintln!("help: the objects are: {}", known.join(", ")),
-        }
+        let help = match cellc_lang::diagnostic::did_you_mean(object, known.iter().copied()) {
+            Some(s) => format!("did you mean `{s}`?"),
+            None => format!("the objects are: {}", known.join(", ")),
+        };
+        let d = cellc_lang::Diagnostic::error(
+            cellc_compiler::diagnostics::codes::UNKNOWN_NAME,
+            format!("unknown object `{object}`"),
+        )
+        .help(help);
+        crate::commands::plan::print(&[d], &cellc_lang::SourceMap::new());
         return ExitCode::from(1);
     };
     match format {

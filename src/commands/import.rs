@@ -33,8 +33,11 @@ pub fn dualmanip(db: &Path, output: &Path) -> ExitCode {
             return ExitCode::from(1);
         }
     };
-    if let Err(e) = write_whole(output, &imported.text) {
-        eprintln!("error: cannot write `{}`: {e}", output.display());
+    if let Err(d) = crate::output::write(output, imported.text.as_bytes(), [db]) {
+        eprint!(
+            "{}",
+            render::human(&[d], &cellc_lang::SourceMap::new(), color)
+        );
         return ExitCode::from(1);
     }
     let _ = writeln!(
@@ -46,17 +49,3 @@ pub fn dualmanip(db: &Path, output: &Path) -> ExitCode {
     ExitCode::SUCCESS
 }
 
-/// Writes `text` to a temporary file beside `path` and renames it over `path`, so that
-/// `path` is never left half written.
-fn write_whole(path: &Path, text: &str) -> std::io::Result<()> {
-    let file_name = path
-        .file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_default();
-    let temp = path.with_file_name(format!(".{file_name}.cellc-import-{}", std::process::id()));
-    let result = std::fs::write(&temp, text).and_then(|()| std::fs::rename(&temp, path));
-    if result.is_err() {
-        let _ = std::fs::remove_file(&temp);
-    }
-    result
-}

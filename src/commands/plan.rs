@@ -133,7 +133,9 @@ pub fn load(input: &str, seed: u64) -> Result<Loaded, ExitCode> {
             return Err(ExitCode::from(1));
         }
         Err(e) => {
-            eprintln!("error: {e}");
+            let d = Diagnostic::error(crate::verify_report::codes::MODEL_UNUSABLE, e.to_string())
+                .help("rebuild the artifact with `cellc build` from a cell whose robot files load");
+            print(&[d], &sources);
             return Err(ExitCode::from(1));
         }
     };
@@ -251,10 +253,8 @@ pub fn prepare(args: &PlanArgs, loaded: &Loaded) -> Result<Prepared, ExitCode> {
                 span: Some(named.span),
             })
         }
-        _ => {
-            eprintln!("error: give --object, --from and --to together, or --request NAME");
-            Err(ExitCode::from(2))
-        }
+        // The argument parser requires --object, --from and --to together.
+        _ => Err(ExitCode::from(2)),
     }
 }
 

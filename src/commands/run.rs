@@ -4,10 +4,11 @@
 
 use std::process::ExitCode;
 
+use cellc_lang::Diagnostic;
 use cellc_runtime::{ExecuteOptions, ExecutionError};
 
 use super::plan::{load, prepare, print, PlanArgs, Prepared};
-use crate::plan_report::{describe, plan_error};
+use crate::plan_report::{codes, describe, plan_error};
 
 /// Plans and simulates; `fail_at` makes the motion of that step (1-based) fail.
 pub fn run(args: &PlanArgs, fail_at: Option<usize>) -> ExitCode {
@@ -86,15 +87,27 @@ pub fn run(args: &PlanArgs, fail_at: Option<usize>) -> ExitCode {
             ExitCode::from(1)
         }
         Err(ExecutionError::FailedAtStart { error }) => {
-            eprintln!("error: {error} before the object left its start; nothing to recover from");
+            let d = Diagnostic::error(
+                codes::EXECUTION_FAILED,
+                format!("{error}, before the object left its start"),
+            )
+            .help("nothing moved, so there is nothing to recover from: fix the cause and run again");
+            print(&[d], &loaded.sources);
             ExitCode::from(1)
         }
         Err(ExecutionError::TooManyFailures { replans, last }) => {
-            eprintln!("error: steps kept failing ({last}); gave up after {replans} replans");
+            let d = Diagnostic::error(
+                codes::EXECUTION_FAILED,
+                format!("steps kept failing ({last}); gave up after {replans} replans"),
+            )
+            .help("the object is where the last step left it; see the simulation log above");
+            print(&[d], &loaded.sources);
             ExitCode::from(1)
         }
         Err(e) => {
-            eprintln!("error: execution failed: {e}");
+            let d = Diagnostic::error(codes::EXECUTION_FAILED, format!("execution failed: {e}"))
+                .help("see the simulation log above");
+            print(&[d], &loaded.sources);
             ExitCode::from(1)
         }
     }
