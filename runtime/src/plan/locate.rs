@@ -97,6 +97,15 @@ pub enum LocateError {
         /// The id.
         id: u32,
     },
+    /// The holder has no grasp (a surface: no resting pose) for this object at all.
+    NothingToHoldBy {
+        /// Holder.
+        holder: String,
+        /// Object.
+        object: String,
+        /// The holder is a surface (resting poses) rather than a hand (grasps).
+        surface: bool,
+    },
     /// A pose of the request has a coordinate that is not a finite number.
     NonFinitePose,
     /// A hand holds the object but the request does not say how.
@@ -156,6 +165,8 @@ impl std::fmt::Display for LocateError {
                 misses(nearest)
             ),
             LocateError::NoSuchId { kind, id } => write!(f, "the request names {kind} #{id}, which the cell does not have"),
+            LocateError::NothingToHoldBy { holder, object, surface: true } => write!(f, "the surface `{holder}` has no resting pose for `{object}`: it cannot hold it anywhere"),
+            LocateError::NothingToHoldBy { holder, object, surface: false } => write!(f, "`{holder}` has no grasp of `{object}`"),
             LocateError::NonFinitePose => write!(f, "a pose of the request is not finite (NaN or infinite coordinates)"),
             LocateError::GraspNeeded { holder, grasps } => {
                 write!(f, "say which grasp `{holder}` holds the object with: {}", list(grasps))
@@ -269,6 +280,13 @@ pub fn locate(
     let e = placement.holder.0;
     let holder_name = || artifact.end_effectors[e as usize].name.clone();
     let grasps = grasps_of(artifact, object, e);
+    if grasps.is_empty() {
+        return Err(LocateError::NothingToHoldBy {
+            holder: holder_name(),
+            object: artifact.objects[object as usize].name.clone(),
+            surface: matches!(scene.holders[e as usize], Holder::Surface { .. }),
+        });
+    }
     let names = |gs: &[u32]| -> Vec<String> {
         gs.iter()
             .map(|&g| {
