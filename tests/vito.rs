@@ -2,7 +2,7 @@
 //! chosen: each named request plans to the expected sequence of holders, with joint
 //! motions, and executes in the kinematic simulator to its goal.
 
-use cellc::fs_world::{FsFiles, FsWorld};
+use cellc::fs_files::FsFiles;
 use cellc_runtime::execute::{execute, Simulator};
 use cellc_runtime::math::iso_from_schema;
 use cellc_runtime::plan::planner::Planner;
@@ -12,7 +12,7 @@ use cellc_runtime::verify::{verify, VerifyOptions};
 use cellc_schema::Artifact;
 
 fn vito() -> (Artifact, Scene) {
-    let compilation = cellc_compiler::compile(&FsWorld, "cells/vito.cell");
+    let compilation = cellc_compiler::compile(&FsFiles, "cells/vito.cell");
     assert!(compilation.diagnostics.is_empty(), "vito.cell is not clean");
     let mut artifact = cellc_compiler::artifact::lower(
         compilation.cell.as_ref().unwrap(),
@@ -137,7 +137,7 @@ mod trajectories {
     use proptest::prelude::*;
 
     fn cell(path: &str) -> (Artifact, Scene) {
-        let compilation = cellc_compiler::compile(&FsWorld, path);
+        let compilation = cellc_compiler::compile(&FsFiles, path);
         let mut artifact = cellc_compiler::artifact::lower(
             compilation.cell.as_ref().unwrap(),
             &compilation.graphs,

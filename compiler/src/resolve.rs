@@ -10,6 +10,7 @@ use std::collections::HashMap;
 use cellc_lang::ast::{self, GraspKeyword, Mobility};
 use cellc_lang::diagnostic::did_you_mean;
 use cellc_lang::{Diagnostic, FileId, Span};
+use cellc_schema::files::{join, Files};
 
 use crate::diagnostics::{self, Sort};
 use crate::ids::*;
@@ -17,7 +18,6 @@ use crate::load::Loaded;
 use crate::model::*;
 use crate::units::{Eval, FileUnits};
 use crate::urdf;
-use crate::world::World;
 
 /// Default height of a surface's reach above its top face: tall enough for the objects
 /// a cell handles to stand on it.
@@ -48,9 +48,9 @@ impl Entry {
 
 /// Resolves every loaded file into one cell, deriving workspaces on the way (see
 /// [`crate::workspaces`]). Diagnostics are appended to `diagnostics`.
-pub fn resolve(world: &dyn World, loaded: &Loaded, diagnostics: &mut Vec<Diagnostic>) -> Cell {
+pub fn resolve(files: &dyn Files, loaded: &Loaded, diagnostics: &mut Vec<Diagnostic>) -> Cell {
     let mut r = Resolver {
-        world,
+        files,
         cell: Cell::default(),
         names: HashMap::new(),
         origins: HashMap::new(),
@@ -124,7 +124,7 @@ pub fn resolve(world: &dyn World, loaded: &Loaded, diagnostics: &mut Vec<Diagnos
 }
 
 struct Resolver<'w, 'd> {
-    world: &'w dyn World,
+    files: &'w dyn Files,
     cell: Cell,
     names: HashMap<String, Entry>,
     origins: HashMap<String, Origin>,
@@ -214,10 +214,10 @@ impl Resolver<'_, '_> {
                     None => Some(DEFAULT_SURFACE_REACH_HEIGHT),
                 };
                 let body = Body::Surface {
-                    slab: slab.unwrap_or(crate::math::Aabb {
-                        min: [0.0; 3],
-                        max: [0.0; 3],
-                    }),
+                    slab: slab.unwrap_or(crate::math::Aabb::new(
+                        crate::math::Point::origin(),
+                        crate::math::Point::origin(),
+                    )),
                     reach_height: reach_height.unwrap_or(DEFAULT_SURFACE_REACH_HEIGHT),
                 };
                 self.declare_end_effector(&s.name, Mobility::Fixed, body, o);
@@ -242,7 +242,7 @@ impl Resolver<'_, '_> {
                     return;
                 }
                 if let Some(robot) =
-                    urdf::load_robot(self.world, path, file, r, o, self.diagnostics)
+                    urdf::load_robot(self.files, path, file, r, o, self.diagnostics)
                 {
                     let id = self.cell.robots.insert(robot);
                     self.add_name(&r.name, Entry::Robot(id), o);
@@ -487,7 +487,7 @@ impl Resolver<'_, '_> {
                 radius: eval.positive_length(radius, "a radius")?,
             },
             ast::Shape::Mesh { path: mesh } => Shape::Mesh {
-                path: crate::world::join(path, &mesh.value),
+                path: join(path, &mesh.value),
             },
         })
     }
@@ -502,7 +502,7 @@ impl Resolver<'_, '_> {
         let shape = self.shape(file, path, units, &solid.shape);
         let pose = match &solid.pose {
             Some(p) => self.eval(file, units).pose(p)?,
-            None => crate::math::Pose::identity(),
+            None => crate::math::Iso::identity(),
         };
         Some(Solid {
             shape: shape?,

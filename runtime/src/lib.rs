@@ -1,7 +1,8 @@
 //! The cellc runtime: everything that needs geometry and kinematics.
 //!
 //! It reads artifacts only (never the compiler's types), plus the robot models and meshes
-//! they name, handed in as bytes through [`Files`] so the crate itself does no I/O.
+//! they name, handed in as bytes through [`Files`] (the trait the compiler reads through
+//! too) so the crate itself does no I/O.
 #![warn(missing_docs)]
 
 pub mod closed_chain;
@@ -10,6 +11,7 @@ pub mod execute;
 pub mod explain;
 pub mod kinematics;
 pub mod math;
+pub mod mesh;
 pub mod motion;
 pub mod plan;
 pub mod robot;
@@ -17,8 +19,4 @@ pub mod scene;
 pub mod symmetry;
 pub mod verify;
 
-/// Supplies file contents (URDFs, meshes) to the runtime.
-pub trait Files {
-    /// The bytes of the file at `path`, or why it can't be read.
-    fn read(&self, path: &str) -> Result<Vec<u8>, String>;
-}
+pub use cellc_schema::files::{FileError, Files, MemoryFiles};

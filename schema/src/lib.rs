@@ -8,11 +8,21 @@
 //! Two encodings carry the same value: JSON (the default, readable) and a compact binary
 //! form (`MAGIC`, the format version as little-endian `u32`, then postcard). Both are
 //! deterministic: the same artifact value always gives the same bytes.
+//!
+//! Beside the artifact, this crate holds the small vocabulary both sides of it share, so
+//! that each concept has one home below the compiler and the runtime: the geometry types
+//! and their conversions to the file forms ([`math`]), the file-reading trait ([`files`])
+//! and the content hash ([`hash`]).
 #![warn(missing_docs)]
 
 use serde::{Deserialize, Serialize};
 
+pub mod files;
+pub mod hash;
 pub mod ids;
+pub mod math;
+pub use files::{FileError, Files, MemoryFiles};
+pub use hash::sha256_hex;
 pub use ids::{EndEffectorId, GraspId, NodeId, ObjectId, RobotId, SpanId, WorkspaceId};
 
 /// The value of [`Artifact::format`], identifying the file type.

@@ -13,7 +13,7 @@ use cellc_runtime::scene::Scene;
 use cellc_schema::{Artifact, Body};
 use serde::Serialize;
 
-use crate::fs_world::{FsFiles, FsWorld};
+use crate::fs_files::FsFiles;
 use crate::render::{self, Color};
 
 /// Codes of planning requests.
@@ -106,7 +106,7 @@ pub fn print(diagnostics: &[Diagnostic], sources: &SourceMap) {
 /// Compiles (and verifies) a cell, or reads an artifact; loads its scene when it has arms.
 pub fn load(input: &str, seed: u64) -> Result<Loaded, ExitCode> {
     let (mut artifact, sources, fresh) = if input.ends_with(".cell") {
-        let compilation = cellc_compiler::compile(&FsWorld, input);
+        let compilation = cellc_compiler::compile(&FsFiles, input);
         if compilation.has_errors() || compilation.cell.is_none() {
             print(&compilation.diagnostics, &compilation.sources);
             return Err(ExitCode::from(1));
