@@ -11,12 +11,9 @@ use pest::Parser as _;
 
 use crate::ast::*;
 use crate::diagnostic::Diagnostic;
+use crate::grammar::{CellParser, Rule};
 use crate::phrases;
 use crate::span::{FileId, Span};
-
-#[derive(pest_derive::Parser)]
-#[grammar = "cell.pest"]
-pub(crate) struct CellParser;
 
 /// The result of parsing one file: the tree (absent only when the file's outline
 /// `cell NAME { ... }` itself is broken) and every syntax diagnostic.
