@@ -123,7 +123,9 @@ impl fmt::Display for RobotError {
                         write!(f, "sphere radius {radius} is not positive")
                     }
                     // Meshes are checked when read, and fail as `Mesh`.
-                    Geometry::Mesh { filename, .. } => write!(f, "mesh `{filename}` is no solid"),
+                    Geometry::Mesh { filename, .. } => {
+                        write!(f, "mesh `{filename}` is not a solid")
+                    }
                 }
             }
         }
