@@ -3,7 +3,10 @@
 use std::fmt::Write;
 
 fn main() {
-    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/diagnostics");
+    // Read at run time, not with `env!`: a build script binary reused from another
+    // checkout's target folder would otherwise embed that checkout's pages.
+    let root = std::env::var_os("CARGO_MANIFEST_DIR").unwrap_or_default();
+    let dir = std::path::Path::new(&root).join("docs/diagnostics");
     println!("cargo:rerun-if-changed={}", dir.display());
     let mut pages: Vec<(String, std::path::PathBuf)> = std::fs::read_dir(&dir)
         .map(|entries| {

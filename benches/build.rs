@@ -8,7 +8,7 @@
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::sync::atomic::{AtomicUsize, Ordering};
 
-use cellc_compiler::{compile, MemoryWorld};
+use cellc_compiler::{compile, MemoryFiles};
 use cellc_schema::Encoding;
 use criterion::{criterion_group, criterion_main, Criterion};
 
@@ -55,7 +55,7 @@ fn files(main: (&str, String)) -> Vec<(String, String)> {
 }
 
 /// One whole in-memory build; returns the number of arcs (so nothing is optimised away).
-fn build(world: &MemoryWorld, path: &str) -> usize {
+fn build(world: &MemoryFiles, path: &str) -> usize {
     let compilation = compile(world, path);
     assert!(!compilation.has_errors(), "{path} has errors");
     let cell = compilation.cell.as_ref().expect("resolved");
@@ -67,7 +67,7 @@ fn build(world: &MemoryWorld, path: &str) -> usize {
 
 fn case(c: &mut Criterion, name: &str, main: (&str, String)) {
     let files = files(main.clone());
-    let world = MemoryWorld::new(files.iter().map(|(p, t)| (p.as_str(), t.as_str())));
+    let world = MemoryFiles::new(files.iter().map(|(p, t)| (p.as_str(), t.as_str())));
     let before = LIVE.load(Ordering::Relaxed);
     PEAK.store(before, Ordering::Relaxed);
     let arcs = build(&world, main.0);

@@ -3,14 +3,14 @@
 //! the original Vito database (`containerA` is the paper's pitcher, `containerB` its
 //! colander), five start/goal pairs each, as in the paper's protocol.
 
-use cellc_compiler::{compile, MemoryWorld};
+use cellc_compiler::{compile, MemoryFiles};
 use cellc_runtime::plan::planner::Planner;
 use cellc_runtime::plan::{Goal, Placement, PlanOptions, Request};
 use cellc_schema::{Artifact, Node, ObjectId};
 use criterion::{criterion_group, criterion_main, Criterion};
 
 fn artifact(path: &str, text: &str) -> Artifact {
-    let world = MemoryWorld::new([(path, text)]);
+    let world = MemoryFiles::new([(path, text)]);
     let compilation = compile(&world, path);
     assert!(!compilation.has_errors(), "{path} has errors");
     cellc_compiler::artifact::lower(
@@ -87,11 +87,11 @@ fn case(c: &mut Criterion, name: &str, a: &Artifact, object: &str) {
 
 /// A geometric cell, verified, with its named requests.
 fn geometric(path: &str) -> Option<(Artifact, cellc_runtime::scene::Scene, Vec<Request>)> {
-    use cellc::fs_world::{FsFiles, FsWorld};
+    use cellc::fs_files::FsFiles;
     if !std::path::Path::new(path).exists() {
         return None;
     }
-    let compilation = compile(&FsWorld, path);
+    let compilation = compile(&FsFiles, path);
     assert!(!compilation.has_errors(), "{path} has errors");
     let mut a = cellc_compiler::artifact::lower(
         compilation.cell.as_ref().unwrap(),

@@ -37,7 +37,7 @@ use std::collections::BTreeMap;
 use std::path::Path;
 use std::time::Instant;
 
-use cellc::fs_world::{FsFiles, FsWorld};
+use cellc::fs_files::FsFiles;
 use cellc_runtime::execute::{execute, ExecuteOptions, Simulator};
 use cellc_runtime::math::{iso_from_schema, Iso};
 use cellc_runtime::plan::planner::Planner;
@@ -198,7 +198,7 @@ struct Geometric {
 
 fn geometric(path: &str) -> Result<Geometric, String> {
     let t = Instant::now();
-    let compilation = cellc_compiler::compile(&FsWorld, path);
+    let compilation = cellc_compiler::compile(&FsFiles, path);
     if compilation.has_errors() {
         let first = compilation
             .diagnostics
@@ -563,7 +563,7 @@ fn main() {
     match cellc::import::dualmanip(Path::new("tests/data/dualmanip/vito_full.db")) {
         Ok(imported) => {
             let world =
-                cellc_compiler::MemoryWorld::new([("vito_full.cell", imported.text.as_str())]);
+                cellc_compiler::MemoryFiles::new([("vito_full.cell", imported.text.as_str())]);
             let compilation = cellc_compiler::compile(&world, "vito_full.cell");
             assert!(!compilation.has_errors(), "the imported database compiles");
             let artifact = cellc_compiler::artifact::lower(

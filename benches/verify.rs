@@ -2,8 +2,8 @@
 //! geometric cells, and of a generated five-arm line (LWR arms with a shared hand kind,
 //! benches between them), on all cores (rayon).
 
-use cellc::fs_world::FsFiles;
-use cellc_compiler::{compile, MemoryWorld};
+use cellc::fs_files::FsFiles;
+use cellc_compiler::{compile, MemoryFiles};
 use cellc_runtime::scene::Scene;
 use cellc_runtime::verify::{verify, VerifyOptions};
 use cellc_schema::Artifact;
@@ -23,7 +23,7 @@ fn artifact(path: &str, text: String) -> Artifact {
             ));
         }
     }
-    let world = MemoryWorld::new(files.iter().map(|(p, t)| (p.as_str(), t.as_str())));
+    let world = MemoryFiles::new(files.iter().map(|(p, t)| (p.as_str(), t.as_str())));
     let compilation = compile(&world, path);
     assert!(!compilation.has_errors(), "{path} has errors");
     let cell = compilation.cell.as_ref().expect("resolved");

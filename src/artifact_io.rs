@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 use cellc_lang::{Code, Diagnostic, SourceMap};
 use cellc_schema::{Artifact, ReadError};
 
-use crate::fs_world::FsWorld;
+use crate::fs_files::FsFiles;
 use crate::render::{self, Color};
 
 /// Codes of artifact reading.
@@ -66,7 +66,7 @@ pub fn read(path: &str) -> Result<Artifact, Diagnostic> {
 /// diagnostics are already printed to standard error.
 pub fn cell_or_artifact(path: &str) -> Option<Artifact> {
     if path.ends_with(".cell") {
-        let compilation = cellc_compiler::compile(&FsWorld, path);
+        let compilation = cellc_compiler::compile(&FsFiles, path);
         let errors: Vec<Diagnostic> = compilation
             .diagnostics
             .iter()
@@ -161,7 +161,7 @@ fn paths_from_input(artifact: &mut Artifact, input: &Path) {
         if Path::new(p).is_absolute() {
             p.to_string()
         } else {
-            cellc_compiler::world::normalize(&folder.join(p).to_string_lossy().replace('\\', "/"))
+            cellc_schema::files::normalize(&folder.join(p).to_string_lossy().replace('\\', "/"))
         }
     });
 }

@@ -7,7 +7,7 @@ pub mod artifact_io;
 pub mod commands;
 pub mod docs;
 pub mod explain_report;
-pub mod fs_world;
+pub mod fs_files;
 pub mod import;
 pub mod output;
 pub mod plan_report;

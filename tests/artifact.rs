@@ -2,11 +2,11 @@
 //! are refused with coded diagnostics (never a panic), and arcs point back at the lines
 //! that made them.
 
-use cellc::fs_world::FsWorld;
+use cellc::fs_files::FsFiles;
 use cellc_schema::{ArcKind, Artifact, Encoding, ReadError};
 
 fn build(path: &str) -> Artifact {
-    let compilation = cellc_compiler::compile(&FsWorld, path);
+    let compilation = cellc_compiler::compile(&FsFiles, path);
     assert!(!compilation.has_errors(), "{path} has errors");
     let cell = compilation.cell.as_ref().expect("resolved");
     cellc_compiler::artifact::lower(cell, &compilation.graphs, &compilation.sources)
@@ -192,7 +192,7 @@ fn vito_artifact_hashes_its_urdf() {
     let urdf = std::fs::read("cells/robots/kuka_lwr4.urdf").expect("urdf exists");
     assert_eq!(
         artifact.robots[0].urdf_sha256,
-        cellc_compiler::artifact::sha256_hex(&urdf)
+        cellc_schema::sha256_hex(&urdf)
     );
     assert!(artifact
         .sources

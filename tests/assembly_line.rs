@@ -8,7 +8,7 @@
 
 use std::collections::BTreeMap;
 
-use cellc::fs_world::{FsFiles, FsWorld};
+use cellc::fs_files::FsFiles;
 use cellc_runtime::execute::{execute, ExecuteOptions, Simulator};
 use cellc_runtime::plan::planner::Planner;
 use cellc_runtime::plan::{Command, Goal, Plan, PlanOptions, Request};
@@ -25,7 +25,7 @@ const PAPERS: [&str; 9] = [
 
 /// The cell compiled, lowered, and verified with `seed`, with its scene.
 fn verified(seed: u64) -> (Artifact, Scene) {
-    let compilation = cellc_compiler::compile(&FsWorld, CELL);
+    let compilation = cellc_compiler::compile(&FsFiles, CELL);
     assert!(!compilation.has_errors(), "{CELL} has errors");
     let cell = compilation.cell.as_ref().expect("resolved");
     let mut artifact =
@@ -80,7 +80,7 @@ fn end_effector(artifact: &Artifact, name: &str) -> u32 {
 
 #[test]
 fn the_cell_compiles_clean() {
-    let compilation = cellc_compiler::compile(&FsWorld, CELL);
+    let compilation = cellc_compiler::compile(&FsFiles, CELL);
     let rendered = cellc::render::short(&compilation.diagnostics, &compilation.sources);
     assert!(
         compilation.diagnostics.is_empty(),
@@ -91,7 +91,7 @@ fn the_cell_compiles_clean() {
 
 #[test]
 fn nine_workspaces_are_derived_with_the_designed_reachers() {
-    let compilation = cellc_compiler::compile(&FsWorld, CELL);
+    let compilation = cellc_compiler::compile(&FsFiles, CELL);
     let cell = compilation.cell.as_ref().expect("resolved");
     let artifact = cellc_compiler::artifact::lower(cell, &compilation.graphs, &compilation.sources);
     let reached: BTreeMap<&str, Vec<&str>> = artifact

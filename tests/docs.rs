@@ -3,19 +3,19 @@
 //! result must equal the output pasted under `$ cellc check pick.cell`. Run with
 //! `UPDATE_DOCS=1` to rewrite the pasted output after a deliberate wording change.
 
-use cellc_compiler::World;
+use cellc_schema::{FileError, Files};
 
 /// `pick.cell` from the page; anything else from `tests/ui/`.
-struct PageWorld<'a> {
+struct PageFiles<'a> {
     example: &'a str,
 }
 
-impl World for PageWorld<'_> {
-    fn read(&self, path: &str) -> Result<String, String> {
+impl Files for PageFiles<'_> {
+    fn read(&self, path: &str) -> Result<Vec<u8>, FileError> {
         if path == "pick.cell" {
-            return Ok(self.example.to_string());
+            return Ok(self.example.as_bytes().to_vec());
         }
-        std::fs::read_to_string(format!("tests/ui/{path}")).map_err(|_| "no such file".to_string())
+        std::fs::read(format!("tests/ui/{path}")).map_err(|_| FileError::NotFound)
     }
 }
 
@@ -43,7 +43,7 @@ fn pages_show_real_output() {
             stale.push(format!("{path}: no ```cell example"));
             continue;
         };
-        let compilation = cellc_compiler::compile(&PageWorld { example }, "pick.cell");
+        let compilation = cellc_compiler::compile(&PageFiles { example }, "pick.cell");
         let mut real = cellc::render::human(
             &compilation.diagnostics,
             &compilation.sources,

@@ -16,7 +16,7 @@ use std::process::Command;
 
 use cellc::import::Imported;
 use cellc::render::{self, Color};
-use cellc_compiler::{Compilation, MemoryWorld};
+use cellc_compiler::{Compilation, MemoryFiles};
 use rusqlite::Connection;
 
 fn relative(path: &Path) -> String {
@@ -114,7 +114,7 @@ fn import(path: &str) -> Imported {
 }
 
 fn compile(name: &str, text: &str) -> Compilation {
-    cellc_compiler::compile(&MemoryWorld::new([(name, text)]), name)
+    cellc_compiler::compile(&MemoryFiles::new([(name, text)]), name)
 }
 
 fn assert_no_errors(compilation: &Compilation) {

@@ -5,7 +5,7 @@
 
 use std::collections::HashSet;
 
-use cellc::fs_world::FsWorld;
+use cellc::fs_files::FsFiles;
 use cellc_runtime::execute::{execute, ExecuteOptions, ExecutionError, Executor, Simulator};
 use cellc_runtime::plan::planner::Planner;
 use cellc_runtime::plan::{
@@ -15,7 +15,7 @@ use cellc_schema::{ArcKind, Artifact, Node};
 use proptest::prelude::*;
 
 fn artifact(path: &str) -> Artifact {
-    let compilation = cellc_compiler::compile(&FsWorld, path);
+    let compilation = cellc_compiler::compile(&FsFiles, path);
     assert!(!compilation.has_errors(), "{path} has errors");
     let cell = compilation.cell.as_ref().expect("resolved");
     cellc_compiler::artifact::lower(cell, &compilation.graphs, &compilation.sources)
@@ -269,7 +269,7 @@ fn plan_ui() {
         let name = path.file_name().unwrap().to_string_lossy().to_string();
         let code = name.split('_').next().unwrap_or_default().to_string();
         let relative = format!("tests/ui/plan/{name}");
-        let compilation = cellc_compiler::compile(&FsWorld, &relative);
+        let compilation = cellc_compiler::compile(&FsFiles, &relative);
         assert!(
             compilation.diagnostics.is_empty(),
             "{name} must check clean"

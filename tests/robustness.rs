@@ -3,7 +3,7 @@
 //! diagnostic, and every diagnostic has a known code and, where it has a place, a span
 //! inside its file.
 
-use cellc_compiler::{compile, MemoryWorld};
+use cellc_compiler::{compile, MemoryFiles};
 use proptest::prelude::*;
 
 fn shipped() -> Vec<(String, String)> {
@@ -44,7 +44,7 @@ fn check_invariants(main: &str, text: &str) -> Result<(), TestCaseError> {
         .map(|(p, t)| (p.as_str(), t.as_str()))
         .collect();
     files.push((main, text));
-    let world = MemoryWorld::new(files);
+    let world = MemoryFiles::new(files);
     let compilation = compile(&world, main);
     let known = cellc::all_codes();
     for d in &compilation.diagnostics {
@@ -174,7 +174,7 @@ proptest! {
 #[test]
 fn deep_nesting_is_refused_not_overflowed() {
     let text = format!("cell deep {{ {} }}", "{".repeat(100_000));
-    let world = MemoryWorld::new([("deep.cell", text.as_str())]);
+    let world = MemoryFiles::new([("deep.cell", text.as_str())]);
     let compilation = compile(&world, "deep.cell");
     assert_eq!(compilation.diagnostics[0].code.as_str(), "E0002");
 }

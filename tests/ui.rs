@@ -8,7 +8,7 @@
 
 use std::collections::BTreeSet;
 
-use cellc::fs_world::FsWorld;
+use cellc::fs_files::FsFiles;
 use cellc::render::{self, Color};
 
 fn expected_code(source: &str) -> Option<&str> {
@@ -36,7 +36,7 @@ fn ui() {
             failures.push(format!("{relative}: first line must be `// expect: CODE`"));
             return;
         };
-        let compilation = cellc_compiler::compile(&FsWorld, &relative);
+        let compilation = cellc_compiler::compile(&FsFiles, &relative);
         let produced: BTreeSet<&str> = compilation
             .diagnostics
             .iter()

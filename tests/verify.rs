@@ -4,7 +4,7 @@
 //! results are the same for a seed, and the runtime's own diagnostics (W0006, R00xx) have
 //! UI tests.
 
-use cellc::fs_world::{FsFiles, FsWorld};
+use cellc::fs_files::FsFiles;
 use cellc_runtime::math::{iso_from_schema, Iso, Point};
 use cellc_runtime::scene::{Holder, ObjectPlacement, Scene, SceneScratch};
 use cellc_runtime::verify::{verify, VerifyOptions};
@@ -12,7 +12,7 @@ use cellc_runtime::Files;
 use cellc_schema::{ArcKind, Artifact, Body, Encoding, Infeasibility};
 
 fn build(path: &str) -> Artifact {
-    let compilation = cellc_compiler::compile(&FsWorld, path);
+    let compilation = cellc_compiler::compile(&FsFiles, path);
     assert!(!compilation.has_errors(), "{path} has errors");
     let cell = compilation.cell.as_ref().expect("resolved");
     cellc_compiler::artifact::lower(cell, &compilation.graphs, &compilation.sources)
@@ -74,7 +74,7 @@ fn recheck(
     let center = Point::from(object_pose.translation.vector);
     if !scene.workspaces[to.workspace as usize]
         .iter()
-        .any(|b| b.contains(&center))
+        .any(|b| cellc_runtime::math::contains_point(b, &center))
     {
         return Err(format!(
             "object centre {center} is outside workspace {}",
@@ -122,7 +122,7 @@ fn recheck(
             };
             // Resting: on the top face, in the resting pose up to a turn about the vertical.
             let rest = grasp(s.grasp);
-            let height = object_pose.translation.vector.z - slab.max.z;
+            let height = object_pose.translation.vector.z - slab.maxs.z;
             if (height - rest.translation.vector.z).abs() > POSITION_TOLERANCE {
                 return Err(format!(
                     "object is {height} m above the surface, its resting pose says {}",
@@ -238,14 +238,14 @@ fn runtime_ui() {
         let name = path.file_name().unwrap().to_string_lossy().to_string();
         let code = name.split('_').next().unwrap_or_default().to_string();
         let relative = format!("tests/ui/runtime/{name}");
-        let compilation = cellc_compiler::compile(&FsWorld, &relative);
+        let compilation = cellc_compiler::compile(&FsFiles, &relative);
         assert!(!compilation.has_errors(), "{name} must compile");
         let cell = compilation.cell.as_ref().expect("resolved");
         let mut artifact =
             cellc_compiler::artifact::lower(cell, &compilation.graphs, &compilation.sources);
         struct Changed;
         impl Files for Changed {
-            fn read(&self, path: &str) -> Result<Vec<u8>, String> {
+            fn read(&self, path: &str) -> Result<Vec<u8>, cellc_runtime::FileError> {
                 let mut bytes = FsFiles.read(path)?;
                 if path.ends_with(".urdf") {
                     bytes.extend_from_slice(b"\n<!-- edited after the build -->\n");

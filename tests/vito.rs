@@ -4,14 +4,14 @@
 //! object's pose from its holders' kinematics, so a plan that does not really reach the
 //! object fails there, and every trajectory is re-checked four times finer than planned.
 
-use cellc::fs_world::{FsFiles, FsWorld};
+use cellc::fs_files::FsFiles;
 use cellc_runtime::plan::PlanOptions;
 use cellc_runtime::{Cell, Command, ExecuteOptions, ExecutionError, Executor, StepError};
 use cellc_runtime::{Plan, VerifyOptions};
 
 /// A shipped cell compiled, loaded through the front door and verified.
 fn cell(path: &str) -> Cell {
-    let compilation = cellc_compiler::compile(&FsWorld, path);
+    let compilation = cellc_compiler::compile(&FsFiles, path);
     assert!(compilation.diagnostics.is_empty(), "{path} is not clean");
     let artifact = cellc_compiler::artifact::lower(
         compilation.cell.as_ref().unwrap(),

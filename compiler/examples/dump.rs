@@ -1,7 +1,7 @@
 struct Fs;
-impl cellc_compiler::World for Fs {
-    fn read(&self, p: &str) -> Result<String, String> {
-        std::fs::read_to_string(p).map_err(|e| e.to_string())
+impl cellc_compiler::Files for Fs {
+    fn read(&self, p: &str) -> Result<Vec<u8>, cellc_schema::FileError> {
+        Ok(std::fs::read(p)?)
     }
 }
 fn main() {

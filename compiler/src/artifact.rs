@@ -8,19 +8,11 @@ use std::collections::HashMap;
 use cellc_lang::ast::GraspKeyword;
 use cellc_lang::{FileId, SourceMap, Span};
 use cellc_schema as schema;
-use sha2::{Digest, Sha256};
+use cellc_schema::math::{aabb_to_schema, iso_to_schema};
+use cellc_schema::sha256_hex;
 
 use crate::graph::{ArcSource, ObjectGraph};
-use crate::math::{Aabb, Pose};
 use crate::model::*;
-
-/// Lowercase hex SHA-256 of `bytes`.
-pub fn sha256_hex(bytes: &[u8]) -> String {
-    Sha256::digest(bytes)
-        .iter()
-        .map(|b| format!("{b:02x}"))
-        .collect()
-}
 
 /// Builds the artifact of a compiled cell.
 pub fn lower(cell: &Cell, graphs: &[ObjectGraph], sources: &SourceMap) -> schema::Artifact {
@@ -61,7 +53,7 @@ pub fn lower(cell: &Cell, graphs: &[ObjectGraph], sources: &SourceMap) -> schema
                 .iter()
                 .map(|s| schema::Solid {
                     shape: shape(&s.shape),
-                    pose: pose(&s.pose),
+                    pose: iso_to_schema(&s.pose),
                 })
                 .collect(),
         })
@@ -72,7 +64,7 @@ pub fn lower(cell: &Cell, graphs: &[ObjectGraph], sources: &SourceMap) -> schema
         .map(|(_, w)| schema::Workspace {
             name: w.name.clone(),
             label: w.label.clone(),
-            boxes: w.boxes.iter().map(aabb).collect(),
+            boxes: w.boxes.iter().map(aabb_to_schema).collect(),
             derived: w.derived,
             span: spans.get(w.origin.file, w.origin.span),
         })
@@ -89,17 +81,17 @@ pub fn lower(cell: &Cell, graphs: &[ObjectGraph], sources: &SourceMap) -> schema
                 Body::Arm { robot, base, home } => match robot {
                     Some(robot) => schema::Body::Arm {
                         robot: robot.0,
-                        base: pose(base),
+                        base: iso_to_schema(base),
                         home: home.clone(),
                     },
                     None => schema::Body::Abstract,
                 },
                 Body::Surface { slab, reach_height } => schema::Body::Surface {
-                    slab: aabb(slab),
+                    slab: aabb_to_schema(slab),
                     reach_height: *reach_height,
                 },
             },
-            reach_boxes: e.reach_boxes.iter().map(aabb).collect(),
+            reach_boxes: e.reach_boxes.iter().map(aabb_to_schema).collect(),
             reaches: e.reaches.iter().map(|w| w.0).collect(),
             span: spans.get(e.origin.file, e.origin.span),
         })
@@ -136,7 +128,7 @@ pub fn lower(cell: &Cell, graphs: &[ObjectGraph], sources: &SourceMap) -> schema
         obstacles: cell
             .obstacles
             .iter()
-            .map(|(n, b, _)| (n.clone(), aabb(b)))
+            .map(|(n, b, _)| (n.clone(), aabb_to_schema(b)))
             .collect(),
         requests: cell
             .requests
@@ -150,7 +142,7 @@ pub fn lower(cell: &Cell, graphs: &[ObjectGraph], sources: &SourceMap) -> schema
                     end_effector: p.end_effector.0,
                     grasp: p.grasp.and_then(grasp_index),
                     workspace: p.workspace.map(|w| w.0),
-                    pose: p.pose.as_ref().map(pose),
+                    pose: p.pose.as_ref().map(iso_to_schema),
                 };
                 schema::NamedRequest {
                     name: r.name.clone(),
@@ -193,7 +185,7 @@ fn lower_object(cell: &Cell, g: &ObjectGraph, spans: &mut SpanTable) -> schema::
                     None => schema::Holder::EndEffector(u32::MAX),
                 },
                 rest: grasp.keyword == GraspKeyword::Rest,
-                pose: grasp.pose.as_ref().map(pose),
+                pose: grasp.pose.as_ref().map(iso_to_schema),
                 span: spans.get(grasp.origin.file, grasp.origin.span),
             }
         })
@@ -323,22 +315,6 @@ impl<'s> SpanTable<'s> {
         });
         self.index.insert((file, span), i);
         i
-    }
-}
-
-fn pose(p: &Pose) -> schema::Pose {
-    let t = p.translation.vector;
-    let q = p.rotation.coords;
-    schema::Pose {
-        translation: [t.x, t.y, t.z],
-        rotation: [q.x, q.y, q.z, q.w],
-    }
-}
-
-fn aabb(b: &Aabb) -> schema::Aabb {
-    schema::Aabb {
-        min: b.min,
-        max: b.max,
     }
 }
 

@@ -8,6 +8,7 @@ use petgraph::Direction as Dir;
 use crate::diagnostics;
 use crate::graph::ObjectGraph;
 use crate::ids::*;
+use crate::math::overlap;
 use crate::model::*;
 
 /// Checks that need only the resolved cell.
@@ -75,7 +76,7 @@ fn check_workspaces(cell: &Cell, diagnostics: &mut Vec<Diagnostic>) {
             let volume: f64 = a
                 .boxes
                 .iter()
-                .flat_map(|x| b.boxes.iter().filter_map(move |y| x.intersection(y)))
+                .flat_map(|x| b.boxes.iter().filter_map(move |y| overlap(x, y)))
                 .map(|i| i.volume())
                 .sum();
             if volume > 0.0 {

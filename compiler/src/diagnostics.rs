@@ -4,6 +4,8 @@
 //! consistent and makes the list of codes easy to audit against `docs/diagnostics/`.
 
 use cellc_lang::{Code, Diagnostic, FileId, Span};
+use cellc_schema::FileError;
+use cellc_urdf::ParseError;
 
 use crate::model::Origin;
 
@@ -468,8 +470,8 @@ pub fn include_cycle(file: FileId, span: Span, chain: &[String]) -> Diagnostic {
 }
 
 /// A file that can't be read.
-pub fn file_unreadable(path: &str, reason: &str, at: Option<(FileId, Span)>) -> Diagnostic {
-    let d = Diagnostic::error(FILE_UNREADABLE, format!("cannot read `{path}`: {reason}"));
+pub fn file_unreadable(path: &str, error: &FileError, at: Option<(FileId, Span)>) -> Diagnostic {
+    let d = Diagnostic::error(FILE_UNREADABLE, format!("cannot read `{path}`: {error}"));
     match at {
         Some((file, span)) => d
             .primary(file, span, "included here")
@@ -561,20 +563,20 @@ pub fn placement_grasp_mismatch(holder: &str, grasp: &str, file: FileId, span: S
 }
 
 /// A URDF that can't be read.
-pub fn urdf_unreadable(path: &str, reason: &str, file: FileId, span: Span) -> Diagnostic {
+pub fn urdf_unreadable(path: &str, error: &FileError, file: FileId, span: Span) -> Diagnostic {
     Diagnostic::error(
         URDF_UNREADABLE,
-        format!("cannot read URDF `{path}`: {reason}"),
+        format!("cannot read URDF `{path}`: {error}"),
     )
     .primary(file, span, "referenced here")
     .help("check the path: it is relative to the file that declares the robot")
 }
 
 /// A URDF urdf-rs rejects.
-pub fn urdf_invalid(path: &str, reason: &str, file: FileId, span: Span) -> Diagnostic {
+pub fn urdf_invalid(path: &str, error: &ParseError, file: FileId, span: Span) -> Diagnostic {
     Diagnostic::error(URDF_INVALID, format!("`{path}` is not a valid URDF"))
         .primary(file, span, "this URDF")
-        .note(format!("the URDF reader says: {reason}"))
+        .note(format!("the URDF reader says: {error}"))
         .help("fix the URDF file (check it with `check_urdf` from ROS, or compare with a known-good model)")
 }
 
@@ -627,6 +629,22 @@ pub fn urdf_no_chain(base: &str, tip: &str, path: &str, file: FileId, span: Span
     )
     .primary(file, span, "no chain of joints from the base to the tip")
     .help("the tip must be a descendant of the base: swap them or pick other links")
+}
+
+/// A chain with nothing to move between the base and the tip.
+pub fn urdf_no_movable_joint(
+    base: &str,
+    tip: &str,
+    path: &str,
+    file: FileId,
+    span: Span,
+) -> Diagnostic {
+    Diagnostic::error(
+        URDF_NO_CHAIN,
+        format!("in `{path}`, no movable joint lies between `{base}` and `{tip}`"),
+    )
+    .primary(file, span, "this robot cannot move its tip")
+    .help("pick a base and tip with at least one revolute, continuous or prismatic joint between them")
 }
 
 /// A home value beyond a joint limit.

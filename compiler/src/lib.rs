@@ -4,8 +4,8 @@
 //! Pipeline: [`load`] (read and parse the main file and its includes) -> [`resolve`]
 //! (names to typed ids, quantities to SI) -> [`workspaces`] (derive workspaces, compute
 //! reach) -> [`checks`] -> [`graph`] (one graph per object) -> [`expect`] (the cell's own
-//! requirements). [`compile`] runs it all. The compiler does no I/O: files come through a
-//! [`World`].
+//! requirements). [`compile`] runs it all. The compiler does no I/O: files come through
+//! [`Files`] (defined in `cellc_schema`, shared with the runtime).
 #![warn(missing_docs)]
 
 pub mod artifact;
@@ -21,13 +21,12 @@ pub mod resolve;
 pub mod units;
 pub mod urdf;
 pub mod workspaces;
-pub mod world;
 
 use cellc_lang::{Diagnostic, SourceMap};
 
+pub use cellc_schema::files::{Files, MemoryFiles};
 pub use graph::ObjectGraph;
 pub use model::Cell;
-pub use world::{MemoryWorld, World};
 
 /// Everything a compilation produced.
 #[derive(Debug)]
@@ -51,8 +50,8 @@ impl Compilation {
 }
 
 /// Compiles the cell at `path`.
-pub fn compile(world: &dyn World, path: &str) -> Compilation {
-    let loaded = load::load(world, path);
+pub fn compile(files: &dyn Files, path: &str) -> Compilation {
+    let loaded = load::load(files, path);
     let mut diagnostics = loaded.diagnostics.clone();
     // Items that failed to parse are missing from the trees, so resolving anyway would
     // report every reference to them as unknown: syntax errors are reported alone.
@@ -64,7 +63,7 @@ pub fn compile(world: &dyn World, path: &str) -> Compilation {
     let mut cell = None;
     let mut graphs = Vec::new();
     if main_parsed {
-        let resolved = resolve::resolve(world, &loaded, &mut diagnostics);
+        let resolved = resolve::resolve(files, &loaded, &mut diagnostics);
         checks::check_cell(&resolved, &mut diagnostics);
         // Graph-level findings on a cell that already has errors would mostly repeat
         // them in other words, so they wait until the cell is clean.

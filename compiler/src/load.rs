@@ -4,7 +4,7 @@ use cellc_lang::ast::{self, FileKind};
 use cellc_lang::{Diagnostic, FileId, SourceMap};
 
 use crate::diagnostics;
-use crate::world::{join, World};
+use cellc_schema::files::{join, normalize, Files};
 
 /// One parsed file.
 #[derive(Debug)]
@@ -30,27 +30,27 @@ pub struct Loaded {
 
 /// Reads `path` and, depth first, every file it includes. A file included twice (a
 /// diamond) is read once; a file that includes itself through a chain is an error.
-pub fn load(world: &dyn World, path: &str) -> Loaded {
+pub fn load(files: &dyn Files, path: &str) -> Loaded {
     let mut loaded = Loaded::default();
-    let path = crate::world::normalize(path);
+    let path = normalize(path);
     let mut stack = Vec::new();
-    load_file(world, &path, None, &mut stack, &mut loaded);
+    load_file(files, &path, None, &mut stack, &mut loaded);
     loaded
 }
 
 fn load_file(
-    world: &dyn World,
+    files: &dyn Files,
     path: &str,
     included_at: Option<(FileId, cellc_lang::Span)>,
     stack: &mut Vec<String>,
     loaded: &mut Loaded,
 ) {
-    let text = match world.read(path) {
+    let text = match files.read_text(path) {
         Ok(text) => text,
-        Err(reason) => {
+        Err(error) => {
             loaded
                 .diagnostics
-                .push(diagnostics::file_unreadable(path, &reason, included_at));
+                .push(diagnostics::file_unreadable(path, &error, included_at));
             return;
         }
     };
@@ -91,7 +91,7 @@ fn load_file(
         if loaded.files.iter().any(|f| f.path == include) {
             continue;
         }
-        load_file(world, &include, Some((id, span)), stack, loaded);
+        load_file(files, &include, Some((id, span)), stack, loaded);
     }
     stack.pop();
 }

@@ -8,7 +8,7 @@ use cellc_lang::ast::{GraspKeyword, Mobility};
 use cellc_lang::{FileId, Span};
 
 use crate::ids::*;
-use crate::math::{Aabb, Pose};
+use crate::math::{Aabb, Iso};
 
 /// Where something was declared.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -98,7 +98,7 @@ pub struct Solid {
     /// Shape.
     pub shape: Shape,
     /// Placement in the parent frame.
-    pub pose: Pose,
+    pub pose: Iso,
 }
 
 /// A hand model or support kind: what grasps and resting poses are declared for, so that
@@ -159,7 +159,7 @@ pub enum Body {
         /// Robot model (`None` when its name did not resolve).
         robot: Option<RobotId>,
         /// Pose of the robot base in the cell.
-        base: Pose,
+        base: Iso,
         /// Home configuration, one value per chain joint.
         home: Vec<f64>,
     },
@@ -245,7 +245,7 @@ pub struct Grasp {
     /// `grasp` or `rest`.
     pub keyword: GraspKeyword,
     /// Pose of the object in the holder's frame.
-    pub pose: Option<Pose>,
+    pub pose: Option<Iso>,
     /// Declaration.
     pub origin: Origin,
 }
@@ -338,7 +338,7 @@ pub struct RequestPlacement {
     /// Workspace, when given by name.
     pub workspace: Option<WorkspaceId>,
     /// Object pose, when given.
-    pub pose: Option<Pose>,
+    pub pose: Option<Iso>,
 }
 
 /// A resolved `expect` with its origin.

@@ -6,7 +6,7 @@ use cellc_lang::{Diagnostic, FileId};
 use nalgebra as na;
 
 use crate::diagnostics::{self, Dimension};
-use crate::math::{Aabb, Pose, Rotation};
+use crate::math::{aabb_from_center_size, Aabb, Iso, Quat};
 
 /// Default units of one file, from its `units` line.
 #[derive(Clone, Copy, Debug, Default)]
@@ -150,18 +150,18 @@ impl Eval<'_> {
     pub fn aabb(&mut self, b: &ast::Aabb) -> Option<Aabb> {
         let center = self.lengths(&b.center);
         let size = self.sizes(&b.size, "a box size");
-        Some(Aabb::from_center_size(center?, size?))
+        Some(aabb_from_center_size(center?, size?))
     }
 
     /// A pose.
-    pub fn pose(&mut self, p: &ast::Pose) -> Option<Pose> {
+    pub fn pose(&mut self, p: &ast::Pose) -> Option<Iso> {
         let at = self.lengths(&p.at);
         let rotation = match &p.rotation {
-            None => Some(Rotation::identity()),
+            None => Some(Quat::identity()),
             Some(ast::Rotation::Rpy(v, _)) => {
                 let angles = v.parts.each_ref().map(|q| self.value(q, Dimension::Angle));
                 match angles {
-                    [Some(r), Some(p), Some(y)] => Some(Rotation::from_euler_angles(r, p, y)),
+                    [Some(r), Some(p), Some(y)] => Some(Quat::from_euler_angles(r, p, y)),
                     _ => None,
                 }
             }
@@ -176,7 +176,7 @@ impl Eval<'_> {
                                 .push(diagnostics::not_a_rotation(norm, self.file, *span));
                             None
                         } else {
-                            Some(Rotation::from_quaternion(q))
+                            Some(Quat::from_quaternion(q))
                         }
                     }
                     _ => None,
@@ -184,7 +184,7 @@ impl Eval<'_> {
             }
         };
         let at = at?;
-        Some(Pose::from_parts(
+        Some(Iso::from_parts(
             na::Translation3::new(at[0], at[1], at[2]),
             rotation?,
         ))

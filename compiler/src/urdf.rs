@@ -1,23 +1,23 @@
-//! Robot models: reads a URDF through the [`World`], checks that the named links exist
-//! and that a chain of joints leads from the base to the tip.
+//! Robot models: reads a URDF through [`Files`], checks that the named links exist and
+//! that a chain of joints leads from the base to the tip (the walk itself is
+//! [`cellc_urdf`]'s, shared with the runtime).
 //!
 //! The compiler only validates and records the chain; kinematics live in the runtime,
-//! which reads the URDF text carried in the artifact.
-
-use std::collections::HashMap;
+//! which reads the URDF again from the path and hash carried in the artifact.
 
 use cellc_lang::ast::RobotItem;
 use cellc_lang::diagnostic::did_you_mean;
 use cellc_lang::{Diagnostic, FileId};
+use cellc_schema::files::{join, Files};
+use cellc_urdf::{Description, JointKind};
 
 use crate::diagnostics;
 use crate::model::{Joint, Origin, Robot};
-use crate::world::{join, World};
 
 /// Loads the URDF of a `robot` item, reporting every problem; `None` when the model is
 /// unusable.
 pub fn load_robot(
-    world: &dyn World,
+    files: &dyn Files,
     declaring_path: &str,
     file: FileId,
     item: &RobotItem,
@@ -25,64 +25,38 @@ pub fn load_robot(
     diagnostics: &mut Vec<Diagnostic>,
 ) -> Option<Robot> {
     let path = join(declaring_path, &item.urdf.value);
-    let text = match world.read(&path) {
+    let text = match files.read_text(&path) {
         Ok(text) => text,
-        Err(reason) => {
+        Err(error) => {
             diagnostics.push(diagnostics::urdf_unreadable(
                 &path,
-                &reason,
+                &error,
                 file,
                 item.urdf.span,
             ));
             return None;
         }
     };
-    // The URDF reader is a third-party XML stack: guard against it panicking on hostile
-    // input so that bad files can never take the checker down.
-    let parsed = std::panic::catch_unwind(|| urdf_rs::read_from_string(&text));
-    let model = match parsed {
-        Ok(Ok(model)) => model,
-        Ok(Err(error)) => {
-            // The reader prefixes serde's own category ("custom: "), which means nothing
-            // to a cell engineer.
-            let reason = error.to_string();
-            let reason = reason
-                .strip_prefix("custom: ")
-                .unwrap_or(&reason)
-                .to_string();
+    let description = match Description::parse(&text) {
+        Ok(description) => description,
+        Err(error) => {
             diagnostics.push(diagnostics::urdf_invalid(
                 &path,
-                &reason,
-                file,
-                item.urdf.span,
-            ));
-            return None;
-        }
-        Err(_) => {
-            diagnostics.push(diagnostics::urdf_invalid(
-                &path,
-                "the reader failed on this file",
+                &error,
                 file,
                 item.urdf.span,
             ));
             return None;
         }
     };
-    let links: Vec<&str> = model.links.iter().map(|l| l.name.as_str()).collect();
-    // child link -> (joint index, parent link)
-    let parent_of: HashMap<&str, (usize, &str)> = model
-        .joints
-        .iter()
-        .enumerate()
-        .map(|(i, j)| (j.child.link.as_str(), (i, j.parent.link.as_str())))
-        .collect();
-    let root = links.iter().copied().find(|l| !parent_of.contains_key(l));
+    // Both links are checked before walking, so that an unknown base and an unknown tip
+    // are reported together, each with its own suggestion.
     let mut ok = true;
     let mut check_link = |name: &cellc_lang::ast::Name| {
-        if links.contains(&name.text.as_str()) {
+        if description.has_link(&name.text) {
             true
         } else {
-            let suggestion = did_you_mean(&name.text, links.iter().copied());
+            let suggestion = did_you_mean(&name.text, description.links());
             diagnostics.push(diagnostics::urdf_unknown_link(
                 "link", &name.text, &path, file, name.span, suggestion,
             ));
@@ -94,63 +68,46 @@ pub fn load_robot(
             ok &= check_link(base);
             base.text.clone()
         }
-        None => root.unwrap_or_default().to_string(),
+        None => description.root().unwrap_or_default().to_string(),
     };
     ok &= check_link(&item.tip);
     if !ok {
         return None;
     }
-    // Walk from the tip up to the base.
-    let mut chain = Vec::new();
-    let mut link = item.tip.text.as_str();
-    let mut steps = 0;
-    while link != base {
-        match parent_of.get(link) {
-            Some(&(joint, parent)) if steps <= model.joints.len() => {
-                chain.push(joint);
-                link = parent;
-                steps += 1;
-            }
-            _ => {
-                diagnostics.push(diagnostics::urdf_no_chain(
-                    &base,
-                    &item.tip.text,
-                    &path,
-                    file,
-                    item.span,
-                ));
-                return None;
-            }
-        }
-    }
-    chain.reverse();
+    // The links exist (a file without a root gives the base "", which the walk refuses
+    // too), so any failure means the tip does not descend from the base.
+    let Ok(chain) = description.chain(&base, &item.tip.text) else {
+        diagnostics.push(diagnostics::urdf_no_chain(
+            &base,
+            &item.tip.text,
+            &path,
+            file,
+            item.span,
+        ));
+        return None;
+    };
+    // The compiler records the joints the runtime will move; validating their axes and
+    // limits is the runtime's (see `cellc_urdf::ChainJoint::motion`).
     let chain_joints: Vec<Joint> = chain
-        .into_iter()
-        .filter_map(|j| {
-            let joint = &model.joints[j];
-            let (prismatic, lower, upper) = match joint.joint_type {
-                urdf_rs::JointType::Revolute => (false, joint.limit.lower, joint.limit.upper),
-                urdf_rs::JointType::Prismatic => (true, joint.limit.lower, joint.limit.upper),
-                urdf_rs::JointType::Continuous => (false, f64::NEG_INFINITY, f64::INFINITY),
-                _ => return None,
-            };
-            Some(Joint {
+        .movable()
+        .map(|(joint, kind)| {
+            let (lower, upper) = joint.limits();
+            Joint {
                 name: joint.name.clone(),
-                prismatic,
+                prismatic: kind == JointKind::Prismatic,
                 lower,
                 upper,
-            })
+            }
         })
         .collect();
     if chain_joints.is_empty() {
-        diagnostics.push(
-            Diagnostic::error(
-                diagnostics::codes::URDF_NO_CHAIN,
-                format!("in `{path}`, no movable joint lies between `{base}` and `{}`", item.tip.text),
-            )
-            .primary(file, item.span, "this robot cannot move its tip")
-            .help("pick a base and tip with at least one revolute, continuous or prismatic joint between them"),
-        );
+        diagnostics.push(diagnostics::urdf_no_movable_joint(
+            &base,
+            &item.tip.text,
+            &path,
+            file,
+            item.span,
+        ));
         return None;
     }
     Some(Robot {
@@ -160,7 +117,7 @@ pub fn load_robot(
         base_link: base,
         tip_link: item.tip.text.clone(),
         chain_joints,
-        links: links.iter().map(|l| l.to_string()).collect(),
+        links: description.links().map(str::to_string).collect(),
         origin,
     })
 }

@@ -13,7 +13,7 @@ use cellc_lang::Diagnostic;
 
 use crate::diagnostics;
 use crate::ids::*;
-use crate::math::{covered_by_union, Aabb, EPS};
+use crate::math::{contains_point, covered_by_union, Aabb, Point, EPS};
 use crate::model::*;
 
 /// The reach cuboids of a geometric end-effector (empty for abstract ones).
@@ -21,10 +21,10 @@ pub fn reach_boxes(e: &EndEffector) -> Vec<Aabb> {
     match &e.body {
         Body::Abstract => Vec::new(),
         Body::Arm { .. } => e.reach_boxes.clone(),
-        Body::Surface { slab, reach_height } => vec![Aabb {
-            min: [slab.min[0], slab.min[1], slab.max[2]],
-            max: [slab.max[0], slab.max[1], slab.max[2] + reach_height],
-        }],
+        Body::Surface { slab, reach_height } => vec![Aabb::new(
+            Point::new(slab.mins[0], slab.mins[1], slab.maxs[2]),
+            Point::new(slab.maxs[0], slab.maxs[1], slab.maxs[2] + reach_height),
+        )],
     }
 }
 
@@ -86,7 +86,7 @@ fn derive(cell: &mut Cell, reach: &[(EndEffectorId, Vec<Aabb>)], origin: Origin)
             .flat_map(|(_, boxes)| boxes.iter())
             .chain(declared.iter())
             .chain(solids.iter())
-            .flat_map(|b| [b.min[axis], b.max[axis]])
+            .flat_map(|b| [b.mins[axis], b.maxs[axis]])
             .collect();
         cuts.sort_by(f64::total_cmp);
         cuts.dedup_by(|a, b| (*a - *b).abs() <= EPS);
@@ -98,21 +98,19 @@ fn derive(cell: &mut Cell, reach: &[(EndEffectorId, Vec<Aabb>)], origin: Origin)
     for x in cuts[0].windows(2) {
         for y in cuts[1].windows(2) {
             for z in cuts[2].windows(2) {
-                let cell_box = Aabb {
-                    min: [x[0], y[0], z[0]],
-                    max: [x[1], y[1], z[1]],
-                };
+                let cell_box =
+                    Aabb::new(Point::new(x[0], y[0], z[0]), Point::new(x[1], y[1], z[1]));
                 let center = cell_box.center();
                 if declared
                     .iter()
                     .chain(&solids)
-                    .any(|b| b.contains_point(center))
+                    .any(|b| contains_point(b, &center))
                 {
                     continue;
                 }
                 let label: Vec<EndEffectorId> = reach
                     .iter()
-                    .filter(|(_, boxes)| boxes.iter().any(|b| b.contains_point(center)))
+                    .filter(|(_, boxes)| boxes.iter().any(|b| contains_point(b, &center)))
                     .map(|(e, _)| *e)
                     .collect();
                 // Nothing can bring an object into space no movable end-effector
@@ -171,13 +169,13 @@ fn merge_boxes(mut boxes: Vec<Aabb>) -> Vec<Aabb> {
                 for axis in 0..3 {
                     let others_equal = (0..3)
                         .filter(|&k| k != axis)
-                        .all(|k| same(a.min[k], b.min[k]) && same(a.max[k], b.max[k]));
+                        .all(|k| same(a.mins[k], b.mins[k]) && same(a.maxs[k], b.maxs[k]));
                     if others_equal
-                        && (same(a.max[axis], b.min[axis]) || same(b.max[axis], a.min[axis]))
+                        && (same(a.maxs[axis], b.mins[axis]) || same(b.maxs[axis], a.mins[axis]))
                     {
                         let mut union = a;
-                        union.min[axis] = a.min[axis].min(b.min[axis]);
-                        union.max[axis] = a.max[axis].max(b.max[axis]);
+                        union.mins[axis] = a.mins[axis].min(b.mins[axis]);
+                        union.maxs[axis] = a.maxs[axis].max(b.maxs[axis]);
                         boxes[i] = union;
                         boxes.swap_remove(j);
                         merged = true;
@@ -191,9 +189,9 @@ fn merge_boxes(mut boxes: Vec<Aabb>) -> Vec<Aabb> {
         }
     }
     boxes.sort_by(|a, b| {
-        a.min
+        a.mins
             .iter()
-            .zip(b.min.iter())
+            .zip(b.mins.iter())
             .map(|(x, y)| x.total_cmp(y))
             .find(|o| o.is_ne())
             .unwrap_or(std::cmp::Ordering::Equal)

@@ -8,6 +8,7 @@
 pub mod ast;
 pub mod diagnostic;
 pub mod format;
+mod grammar;
 mod parser;
 pub mod phrases;
 pub mod span;

@@ -9,7 +9,7 @@ use std::collections::BTreeSet;
 use pest::error::{Error, ErrorVariant, InputLocation};
 
 use crate::diagnostic::{did_you_mean, Diagnostic};
-use crate::parser::Rule;
+use crate::grammar::Rule;
 use crate::span::{FileId, Span};
 
 /// Codes of the syntax phase.

@@ -20,7 +20,7 @@ use cellc_runtime::collision::{
 use cellc_runtime::kinematics::{solve_ik, IkOptions, IkTarget};
 use cellc_runtime::math::{Iso, Quat, Vec3};
 use cellc_runtime::robot::Robot;
-use cellc_runtime::Files;
+use cellc_runtime::{FileError, Files};
 use criterion::{criterion_group, criterion_main, Criterion};
 use parry3d_f64::shape::SharedShape;
 use rand::SeedableRng;
@@ -47,9 +47,9 @@ static ALLOCATOR: Counting = Counting;
 struct Repo;
 
 impl Files for Repo {
-    fn read(&self, path: &str) -> Result<Vec<u8>, String> {
+    fn read(&self, path: &str) -> Result<Vec<u8>, FileError> {
         let full = format!("{}/../{path}", env!("CARGO_MANIFEST_DIR"));
-        std::fs::read(&full).map_err(|e| format!("{full}: {e}"))
+        Ok(std::fs::read(full)?)
     }
 }
 

@@ -18,7 +18,7 @@ use cellc_runtime::closed_chain::{solve_handoff, HandoffOptions, HandoffProblem}
 use cellc_runtime::kinematics::{random_configuration, solve_ik, IkOptions, IkTarget};
 use cellc_runtime::math::{Iso, Point, Vec3};
 use cellc_runtime::robot::Robot;
-use cellc_runtime::Files;
+use cellc_runtime::MemoryFiles;
 use criterion::{criterion_group, criterion_main, Criterion};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -41,15 +41,6 @@ unsafe impl GlobalAlloc for Counting {
 #[global_allocator]
 static ALLOCATOR: Counting = Counting;
 
-/// The LWR has no meshes, so no file is ever read.
-struct NoFiles;
-
-impl Files for NoFiles {
-    fn read(&self, path: &str) -> Result<Vec<u8>, String> {
-        Err(format!("no file `{path}`"))
-    }
-}
-
 fn lwr() -> Robot {
     let path =
         std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../cells/robots/kuka_lwr4.urdf");
@@ -59,7 +50,8 @@ fn lwr() -> Robot {
         "kuka_lwr4.urdf",
         "lwr_base_link",
         "lwr_flange",
-        &NoFiles,
+        // The LWR has no meshes, so no file is ever read.
+        &MemoryFiles::default(),
     )
     .expect("the LWR model loads")
 }

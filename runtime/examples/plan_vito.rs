@@ -3,20 +3,14 @@
 //! `cargo run -p cellc-runtime --example plan_vito [REQUEST]`. A task planner would read
 //! the artifact `cellc build` wrote; here the cell is compiled in memory first.
 
-use cellc_runtime::{Cell, ExecuteOptions, Files, PlanOptions, VerifyOptions};
+use cellc_runtime::{Cell, ExecuteOptions, FileError, Files, PlanOptions, VerifyOptions};
 
-/// Files read from the repository.
+/// Files read from disk: the cell and its includes, robot models, meshes.
 struct Disk;
 
 impl Files for Disk {
-    fn read(&self, path: &str) -> Result<Vec<u8>, String> {
-        std::fs::read(path).map_err(|e| e.to_string())
-    }
-}
-
-impl cellc_compiler::world::World for Disk {
-    fn read(&self, path: &str) -> Result<String, String> {
-        std::fs::read_to_string(path).map_err(|e| e.to_string())
+    fn read(&self, path: &str) -> Result<Vec<u8>, FileError> {
+        Ok(std::fs::read(path)?)
     }
 }
 

@@ -337,7 +337,7 @@ impl<'a> Simulator<'a> {
         let (height_error, rotation_error) = crate::plan::locate::rest_error(
             &pose,
             &self.grasp_pose(rest),
-            slab.max.z,
+            slab.maxs.z,
             symmetries,
         );
         if height_error > self.tolerance.position || rotation_error > self.tolerance.rotation {

@@ -16,6 +16,8 @@ pub mod kinematics;
 #[doc(hidden)]
 pub mod math;
 #[doc(hidden)]
+pub mod mesh;
+#[doc(hidden)]
 pub mod motion;
 #[doc(hidden)]
 pub mod plan;
@@ -41,8 +43,4 @@ pub use plan::{
 };
 pub use verify::VerifyOptions;
 
-/// Supplies file contents (URDFs, meshes) to the runtime, which does no I/O itself.
-pub trait Files {
-    /// The bytes of the file at `path`, or why it can't be read.
-    fn read(&self, path: &str) -> Result<Vec<u8>, String>;
-}
+pub use cellc_schema::files::{FileError, Files, MemoryFiles};

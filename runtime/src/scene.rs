@@ -2,52 +2,16 @@
 //! since the build), arms placed, surfaces as slabs, hand and object shapes for collision
 //! checks, workspaces as boxes.
 
-use cellc_schema::{self as schema, Artifact};
-use nalgebra as na;
+use cellc_schema::{self as schema, sha256_hex, Artifact};
 use parry3d_f64::shape::SharedShape;
-use sha2::{Digest, Sha256};
 
 use crate::collision::{
     BuildError, CollisionError, CollisionScratch, CollisionWorld, CollisionWorldBuilder,
     Configuration, Hand, Holder as CollisionHolder, ObjectState, Solid,
 };
-use crate::math::{iso_from_schema, Iso, Point};
+use crate::math::{aabb_from_schema, iso_from_schema, Aabb, Iso, Vec3};
 use crate::robot::{Robot, RobotError};
 use crate::Files;
-
-/// An axis-aligned box.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Aabb {
-    /// Smallest corner.
-    pub min: Point,
-    /// Largest corner.
-    pub max: Point,
-}
-
-impl Aabb {
-    /// From the artifact's box.
-    pub fn from_schema(b: &schema::Aabb) -> Aabb {
-        Aabb {
-            min: Point::new(b.min[0], b.min[1], b.min[2]),
-            max: Point::new(b.max[0], b.max[1], b.max[2]),
-        }
-    }
-
-    /// True when `p` is inside (boundary included, 1 µm slack).
-    pub fn contains(&self, p: &Point) -> bool {
-        (0..3).all(|i| p[i] >= self.min[i] - 1e-6 && p[i] <= self.max[i] + 1e-6)
-    }
-
-    /// Volume in m³.
-    pub fn volume(&self) -> f64 {
-        (self.max - self.min).iter().product()
-    }
-
-    /// Centre.
-    pub fn center(&self) -> Point {
-        na::center(&self.min, &self.max)
-    }
-}
 
 /// How an end-effector exists in the scene.
 #[derive(Clone, Debug)]
@@ -234,14 +198,6 @@ pub struct SceneScratch {
     collision: CollisionScratch,
 }
 
-/// Lowercase hex SHA-256.
-fn sha256_hex(bytes: &[u8]) -> String {
-    Sha256::digest(bytes)
-        .iter()
-        .map(|b| format!("{b:02x}"))
-        .collect()
-}
-
 impl Scene {
     /// Builds the scene of an artifact, reading URDFs and meshes through `files`.
     pub fn load(artifact: &Artifact, files: &dyn Files) -> Result<Scene, SceneError> {
@@ -249,9 +205,9 @@ impl Scene {
         for r in &artifact.robots {
             let bytes = files
                 .read(&r.urdf_path)
-                .map_err(|reason| SceneError::Unreadable {
+                .map_err(|error| SceneError::Unreadable {
                     path: r.urdf_path.clone(),
-                    reason,
+                    reason: error.to_string(),
                 })?;
             if sha256_hex(&bytes) != r.urdf_sha256 {
                 return Err(SceneError::StaleUrdf {
@@ -278,7 +234,7 @@ impl Scene {
                     home: home.clone(),
                 },
                 schema::Body::Surface { slab, reach_height } => Holder::Surface {
-                    slab: Aabb::from_schema(slab),
+                    slab: aabb_from_schema(slab),
                     reach_height: *reach_height,
                 },
             })
@@ -300,7 +256,7 @@ impl Scene {
         let workspaces = artifact
             .workspaces
             .iter()
-            .map(|w| w.boxes.iter().map(Aabb::from_schema).collect())
+            .map(|w| w.boxes.iter().map(aabb_from_schema).collect())
             .collect();
         let mut object_shapes: Vec<Vec<PlacedShape>> = Vec::with_capacity(artifact.objects.len());
         for o in &artifact.objects {
@@ -345,8 +301,8 @@ impl Scene {
                 Holder::Surface { slab, .. } => {
                     world_fixed[e] = Some(builder.add_fixed_box(
                         &ee.name,
-                        slab.min.coords.into(),
-                        slab.max.coords.into(),
+                        slab.mins.coords.into(),
+                        slab.maxs.coords.into(),
                     ));
                 }
                 Holder::Abstract => {}
@@ -527,13 +483,13 @@ fn placed(
             SharedShape::cuboid(size[0] / 2.0, size[1] / 2.0, size[2] / 2.0),
         ),
         schema::Shape::Cylinder { radius, height } => (
-            Iso::rotation(na::Vector3::x() * std::f64::consts::FRAC_PI_2),
+            Iso::rotation(Vec3::x() * std::f64::consts::FRAC_PI_2),
             SharedShape::cylinder(height / 2.0, *radius),
         ),
         schema::Shape::Sphere { radius } => (Iso::identity(), SharedShape::ball(*radius)),
         schema::Shape::Mesh { path } => {
-            let bytes = files.read(path)?;
-            let hull = crate::robot::mesh_hull(path, &bytes, [1.0; 3])
+            let bytes = files.read(path).map_err(|error| error.to_string())?;
+            let hull = crate::mesh::hull(path, &bytes, [1.0; 3])
                 .map_err(|reason| format!("mesh `{path}`: {reason}"))?;
             (Iso::identity(), hull)
         }

@@ -29,8 +29,8 @@ use rayon::prelude::*;
 
 use crate::closed_chain::{solve_handoff, HandoffOptions, HandoffProblem};
 use crate::kinematics::{solve_ik, IkError, IkOptions, IkTarget};
-use crate::math::{iso_from_schema, iso_to_schema, Iso, Point, Quat, Vec3};
-use crate::scene::{Aabb, Holder, ObjectPlacement, Scene, SceneScratch};
+use crate::math::{contains_point, iso_from_schema, iso_to_schema, Aabb, Iso, Point, Quat, Vec3};
+use crate::scene::{Holder, ObjectPlacement, Scene, SceneScratch};
 
 /// Verification settings.
 #[derive(Clone, Debug)]
@@ -298,7 +298,7 @@ fn sample_point(boxes: &[Aabb], rng: &mut ChaCha8Rng) -> Option<Point> {
         })
         .unwrap_or(&boxes[boxes.len() - 1]);
     Some(Point::from(na::Vector3::from_fn(|i, _| {
-        chosen.min[i] + rng.random::<f64>() * (chosen.max[i] - chosen.min[i])
+        chosen.mins[i] + rng.random::<f64>() * (chosen.maxs[i] - chosen.mins[i])
     })))
 }
 
@@ -488,7 +488,7 @@ fn run_check(
                     let center = Point::from(object_pose.translation.vector);
                     if !scene.workspaces[w as usize]
                         .iter()
-                        .any(|b| b.contains(&center))
+                        .any(|b| contains_point(b, &center))
                     {
                         continue;
                     }
@@ -591,8 +591,8 @@ fn run_check(
                 };
                 let bounds = boxes
                     .iter()
-                    .find(|bx| bx.contains(&target))
-                    .map(|bx| (bx.min, bx.max));
+                    .find(|bx| contains_point(bx, &target))
+                    .map(|bx| (bx.mins, bx.maxs));
                 let problem = HandoffProblem {
                     a: (robot_a, base_a),
                     b: (robot_b, base_b),
@@ -604,7 +604,7 @@ fn run_check(
                 match solve_handoff(&problem, home_a, home_b, &mut rng, &options.handoff) {
                     Ok(solution) => {
                         let center = Point::from(solution.object.translation.vector);
-                        if !boxes.iter().any(|bx| bx.contains(&center)) {
+                        if !boxes.iter().any(|bx| contains_point(bx, &center)) {
                             continue;
                         }
                         let placement = ObjectPlacement::Handoff {
@@ -659,15 +659,17 @@ fn run_check(
             let grasp = grasp_pose(artifact, object, g);
             // The object rests on the top face, anywhere and turned any way about the
             // vertical, as long as its centre lies in the workspace.
-            let top = slab.max.z;
+            let top = slab.maxs.z;
             let center_z = top + rest.translation.vector.z;
             let regions: Vec<Aabb> = scene.workspaces[w as usize]
                 .iter()
                 .filter_map(|bx| {
-                    let min = Point::new(bx.min.x.max(slab.min.x), bx.min.y.max(slab.min.y), top);
-                    let max = Point::new(bx.max.x.min(slab.max.x), bx.max.y.min(slab.max.y), top);
-                    let z_inside = bx.min.z <= center_z + 1e-6 && bx.max.z >= center_z - 1e-6;
-                    (max.x > min.x && max.y > min.y && z_inside).then_some(Aabb { min, max })
+                    let min =
+                        Point::new(bx.mins.x.max(slab.mins.x), bx.mins.y.max(slab.mins.y), top);
+                    let max =
+                        Point::new(bx.maxs.x.min(slab.maxs.x), bx.maxs.y.min(slab.maxs.y), top);
+                    let z_inside = bx.mins.z <= center_z + 1e-6 && bx.maxs.z >= center_z - 1e-6;
+                    (max.x > min.x && max.y > min.y && z_inside).then_some(Aabb::new(min, max))
                 })
                 .collect();
             if regions.is_empty() {
@@ -692,18 +694,18 @@ fn run_check(
             for _ in 0..options.placements {
                 let area: f64 = regions
                     .iter()
-                    .map(|a| (a.max.x - a.min.x) * (a.max.y - a.min.y))
+                    .map(|a| (a.maxs.x - a.mins.x) * (a.maxs.y - a.mins.y))
                     .sum();
                 let mut pick = rng.random::<f64>() * area;
                 let region = regions
                     .iter()
                     .find(|a| {
-                        pick -= (a.max.x - a.min.x) * (a.max.y - a.min.y);
+                        pick -= (a.maxs.x - a.mins.x) * (a.maxs.y - a.mins.y);
                         pick <= 0.0
                     })
                     .unwrap_or(&regions[regions.len() - 1]);
-                let x = region.min.x + rng.random::<f64>() * (region.max.x - region.min.x);
-                let y = region.min.y + rng.random::<f64>() * (region.max.y - region.min.y);
+                let x = region.mins.x + rng.random::<f64>() * (region.maxs.x - region.mins.x);
+                let y = region.mins.y + rng.random::<f64>() * (region.maxs.y - region.mins.y);
                 let yaw = rng.random::<f64>() * std::f64::consts::TAU;
                 let surface_frame = Iso::from_parts(
                     na::Translation3::new(x, y, top),

@@ -9,16 +9,16 @@ use cellc_runtime::collision::{
 };
 use cellc_runtime::math::{Iso, Vec3};
 use cellc_runtime::robot::Robot;
-use cellc_runtime::Files;
+use cellc_runtime::{FileError, Files};
 use parry3d_f64::shape::SharedShape;
 
 /// Reads files from the repository (paths relative to the workspace root).
 struct Repo;
 
 impl Files for Repo {
-    fn read(&self, path: &str) -> Result<Vec<u8>, String> {
+    fn read(&self, path: &str) -> Result<Vec<u8>, FileError> {
         let full = format!("{}/../{path}", env!("CARGO_MANIFEST_DIR"));
-        std::fs::read(&full).map_err(|e| format!("{full}: {e}"))
+        Ok(std::fs::read(full)?)
     }
 }
 

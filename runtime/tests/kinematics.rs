@@ -3,7 +3,6 @@
 //! unreachable, determinism), closed-chain handoffs (arm to arm, arm to conveyor), and the
 //! collision solids read from URDFs (primitives and meshes).
 
-use std::collections::HashMap;
 use std::f64::consts::{FRAC_PI_2, PI};
 
 use cellc_runtime::closed_chain::{solve_handoff, HandoffOptions, HandoffProblem};
@@ -11,25 +10,12 @@ use cellc_runtime::kinematics::{
     pose_error, random_configuration, rotation_log, solve_ik, IkError, IkOptions, IkTarget,
 };
 use cellc_runtime::math::{Iso, Point, Vec3};
-use cellc_runtime::robot::{JointKind, Robot, RobotError};
-use cellc_runtime::Files;
+use cellc_runtime::robot::{ChainError, JointError, JointKind, Robot, RobotError};
+use cellc_runtime::MemoryFiles;
 use nalgebra as na;
 use proptest::prelude::*;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
-
-/// Files from memory, keyed by path.
-#[derive(Default)]
-struct MemoryFiles(HashMap<String, Vec<u8>>);
-
-impl Files for MemoryFiles {
-    fn read(&self, path: &str) -> Result<Vec<u8>, String> {
-        self.0
-            .get(path)
-            .cloned()
-            .ok_or_else(|| format!("no file `{path}`"))
-    }
-}
 
 fn shipped(name: &str) -> String {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -740,9 +726,7 @@ fn hull_points(shape: &cellc_runtime::robot::LinkShape) -> Vec<Point> {
 #[test]
 fn stl_meshes_load_as_scaled_convex_hulls() {
     let mut files = MemoryFiles::default();
-    files
-        .0
-        .insert("cell/meshes/tetra.stl".to_string(), tetrahedron_stl());
+    files.insert("cell/meshes/tetra.stl", tetrahedron_stl());
     let urdf = mesh_urdf("../meshes/tetra.stl", "2 2 2");
     let robot = Robot::from_urdf(&urdf, "cell/robots/gripper.urdf", "base", "finger", &files)
         .expect("the mesh loads");
@@ -796,10 +780,8 @@ fn ascii_stl_and_obj_meshes_load() {
     let obj =
         "# tetrahedron\nv 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
     let mut files = MemoryFiles::default();
-    files.0.insert("tetra.stl".to_string(), ascii.into_bytes());
-    files
-        .0
-        .insert("tetra.obj".to_string(), obj.as_bytes().to_vec());
+    files.insert("tetra.stl", ascii.into_bytes());
+    files.insert("tetra.obj", obj.as_bytes().to_vec());
     for name in ["tetra.stl", "tetra.obj"] {
         let robot = Robot::from_urdf(
             &mesh_urdf(name, "1 1 0.5"),
@@ -827,21 +809,21 @@ fn model_errors_are_reported() {
     };
     assert_eq!(
         load(&lwr_text, "lwr_base_link", "lwr_hand"),
-        Err(RobotError::UnknownLink {
+        Err(RobotError::Chain(ChainError::UnknownLink {
             link: "lwr_hand".to_string()
-        })
+        }))
     );
     // Upside down: no chain leads from the flange to the base.
     assert_eq!(
         load(&lwr_text, "lwr_flange", "lwr_base_link"),
-        Err(RobotError::NoChain {
+        Err(RobotError::Chain(ChainError::NoChain {
             base: "lwr_flange".to_string(),
             tip: "lwr_base_link".to_string()
-        })
+        }))
     );
     assert!(matches!(
         load("<robot name='x'><link", "a", "b"),
-        Err(RobotError::Parse { .. })
+        Err(RobotError::Parse(_))
     ));
     match load(
         &mesh_urdf("package://gripper/tetra.stl", "1 1 1"),
@@ -851,7 +833,7 @@ fn model_errors_are_reported() {
         Err(RobotError::Mesh { link, path, reason }) => {
             assert_eq!(link, "finger");
             assert_eq!(path, "package://gripper/tetra.stl");
-            assert!(reason.contains("package://"), "{reason}");
+            assert!(reason.to_string().contains("package://"), "{reason}");
         }
         other => panic!("expected a mesh error, got {other:?}"),
     }
@@ -861,9 +843,7 @@ fn model_errors_are_reported() {
     }
     let flat = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\n";
     let mut flat_files = MemoryFiles::default();
-    flat_files
-        .0
-        .insert("robots/flat.obj".to_string(), flat.as_bytes().to_vec());
+    flat_files.insert("robots/flat.obj", flat.as_bytes().to_vec());
     assert!(matches!(
         Robot::from_urdf(
             &mesh_urdf("flat.obj", "1 1 1"),
@@ -877,9 +857,9 @@ fn model_errors_are_reported() {
     let text = mesh_urdf("x.stl", "1 1 1").replace("0 0 2", "0 0 0");
     assert_eq!(
         load(&text, "base", "finger"),
-        Err(RobotError::BadAxis {
+        Err(RobotError::Joint(JointError::ZeroAxis {
             joint: "slide".to_string()
-        })
+        }))
     );
 }
 

@@ -8,12 +8,22 @@
 //! Two encodings carry the same value: JSON (the default, readable) and a compact binary
 //! form (`MAGIC`, the format version as little-endian `u32`, then postcard). Both are
 //! deterministic: the same artifact value always gives the same bytes.
+//!
+//! Beside the artifact, this crate holds the small vocabulary both sides of it share, so
+//! that each concept has one home below the compiler and the runtime: the geometry types
+//! and their conversions to the file forms ([`math`]), the file-reading trait ([`files`])
+//! and the content hash ([`hash`]).
 #![warn(missing_docs)]
 
 use serde::{Deserialize, Serialize};
 
+pub mod files;
+pub mod hash;
 pub mod ids;
 pub mod validate;
+pub mod math;
+pub use files::{FileError, Files, MemoryFiles};
+pub use hash::sha256_hex;
 pub use ids::{EndEffectorId, GraspId, NodeId, ObjectId, RobotId, SpanId, WorkspaceId};
 
 /// The value of [`Artifact::format`], identifying the file type.
@@ -579,18 +589,6 @@ impl std::error::Error for ReadError {}
 const JSON_CHECKSUM: &[u8] = b"{\"checksum\":\"";
 /// Hex digits of a SHA-256.
 const HEX_LEN: usize = 64;
-
-/// Lowercase hex SHA-256 of `bytes`: the one content hash of the project (source files,
-/// URDFs, artifact checksums).
-pub fn sha256_hex(bytes: &[u8]) -> String {
-    use sha2::Digest;
-    let digest = sha2::Sha256::digest(bytes);
-    let mut out = String::with_capacity(HEX_LEN);
-    for b in digest {
-        out.push_str(&format!("{b:02x}"));
-    }
-    out
-}
 
 impl Artifact {
     /// Encodes the artifact, with a SHA-256 of the content so damage is detected.

@@ -7,7 +7,7 @@ use std::process::ExitCode;
 use cellc_lang::Diagnostic;
 
 use crate::args::{ColorChoice, ReportFlags};
-use crate::fs_world::FsWorld;
+use crate::fs_files::FsFiles;
 use crate::render::{self, Color, Format};
 
 /// Checks every file; exit 0 when clean, 1 on errors (or warnings with `--deny-warnings`).
@@ -15,7 +15,7 @@ pub fn run(files: &[PathBuf], deny_warnings: bool, report: &ReportFlags) -> Exit
     let mut failed = false;
     let mut all: Vec<(Vec<Diagnostic>, cellc_lang::SourceMap)> = Vec::new();
     for file in files {
-        let compilation = cellc_compiler::compile(&FsWorld, &file.to_string_lossy());
+        let compilation = cellc_compiler::compile(&FsFiles, &file.to_string_lossy());
         failed |= compilation
             .diagnostics
             .iter()

@@ -9,7 +9,7 @@ use cellc_runtime::plan::{GoalByName, PlacementByName, PlanError, PlanOptions, R
 use cellc_runtime::{Cell, LoadError, VerifyOptions};
 
 use crate::args::PlanFormat;
-use crate::fs_world::{FsFiles, FsWorld};
+use crate::fs_files::FsFiles;
 use crate::plan_report::{self, codes};
 use crate::render::{self, Color};
 
@@ -88,7 +88,7 @@ pub fn print(diagnostics: &[Diagnostic], sources: &SourceMap) {
 /// Compiles (and verifies) a cell, or reads an artifact, and loads it into the runtime.
 pub fn load(input: &str, seed: u64) -> Result<Loaded, ExitCode> {
     let (artifact, sources, fresh) = if input.ends_with(".cell") {
-        let compilation = cellc_compiler::compile(&FsWorld, input);
+        let compilation = cellc_compiler::compile(&FsFiles, input);
         if compilation.has_errors() || compilation.cell.is_none() {
             print(&compilation.diagnostics, &compilation.sources);
             return Err(ExitCode::from(1));

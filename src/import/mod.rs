@@ -167,7 +167,7 @@ pub fn dualmanip(db: &Path) -> Result<Imported, Failure> {
     // The last guard: the rows were checked above, so this finds nothing unless the
     // checks and the compiler disagree. Then the compiler's errors are shown against the
     // cell that would have been written, and nothing is written.
-    let world = cellc_compiler::MemoryWorld::new([(cell_path.as_str(), text.as_str())]);
+    let world = cellc_compiler::MemoryFiles::new([(cell_path.as_str(), text.as_str())]);
     let compilation = cellc_compiler::compile(&world, &cell_path);
     if compilation.has_errors() {
         return Err(Failure {

@@ -192,11 +192,11 @@ pub(crate) fn grasps_of(artifact: &Artifact, object: u32, e: u32) -> Vec<u32> {
 
 /// The workspace containing `position`, or the nearest ones.
 fn workspace_at(artifact: &Artifact, scene: &Scene, position: &Point) -> Result<u32, LocateError> {
-    if let Some(w) = scene
-        .workspaces
-        .iter()
-        .position(|boxes| boxes.iter().any(|b| b.contains(position)))
-    {
+    if let Some(w) = scene.workspaces.iter().position(|boxes| {
+        boxes
+            .iter()
+            .any(|b| crate::math::contains_point(b, position))
+    }) {
         return Ok(w as u32);
     }
     let mut nearest: Vec<NearMiss> = scene
@@ -209,9 +209,9 @@ fn workspace_at(artifact: &Artifact, scene: &Scene, position: &Point) -> Result<
                 .iter()
                 .map(|b| {
                     let clamped = Point::new(
-                        position.x.clamp(b.min.x, b.max.x),
-                        position.y.clamp(b.min.y, b.max.y),
-                        position.z.clamp(b.min.z, b.max.z),
+                        position.x.clamp(b.mins.x, b.maxs.x),
+                        position.y.clamp(b.mins.y, b.maxs.y),
+                        position.z.clamp(b.mins.z, b.maxs.z),
                     );
                     (clamped - position).norm()
                 })
@@ -339,7 +339,7 @@ pub fn locate(
                         .as_ref()
                         .map(iso_from_schema)
                         .unwrap_or_else(Iso::identity);
-                    let (dp, dr) = rest_error(pose, &rest, slab.max.z, &obj.symmetries);
+                    let (dp, dr) = rest_error(pose, &rest, slab.maxs.z, &obj.symmetries);
                     (g, dp, dr)
                 })
                 .collect();

@@ -673,21 +673,29 @@ impl<'a> Planner<'a> {
             }
         }
         // Sampled resting poses: anywhere on the top face with the centre in the workspace.
-        let top = slab.max.z;
+        let top = slab.maxs.z;
         let center_z = top + rest.translation.vector.z;
-        let regions: Vec<crate::scene::Aabb> = scene.workspaces[rest_node.workspace as usize]
+        let regions: Vec<crate::math::Aabb> = scene.workspaces[rest_node.workspace as usize]
             .iter()
-            .filter(|b| b.min.z <= center_z && b.max.z >= center_z)
-            .map(|b| crate::scene::Aabb {
-                min: crate::math::Point::new(b.min.x.max(slab.min.x), b.min.y.max(slab.min.y), top),
-                max: crate::math::Point::new(b.max.x.min(slab.max.x), b.max.y.min(slab.max.y), top),
+            .filter(|b| b.mins.z <= center_z && b.maxs.z >= center_z)
+            .map(|b| crate::math::Aabb {
+                mins: crate::math::Point::new(
+                    b.mins.x.max(slab.mins.x),
+                    b.mins.y.max(slab.mins.y),
+                    top,
+                ),
+                maxs: crate::math::Point::new(
+                    b.maxs.x.min(slab.maxs.x),
+                    b.maxs.y.min(slab.maxs.y),
+                    top,
+                ),
             })
-            .filter(|r| r.max.x > r.min.x && r.max.y > r.min.y)
+            .filter(|r| r.maxs.x > r.mins.x && r.maxs.y > r.mins.y)
             .collect();
         for _ in 0..100 {
             let region = regions.get(rng.random_range(0..regions.len().max(1)))?;
-            let x = region.min.x + rng.random::<f64>() * (region.max.x - region.min.x);
-            let y = region.min.y + rng.random::<f64>() * (region.max.y - region.min.y);
+            let x = region.mins.x + rng.random::<f64>() * (region.maxs.x - region.mins.x);
+            let y = region.mins.y + rng.random::<f64>() * (region.maxs.y - region.mins.y);
             let yaw = rng.random::<f64>() * std::f64::consts::TAU;
             let frame = Iso::from_parts(
                 nalgebra::Translation3::new(x, y, top),

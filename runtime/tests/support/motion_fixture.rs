@@ -7,17 +7,16 @@ use std::f64::consts::FRAC_PI_6;
 
 use cellc_runtime::math::{iso_to_schema, Iso, Quat};
 use cellc_runtime::robot::Robot;
-use cellc_runtime::Files;
+use cellc_runtime::{FileError, Files};
 use cellc_schema as schema;
-use sha2::{Digest, Sha256};
 
 /// Reads files from the repository (paths relative to the workspace root).
 pub struct Repo;
 
 impl Files for Repo {
-    fn read(&self, path: &str) -> Result<Vec<u8>, String> {
+    fn read(&self, path: &str) -> Result<Vec<u8>, FileError> {
         let full = format!("{}/../{path}", env!("CARGO_MANIFEST_DIR"));
-        std::fs::read(&full).map_err(|e| format!("{full}: {e}"))
+        Ok(std::fs::read(full)?)
     }
 }
 
@@ -77,10 +76,7 @@ pub fn artifact(
     boxes: &[(&str, [f64; 3], [f64; 3])],
 ) -> schema::Artifact {
     let bytes = Repo.read(URDF).expect("the LWR URDF is in the repository");
-    let sha = Sha256::digest(&bytes)
-        .iter()
-        .map(|b| format!("{b:02x}"))
-        .collect();
+    let sha = schema::sha256_hex(&bytes);
     let lwr = lwr();
     let (lower, upper) = lwr.limits();
     let joints = lwr

@@ -1,0 +1,155 @@
+//! Name lookups: a name of the wanted sort, or a report (unknown, with a suggestion among
+//! names of that sort; or declared as something else).
+
+use cellc_lang::ast;
+use cellc_lang::diagnostic::did_you_mean;
+use cellc_lang::FileId;
+
+use super::{Entry, Resolver};
+use crate::diagnostics::{self, Sort};
+use crate::ids::*;
+
+impl Resolver<'_, '_> {
+    /// Looks a name up, wanting one sort. Reports unknown names (with a suggestion among
+    /// names of the wanted sort) and names of the wrong sort.
+    pub(super) fn lookup(
+        &mut self,
+        file: FileId,
+        name: &ast::Name,
+        want: Sort,
+        context: &str,
+    ) -> Option<Entry> {
+        match self.names.get(&name.text) {
+            Some(entry) if entry.sort() == want => Some(*entry),
+            Some(entry) => {
+                let declared = self.origins[&name.text];
+                self.diagnostics.push(diagnostics::wrong_sort(
+                    &name.text,
+                    want,
+                    entry.sort(),
+                    file,
+                    name.span,
+                    declared,
+                ));
+                None
+            }
+            None => {
+                let candidates: Vec<&str> = self
+                    .names
+                    .iter()
+                    .filter(|(_, e)| e.sort() == want)
+                    .map(|(n, _)| n.as_str())
+                    .collect();
+                let suggestion = did_you_mean(&name.text, candidates.iter().copied());
+                self.diagnostics.push(diagnostics::unknown_name(
+                    want, &name.text, file, name.span, suggestion, context,
+                ));
+                None
+            }
+        }
+    }
+
+    pub(super) fn workspace(&mut self, file: FileId, name: &ast::Name) -> Option<WorkspaceId> {
+        match self.lookup(file, name, Sort::Workspace, "")? {
+            Entry::Workspace(id) => Some(id),
+            _ => None,
+        }
+    }
+
+    pub(super) fn end_effector(&mut self, file: FileId, name: &ast::Name) -> Option<EndEffectorId> {
+        match self.lookup(file, name, Sort::EndEffector, "")? {
+            Entry::EndEffector(id) => Some(id),
+            _ => None,
+        }
+    }
+
+    pub(super) fn object(&mut self, file: FileId, name: &ast::Name) -> Option<ObjectId> {
+        match self.lookup(file, name, Sort::Object, "")? {
+            Entry::Object(id) => Some(id),
+            _ => None,
+        }
+    }
+
+    pub(super) fn kind(&mut self, file: FileId, name: &ast::Name) -> Option<HolderKindId> {
+        match self.lookup(file, name, Sort::HolderKind, " with `hand` or `support`")? {
+            Entry::HolderKind(id) => Some(id),
+            _ => None,
+        }
+    }
+
+    pub(super) fn grasp_of(
+        &mut self,
+        file: FileId,
+        object: ObjectId,
+        name: &ast::Name,
+    ) -> Option<GraspId> {
+        if let Some(&g) = self.grasp_names.get(&(object, name.text.clone())) {
+            return Some(g);
+        }
+        let object_name = self.cell.objects[object].name.clone();
+        let candidates: Vec<String> = self.cell.objects[object]
+            .grasps
+            .iter()
+            .map(|&g| self.cell.grasps[g].name.clone())
+            .collect();
+        let suggestion = did_you_mean(&name.text, candidates.iter().map(String::as_str));
+        self.diagnostics.push(diagnostics::unknown_name(
+            Sort::Grasp,
+            &name.text,
+            file,
+            name.span,
+            suggestion,
+            &format!(" in object `{object_name}`"),
+        ));
+        None
+    }
+
+    /// `g` (a grasp of `object`) or `other.g` (a grasp of another object: an error, but
+    /// resolved first so the message can say whose grasp it is).
+    pub(super) fn qualified_grasp(
+        &mut self,
+        file: FileId,
+        object: ObjectId,
+        q: &ast::Qualified,
+    ) -> Option<GraspId> {
+        match &q.object {
+            None => self.grasp_of(file, object, &q.name),
+            Some(other) => {
+                let other_id = self.object(file, other)?;
+                let grasp = self.grasp_of(file, other_id, &q.name)?;
+                if other_id != object {
+                    let (a, b) = (
+                        self.cell.objects[object].name.clone(),
+                        self.cell.objects[other_id].name.clone(),
+                    );
+                    self.diagnostics
+                        .push(diagnostics::cross_object_transition(&a, &b, file, q.span));
+                    return None;
+                }
+                Some(grasp)
+            }
+        }
+    }
+
+    /// `HOLDER` or `HOLDER.GRASP` of a placement: the end-effector, and the grasp when one
+    /// is written (`Some(None)` when it was written but did not resolve). Every name is
+    /// looked up and reported even when an earlier one failed.
+    pub(super) fn holder_and_grasp(
+        &mut self,
+        file: FileId,
+        object: Option<ObjectId>,
+        holder: &ast::Qualified,
+    ) -> (Option<EndEffectorId>, Option<Option<GraspId>>) {
+        let (holder_name, grasp_name) = match &holder.object {
+            Some(h) => (h, Some(&holder.name)),
+            None => (&holder.name, None),
+        };
+        let end_effector = self.end_effector(file, holder_name);
+        let grasp = match (grasp_name, object) {
+            (Some(g), Some(object)) => Some(self.grasp_of(file, object, g)),
+            (Some(_), None) => Some(None),
+            (None, _) => None,
+        };
+        (end_effector, grasp)
+    }
+}

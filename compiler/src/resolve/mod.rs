@@ -1,0 +1,192 @@
+//! Syntax trees to the resolved [`Cell`]: names to typed ids, quantities to SI.
+//!
+//! [`resolve`] walks the items of every loaded file (main file first, then includes in
+//! the order they were read) in passes, each over all files:
+//!
+//! 1. **Units** ([`FileUnits::of`]): each file's `units` line, so every quantity below
+//!    converts to SI.
+//! 2. **Declare** (`declare.rs`): every name enters the one namespace, so an item may
+//!    refer to a name declared later or in an included library. Workspaces with their
+//!    boxes, end-effectors with their bodies (arm poses, surface slabs), holder kinds with
+//!    their solids, robots (their URDFs read and their chains checked by `crate::urdf`),
+//!    objects with their shapes, symmetries and grasps, obstacles, weights.
+//! 3. **Resolve references** (`items.rs`): an arm's robot, kind and home configuration,
+//!    a surface's kind, `reach` boxes, each grasp's holder, each transition's grasps.
+//! 4. **Derive workspaces** ([`crate::workspaces::assign`]): from the reach boxes now
+//!    known; the derived names join the namespace.
+//! 5. **Late references**, which may name derived workspaces: `allow contact` bodies
+//!    (`contacts.rs`), abstract `reaches` lists and `adjacent` pairs (`items.rs`), then
+//!    `expect` requirements and `request`s (`requirements.rs`).
+//!
+//! Name lookups with their "did you mean" live in `lookup.rs`. A reference that fails to
+//! resolve is reported and the item is dropped or left partial; resolution always goes
+//! on, so one run reports every problem.
+
+mod contacts;
+mod declare;
+mod items;
+mod lookup;
+mod requirements;
+
+use std::collections::HashMap;
+
+use cellc_lang::ast;
+use cellc_lang::{Diagnostic, FileId, Span};
+use cellc_schema::files::Files;
+
+use crate::diagnostics::{self, Sort};
+use crate::ids::*;
+use crate::load::Loaded;
+use crate::model::*;
+use crate::units::{Eval, FileUnits};
+
+/// Default height of a surface's reach above its top face: tall enough for the objects
+/// a cell handles to stand on it.
+pub const DEFAULT_SURFACE_REACH_HEIGHT: f64 = 0.3;
+
+#[derive(Clone, Copy, Debug)]
+enum Entry {
+    Workspace(WorkspaceId),
+    EndEffector(EndEffectorId),
+    HolderKind(HolderKindId),
+    Robot(RobotId),
+    Object(ObjectId),
+    Obstacle,
+}
+
+impl Entry {
+    fn sort(self) -> Sort {
+        match self {
+            Entry::Workspace(_) => Sort::Workspace,
+            Entry::EndEffector(_) => Sort::EndEffector,
+            Entry::HolderKind(_) => Sort::HolderKind,
+            Entry::Robot(_) => Sort::Robot,
+            Entry::Object(_) => Sort::Object,
+            Entry::Obstacle => Sort::Obstacle,
+        }
+    }
+}
+
+/// Resolves every loaded file into one cell, deriving workspaces on the way (see
+/// [`crate::workspaces`]). Diagnostics are appended to `diagnostics`.
+pub fn resolve(files: &dyn Files, loaded: &Loaded, diagnostics: &mut Vec<Diagnostic>) -> Cell {
+    let mut r = Resolver {
+        files,
+        cell: Cell::default(),
+        names: HashMap::new(),
+        origins: HashMap::new(),
+        grasp_names: HashMap::new(),
+        weight_origins: [None, None],
+        transition_origins: HashMap::new(),
+        diagnostics,
+    };
+    if let Some(main) = loaded.files.first().and_then(|f| f.ast.as_ref()) {
+        r.cell.name = main.name.text.clone();
+    }
+    let files: Vec<(FileId, &str, &ast::File)> = loaded
+        .files
+        .iter()
+        .filter_map(|f| f.ast.as_ref().map(|a| (f.id, f.path.as_str(), a)))
+        .collect();
+    let units: Vec<FileUnits> = files
+        .iter()
+        .map(|(id, _, file)| FileUnits::of(*id, &file.items, r.diagnostics))
+        .collect();
+    for (i, (id, path, file)) in files.iter().enumerate() {
+        for item in &file.items {
+            r.declare(*id, path, units[i], item);
+        }
+    }
+    for (i, (id, _, file)) in files.iter().enumerate() {
+        for item in &file.items {
+            r.resolve_item(*id, units[i], item);
+        }
+    }
+    // Workspaces are derived before anything that may name them is resolved.
+    crate::workspaces::assign(&mut r.cell, r.diagnostics);
+    let derived: Vec<(String, WorkspaceId, Origin)> = r
+        .cell
+        .workspaces
+        .iter()
+        .filter(|(_, w)| w.derived)
+        .map(|(id, w)| (w.name.clone(), id, w.origin))
+        .collect();
+    for (name, id, origin) in derived {
+        r.names.insert(name.clone(), Entry::Workspace(id));
+        r.origins.insert(name, origin);
+    }
+    for (id, _, file) in &files {
+        for item in &file.items {
+            if let ast::Item::Allow(a) = item {
+                r.resolve_allow(*id, a);
+            }
+        }
+    }
+    // Abstract reach lists, adjacencies and requirements may name derived workspaces.
+    for (id, _, file) in &files {
+        for item in &file.items {
+            match item {
+                ast::Item::EndEffector(e) => r.resolve_reaches(*id, e),
+                ast::Item::Adjacent(adj) => r.resolve_adjacent(*id, adj),
+                _ => {}
+            }
+        }
+    }
+    for (i, (id, _, file)) in files.iter().enumerate() {
+        for item in &file.items {
+            match item {
+                ast::Item::Expect(e) => r.resolve_expect(*id, e),
+                ast::Item::Request(q) => r.resolve_request(*id, units[i], q),
+                _ => {}
+            }
+        }
+    }
+    r.cell
+}
+
+struct Resolver<'w, 'd> {
+    files: &'w dyn Files,
+    cell: Cell,
+    names: HashMap<String, Entry>,
+    origins: HashMap<String, Origin>,
+    grasp_names: HashMap<(ObjectId, String), GraspId>,
+    /// Where the move and transition weights were set, to refuse setting them twice.
+    weight_origins: [Option<Origin>; 2],
+    /// First declaration of each directed transition.
+    transition_origins: HashMap<(GraspId, GraspId), Origin>,
+    diagnostics: &'d mut Vec<Diagnostic>,
+}
+
+fn origin(file: FileId, span: Span, name: &ast::Name) -> Origin {
+    Origin {
+        file,
+        span,
+        name_span: name.span,
+    }
+}
+
+impl Resolver<'_, '_> {
+    fn eval(&mut self, file: FileId, units: FileUnits) -> Eval<'_> {
+        Eval {
+            file,
+            units,
+            diagnostics: self.diagnostics,
+        }
+    }
+
+    /// Adds a name to the one namespace of workspaces, end-effectors, kinds, robots and
+    /// objects. One namespace (rather than one per sort) means a name always means one
+    /// thing, so `left` in a message is never ambiguous.
+    fn add_name(&mut self, name: &ast::Name, entry: Entry, origin: Origin) -> bool {
+        if let Some(first) = self.origins.get(&name.text) {
+            let sort = self.names[&name.text].sort();
+            self.diagnostics.push(diagnostics::duplicate_name(
+                sort, &name.text, *first, origin,
+            ));
+            return false;
+        }
+        self.names.insert(name.text.clone(), entry);
+        self.origins.insert(name.text.clone(), origin);
+        true
+    }
+}

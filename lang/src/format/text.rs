@@ -1,0 +1,285 @@
+//! The text of each item, member and value in the canonical layout, one line each (the
+//! printer in the parent module places them and their comments).
+
+use crate::ast::*;
+// Words that start items or members: the grammar refuses them as plain names, so a name
+// spelled like one was quoted in the source and must be quoted again.
+use crate::phrases::RESERVED;
+
+pub(super) fn name(name: &Name) -> String {
+    if name.needs_quotes() || RESERVED.contains(&name.text.as_str()) {
+        format!("`{}`", name.text)
+    } else {
+        name.text.clone()
+    }
+}
+
+fn request_placement(p: &RequestPlacement) -> String {
+    match &p.place {
+        PlaceSpec::In(w) => format!("{} in {}", qualified(&p.holder), name(w)),
+        PlaceSpec::At(at) => format!("{} {}", qualified(&p.holder), pose(at)),
+    }
+}
+
+fn qualified(q: &Qualified) -> String {
+    match &q.object {
+        Some(object) => format!("{}.{}", name(object), name(&q.name)),
+        None => name(&q.name),
+    }
+}
+
+fn string(s: &StringLit) -> String {
+    let mut out = String::with_capacity(s.value.len() + 2);
+    out.push('"');
+    for c in s.value.chars() {
+        match c {
+            '"' => out.push_str("\\\""),
+            '\\' => out.push_str("\\\\"),
+            '\n' => out.push_str("\\n"),
+            '\t' => out.push_str("\\t"),
+            c => out.push(c),
+        }
+    }
+    out.push('"');
+    out
+}
+
+fn quantity(q: &Quantity) -> String {
+    match q.unit {
+        Some(unit) => format!("{} {}", q.number, unit.as_str()),
+        None => q.number.clone(),
+    }
+}
+
+fn tuple(parts: &[Quantity]) -> String {
+    let parts: Vec<String> = parts.iter().map(quantity).collect();
+    format!("({})", parts.join(", "))
+}
+
+fn pose(p: &Pose) -> String {
+    let mut out = format!("at {}", tuple(&p.at.parts));
+    match &p.rotation {
+        Some(Rotation::Rpy(v, _)) => out.push_str(&format!(" rpy {}", tuple(&v.parts))),
+        Some(Rotation::Quat(q, _)) => out.push_str(&format!(" quat {}", tuple(q))),
+        None => {}
+    }
+    out
+}
+
+fn aabb(b: &Aabb) -> String {
+    format!(
+        "box center {} size {}",
+        tuple(&b.center.parts),
+        tuple(&b.size.parts)
+    )
+}
+
+fn shape(s: &Shape) -> String {
+    match s {
+        Shape::Box { size } => format!("box size {}", tuple(&size.parts)),
+        Shape::Cylinder { radius, height } => format!(
+            "cylinder radius {} height {}",
+            quantity(radius),
+            quantity(height)
+        ),
+        Shape::Sphere { radius } => format!("sphere radius {}", quantity(radius)),
+        Shape::Mesh { path } => format!("mesh {}", string(path)),
+    }
+}
+
+pub(super) fn solid(s: &Solid) -> String {
+    match &s.pose {
+        Some(p) => format!("{} {}", shape(&s.shape), pose(p)),
+        None => shape(&s.shape),
+    }
+}
+
+fn names(list: &[Name]) -> String {
+    list.iter().map(name).collect::<Vec<_>>().join(", ")
+}
+
+fn mobility(m: Mobility) -> &'static str {
+    match m {
+        Mobility::Fixed => "fixed",
+        Mobility::Movable => "movable",
+    }
+}
+
+/// An item that is laid out on one line (everything but objects and hands with more than
+/// one solid).
+pub(super) fn item_text(item: &Item) -> String {
+    match item {
+        Item::Units(u) => {
+            let units: Vec<&str> = u.units.iter().map(|(unit, _)| unit.as_str()).collect();
+            format!("units {}", units.join(", "))
+        }
+        Item::Weights(w) => {
+            let weights: Vec<String> = w
+                .weights
+                .iter()
+                .map(|w| {
+                    let kind = match w.kind {
+                        ArcKind::Move => "move",
+                        ArcKind::Transition => "transition",
+                    };
+                    format!("{kind} {}", w.number)
+                })
+                .collect();
+            format!("weights {}", weights.join(", "))
+        }
+        Item::Include(i) => format!("include {}", string(&i.path)),
+        Item::WorkspacesFromReach(_) => "workspaces from reach".to_string(),
+        Item::Workspace(w) => {
+            let mut out = format!("workspace {}", name(&w.name));
+            if let Some(label) = &w.label {
+                out.push(' ');
+                out.push_str(&string(label));
+            }
+            for b in &w.boxes {
+                out.push(' ');
+                out.push_str(&aabb(b));
+            }
+            out
+        }
+        Item::Adjacent(a) => format!("adjacent {} {}", name(&a.a), name(&a.b)),
+        Item::EndEffector(e) => format!(
+            "{} {} reaches {}",
+            mobility(e.mobility),
+            name(&e.name),
+            names(&e.reaches)
+        ),
+        Item::Hand(h) => {
+            let solids: Vec<String> = h.solids.iter().map(solid).collect();
+            if solids.is_empty() {
+                format!("hand {}", name(&h.name))
+            } else {
+                // One solid (the block form for more is printed by the block printer; if
+                // it ever lands here, the solids still all appear).
+                format!("hand {} {{ {} }}", name(&h.name), solids.join(" "))
+            }
+        }
+        Item::Support(s) => format!("support {}", name(&s.name)),
+        Item::Robot(r) => {
+            let mut out = format!("robot {} urdf {}", name(&r.name), string(&r.urdf));
+            if let Some(base) = &r.base {
+                out.push_str(&format!(" base {}", name(base)));
+            }
+            out.push_str(&format!(" tip {}", name(&r.tip)));
+            out
+        }
+        Item::Arm(a) => {
+            let mut out = format!(
+                "arm {} = {} {} with {}",
+                name(&a.name),
+                name(&a.robot),
+                pose(&a.pose),
+                name(&a.kind)
+            );
+            if !a.home.is_empty() {
+                let values: Vec<String> = a
+                    .home
+                    .iter()
+                    .map(|j| format!("{} {}", name(&j.joint), quantity(&j.value)))
+                    .collect();
+                out.push_str(&format!(" home ({})", values.join(", ")));
+            }
+            out
+        }
+        Item::Surface(s) => {
+            let mut out = format!(
+                "surface {} : {} {}",
+                name(&s.name),
+                name(&s.kind),
+                aabb(&s.slab)
+            );
+            if let Some(h) = &s.reach_height {
+                out.push_str(&format!(" reach height {}", quantity(h)));
+            }
+            out
+        }
+        Item::Reach(r) => format!("reach {} {}", name(&r.end_effector), aabb(&r.aabb)),
+        Item::Allow(a) => format!("allow contact {} {}", qualified(&a.a), qualified(&a.b)),
+        Item::Obstacle(o) => format!("obstacle {} {}", name(&o.name), aabb(&o.aabb)),
+        Item::Request(r) => format!(
+            "request {}: {} from {} to {}",
+            name(&r.name),
+            name(&r.object),
+            request_placement(&r.from),
+            request_placement(&r.to)
+        ),
+        Item::Object(o) => {
+            // Objects are printed by the block printer; this one-line form only keeps the
+            // function total.
+            let members: Vec<String> = o.members.iter().map(member_text).collect();
+            format!("object {} {{ {} }}", name(&o.name), members.join(" "))
+        }
+        Item::Expect(e) => format!("expect {}", requirement(&e.requirement)),
+    }
+}
+
+fn requirement(r: &Requirement) -> String {
+    match r {
+        Requirement::Reach { object, from, to } => {
+            format!("{}: {} -> {}", name(object), placement(from), placement(to))
+        }
+        Requirement::Coverage {
+            workspace,
+            at_least,
+            mobility: kind,
+        } => {
+            let mut out = format!("{} reached by at least {}", name(workspace), at_least.0);
+            if let Some(kind) = kind {
+                out.push(' ');
+                out.push_str(mobility(*kind));
+            }
+            out
+        }
+        Requirement::NoIsolatedStates { object } => match object {
+            Some(object) => format!("no isolated states for {}", name(object)),
+            None => "no isolated states".to_string(),
+        },
+    }
+}
+
+fn placement(p: &Placement) -> String {
+    format!("{} in {}", qualified(&p.holder), name(&p.workspace))
+}
+
+pub(super) fn member_text(member: &ObjectMember) -> String {
+    match member {
+        ObjectMember::Shape(s) => format!("shape {}", shape(&s.shape)),
+        ObjectMember::Symmetry(s) => match s.order {
+            Some((order, _)) => format!("symmetry about {} order {order}", s.axis.as_str()),
+            None => format!("symmetry about {}", s.axis.as_str()),
+        },
+        ObjectMember::Grasp(g) => {
+            let (keyword, preposition) = match g.keyword {
+                GraspKeyword::Grasp => ("grasp", "by"),
+                GraspKeyword::Rest => ("rest", "on"),
+            };
+            let mut out = format!("{keyword} {}", name(&g.name));
+            if let Some(label) = &g.label {
+                out.push(' ');
+                out.push_str(&string(label));
+            }
+            out.push_str(&format!(" {preposition} {}", name(&g.holder)));
+            if let Some(p) = &g.pose {
+                out.push(' ');
+                out.push_str(&pose(p));
+            }
+            out
+        }
+        ObjectMember::Transition(t) => {
+            let arrow = match t.direction {
+                Direction::Both => "<->",
+                Direction::OneWay => "->",
+            };
+            let to: Vec<String> = t.to.iter().map(qualified).collect();
+            format!(
+                "transition {} {arrow} {}",
+                qualified(&t.from),
+                to.join(", ")
+            )
+        }
+    }
+}

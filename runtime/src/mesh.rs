@@ -1,0 +1,227 @@
+//! Mesh files as collision solids: the vertices of an STL or OBJ file, scaled, and their
+//! convex hull. Robot links ([`crate::robot`]) and object shapes ([`crate::scene`]) both
+//! read meshes here.
+
+use std::fmt;
+
+use cellc_schema::files::{FileError, Files};
+use parry3d_f64::shape::SharedShape;
+
+use crate::math::Point;
+
+/// Why a mesh could not be made into a convex solid.
+#[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
+pub enum MeshError {
+    /// The URDF names the file in a way that gives no path (a `package://` URI).
+    Path(cellc_urdf::MeshPathError),
+    /// A scale factor is zero or not finite.
+    BadScale {
+        /// The scale as written.
+        scale: [f64; 3],
+    },
+    /// The file could not be read.
+    Unreadable(FileError),
+    /// The extension is neither `.stl` nor `.obj`.
+    UnknownFormat,
+    /// The STL reader refused the file.
+    Stl {
+        /// The reader's explanation.
+        reason: String,
+    },
+    /// An OBJ file that is not UTF-8 text.
+    ObjNotText,
+    /// An OBJ `v` line without three numbers.
+    ObjVertex {
+        /// Its line number (from 1).
+        line: usize,
+    },
+    /// Fewer than four vertices.
+    TooFewVertices {
+        /// How many there are.
+        count: usize,
+    },
+    /// A vertex coordinate (after scaling) is infinite or NaN.
+    NotFinite,
+    /// Every vertex lies on one plane, so the hull has no volume.
+    Flat,
+    /// parry found no hull (or failed on a nearly degenerate mesh).
+    NoHull,
+}
+
+impl fmt::Display for MeshError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            MeshError::Path(error) => write!(f, "{error}"),
+            MeshError::BadScale { scale } => write!(
+                f,
+                "scale {} {} {} has a zero or non-finite factor",
+                scale[0], scale[1], scale[2]
+            ),
+            MeshError::Unreadable(error) => write!(f, "{error}"),
+            MeshError::UnknownFormat => {
+                f.write_str("only STL and OBJ meshes are supported (by file extension)")
+            }
+            MeshError::Stl { reason } => write!(f, "not a readable STL file: {reason}"),
+            MeshError::ObjNotText => f.write_str("not a text OBJ file"),
+            MeshError::ObjVertex { line } => {
+                write!(f, "line {line}: a vertex needs three numbers")
+            }
+            MeshError::TooFewVertices { count } => {
+                write!(f, "{count} vertices cannot bound a solid")
+            }
+            MeshError::NotFinite => f.write_str("a vertex is not a finite number"),
+            MeshError::Flat => f.write_str(
+                "its vertices lie on a plane, a line or a point, so their hull has no volume",
+            ),
+            MeshError::NoHull => {
+                f.write_str("its vertices have no convex hull (a degenerate mesh)")
+            }
+        }
+    }
+}
+
+impl std::error::Error for MeshError {}
+
+/// Reads the mesh at `path` through `files` and returns its convex hull, scaled.
+pub fn load(path: &str, scale: [f64; 3], files: &dyn Files) -> Result<SharedShape, MeshError> {
+    if !scale.iter().all(|s| s.is_finite() && *s != 0.0) {
+        return Err(MeshError::BadScale { scale });
+    }
+    let bytes = files.read(path).map_err(MeshError::Unreadable)?;
+    hull(path, &bytes, scale)
+}
+
+/// The convex hull of an STL or OBJ mesh (chosen by the extension of `path`), scaled.
+pub fn hull(path: &str, bytes: &[u8], scale: [f64; 3]) -> Result<SharedShape, MeshError> {
+    let lower = path.to_ascii_lowercase();
+    let vertices = if lower.ends_with(".stl") {
+        read_stl_vertices(bytes)?
+    } else if lower.ends_with(".obj") {
+        read_obj_vertices(bytes)?
+    } else {
+        return Err(MeshError::UnknownFormat);
+    };
+    let points: Vec<Point> = vertices
+        .iter()
+        .map(|v| Point::new(v[0] * scale[0], v[1] * scale[1], v[2] * scale[2]))
+        .collect();
+    if points.len() < 4 {
+        return Err(MeshError::TooFewVertices {
+            count: points.len(),
+        });
+    }
+    if points
+        .iter()
+        .any(|p| !p.coords.iter().all(|c| c.is_finite()))
+    {
+        return Err(MeshError::NotFinite);
+    }
+    if !spans_a_volume(&points) {
+        return Err(MeshError::Flat);
+    }
+    // parry's hull code may panic on nearly degenerate input; report that as a bad mesh.
+    match std::panic::catch_unwind(|| SharedShape::convex_hull(&points)) {
+        Ok(Some(shape)) => Ok(shape),
+        _ => Err(MeshError::NoHull),
+    }
+}
+
+/// Whether the points have four corners that are not coplanar (relative to the points'
+/// size): a flat mesh would give a hull with no volume, on which contact queries are
+/// meaningless.
+fn spans_a_volume(points: &[Point]) -> bool {
+    let Some(first) = points.first() else {
+        return false;
+    };
+    let farthest = |key: &dyn Fn(&Point) -> f64| {
+        points
+            .iter()
+            .map(|p| (key(p), p))
+            .fold((0.0, first), |best, x| if x.0 > best.0 { x } else { best })
+    };
+    let (size, second) = farthest(&|p| (p - first).norm());
+    if size <= 0.0 {
+        return false;
+    }
+    let along = (second - first) / size;
+    let (off_line, third) = farthest(&|p| (p - first).cross(&along).norm());
+    if off_line <= 1e-9 * size {
+        return false;
+    }
+    let normal = (second - first).cross(&(third - first)).normalize();
+    let (off_plane, _) = farthest(&|p| (p - first).dot(&normal).abs());
+    off_plane > 1e-9 * size
+}
+
+/// The vertices of an STL file, ASCII or binary.
+fn read_stl_vertices(bytes: &[u8]) -> Result<Vec<[f64; 3]>, MeshError> {
+    let read = |bytes: &[u8]| -> std::io::Result<Vec<[f64; 3]>> {
+        let mut cursor = std::io::Cursor::new(bytes);
+        let mesh = stl_io::read_stl(&mut cursor)?;
+        Ok(mesh
+            .vertices
+            .iter()
+            .map(|v| [f64::from(v[0]), f64::from(v[1]), f64::from(v[2])])
+            .collect())
+    };
+    let refused = |e: std::io::Error| MeshError::Stl {
+        reason: e.to_string(),
+    };
+    match read(bytes) {
+        Ok(vertices) => Ok(vertices),
+        Err(first) => {
+            // Many exporters write binary STL with a header that starts with "solid",
+            // which makes the reader take it for ASCII. When the size matches the binary
+            // layout exactly (84-byte header, 50 bytes a triangle), blank the header
+            // (binary readers ignore it) and read it again.
+            if bytes.len() >= 84 {
+                let count = u32::from_le_bytes([bytes[80], bytes[81], bytes[82], bytes[83]]);
+                if bytes.len() as u64 == 84 + 50 * u64::from(count) {
+                    let mut copy = bytes.to_vec();
+                    copy[..80].fill(0);
+                    return read(&copy).map_err(refused);
+                }
+            }
+            Err(refused(first))
+        }
+    }
+}
+
+/// The vertices of a Wavefront OBJ file: its `v x y z [w]` lines; everything else (faces,
+/// normals, materials) is irrelevant to a convex hull.
+fn read_obj_vertices(bytes: &[u8]) -> Result<Vec<[f64; 3]>, MeshError> {
+    let text = std::str::from_utf8(bytes).map_err(|_| MeshError::ObjNotText)?;
+    let mut vertices = Vec::new();
+    for (number, line) in text.lines().enumerate() {
+        let mut words = line.split_whitespace();
+        if words.next() != Some("v") {
+            continue;
+        }
+        let mut xyz = [0.0; 3];
+        for c in &mut xyz {
+            *c = words
+                .next()
+                .and_then(|w| w.parse::<f64>().ok())
+                .ok_or(MeshError::ObjVertex { line: number + 1 })?;
+        }
+        vertices.push(xyz);
+    }
+    Ok(vertices)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn reads_obj_vertices() {
+        let text = b"# cube corner\nv 0 0 0\nv 1 0 0\nvn 0 0 1\nv 0 1 0 1.0\nf 1 2 3\n";
+        let v = read_obj_vertices(text).unwrap();
+        assert_eq!(v, vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]);
+        assert_eq!(
+            read_obj_vertices(b"v 1 2\n"),
+            Err(MeshError::ObjVertex { line: 1 })
+        );
+    }
+}

@@ -1,0 +1,188 @@
+//! How the cores read files: the one trait through which the compiler (cell sources,
+//! URDFs) and the runtime (URDFs, meshes) reach the outside world.
+//!
+//! Neither core does I/O. The CLI implements [`Files`] on the file system; tests, the
+//! importer and an editor server use [`MemoryFiles`]. Files are bytes (meshes are
+//! binary); [`Files::read_text`] is the one place that decides what "not text" means.
+//!
+//! Paths are `/`-separated strings as [`join`] and [`normalize`] produce them, so one file
+//! always has one name (include cycles are found by comparing names).
+
+use std::collections::BTreeMap;
+use std::fmt;
+
+/// Supplies file contents to the compiler and the runtime.
+pub trait Files {
+    /// The bytes of the file at `path`, or why it can't be read.
+    fn read(&self, path: &str) -> Result<Vec<u8>, FileError>;
+
+    /// The text of the file at `path`: its bytes, refused when they are not UTF-8.
+    fn read_text(&self, path: &str) -> Result<String, FileError> {
+        String::from_utf8(self.read(path)?).map_err(|e| FileError::NotUtf8 {
+            valid_up_to: e.utf8_error().valid_up_to(),
+        })
+    }
+}
+
+/// Why a file could not be read.
+#[derive(Clone, Debug, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum FileError {
+    /// Nothing is at that path.
+    NotFound,
+    /// The file exists but may not be read.
+    PermissionDenied,
+    /// The path names a folder.
+    IsADirectory,
+    /// Text was asked for and the bytes are not UTF-8.
+    NotUtf8 {
+        /// Length of the valid prefix: the offset of the first invalid byte.
+        valid_up_to: usize,
+    },
+    /// Any other failure, in the operating system's own words.
+    Other {
+        /// The system's message.
+        message: String,
+    },
+}
+
+impl fmt::Display for FileError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            FileError::NotFound => f.write_str("no such file"),
+            FileError::PermissionDenied => f.write_str("permission denied"),
+            FileError::IsADirectory => f.write_str("it is a directory"),
+            FileError::NotUtf8 { valid_up_to } => {
+                write!(f, "not UTF-8 text (invalid byte at offset {valid_up_to})")
+            }
+            FileError::Other { message } => f.write_str(message),
+        }
+    }
+}
+
+impl std::error::Error for FileError {}
+
+impl From<std::io::Error> for FileError {
+    fn from(error: std::io::Error) -> FileError {
+        match error.kind() {
+            std::io::ErrorKind::NotFound => FileError::NotFound,
+            std::io::ErrorKind::PermissionDenied => FileError::PermissionDenied,
+            std::io::ErrorKind::IsADirectory => FileError::IsADirectory,
+            _ => FileError::Other {
+                message: error.to_string(),
+            },
+        }
+    }
+}
+
+/// Files held in memory: normalised path -> bytes.
+#[derive(Clone, Debug, Default)]
+pub struct MemoryFiles {
+    files: BTreeMap<String, Vec<u8>>,
+}
+
+impl MemoryFiles {
+    /// Files with the given paths and contents (text or bytes).
+    pub fn new<P: AsRef<str>, B: Into<Vec<u8>>>(
+        files: impl IntoIterator<Item = (P, B)>,
+    ) -> MemoryFiles {
+        let mut memory = MemoryFiles::default();
+        for (path, bytes) in files {
+            memory.insert(path.as_ref(), bytes);
+        }
+        memory
+    }
+
+    /// Adds or replaces the file at `path`.
+    pub fn insert(&mut self, path: &str, bytes: impl Into<Vec<u8>>) {
+        self.files.insert(normalize(path), bytes.into());
+    }
+}
+
+impl Files for MemoryFiles {
+    fn read(&self, path: &str) -> Result<Vec<u8>, FileError> {
+        self.files
+            .get(&normalize(path))
+            .cloned()
+            .ok_or(FileError::NotFound)
+    }
+}
+
+/// The path of `relative` as seen from the file `base` (relative to `base`'s folder,
+/// unless absolute), normalised.
+pub fn join(base: &str, relative: &str) -> String {
+    if relative.starts_with('/') {
+        return normalize(relative);
+    }
+    let folder = match base.rfind('/') {
+        Some(i) => &base[..=i],
+        None => "",
+    };
+    normalize(&format!("{folder}{relative}"))
+}
+
+/// Removes `.` and resolves `..` lexically, so that one file always has one name. A `..`
+/// above the root of an absolute path is dropped; above a relative path it is kept.
+pub fn normalize(path: &str) -> String {
+    let absolute = path.starts_with('/');
+    let mut parts: Vec<&str> = Vec::new();
+    for part in path.split('/') {
+        match part {
+            "" | "." => {}
+            ".." => {
+                if matches!(parts.last(), Some(p) if *p != "..") {
+                    parts.pop();
+                } else if !absolute {
+                    parts.push("..");
+                }
+            }
+            other => parts.push(other),
+        }
+    }
+    let joined = parts.join("/");
+    if absolute {
+        format!("/{joined}")
+    } else {
+        joined
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn joins_relative_to_the_including_file() {
+        assert_eq!(
+            join("cells/vito.cell", "robots/lwr.cell"),
+            "cells/robots/lwr.cell"
+        );
+        assert_eq!(join("cells/robots/a.cell", "../b.cell"), "cells/b.cell");
+        assert_eq!(join("a.cell", "./b.cell"), "b.cell");
+        assert_eq!(join("/x/a.cell", "/y/b.cell"), "/y/b.cell");
+        assert_eq!(join("/x/y/r.urdf", "../a.stl"), "/x/a.stl");
+        assert_eq!(join("r.urdf", "../a.stl"), "../a.stl");
+        assert_eq!(join("/r.urdf", "../a.stl"), "/a.stl");
+        assert_eq!(normalize("../../a"), "../../a");
+    }
+
+    #[test]
+    fn memory_files_read_by_normalised_path() {
+        let files = MemoryFiles::new([("cells/a.cell", "text"), ("cells/b.bin", "\u{0}")]);
+        assert_eq!(
+            files.read_text("cells/./x/../a.cell").as_deref(),
+            Ok("text")
+        );
+        assert_eq!(files.read("nothing"), Err(FileError::NotFound));
+        let mut bytes = MemoryFiles::default();
+        bytes.insert("m.stl", vec![0xff, 0x00]);
+        assert_eq!(
+            bytes.read_text("m.stl"),
+            Err(FileError::NotUtf8 { valid_up_to: 0 })
+        );
+        assert_eq!(
+            FileError::NotUtf8 { valid_up_to: 3 }.to_string(),
+            "not UTF-8 text (invalid byte at offset 3)"
+        );
+    }
+}

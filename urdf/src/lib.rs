@@ -1,0 +1,27 @@
+//! Robot descriptions, read once for the compiler and the runtime.
+//!
+//! The compiler reads a URDF to check a `robot` item (do the links exist, does a chain
+//! lead from the base to the tip) and records the chain's movable joints in the artifact;
+//! the runtime reads the same file to build kinematics and collision solids. Both go
+//! through this crate, so the two can never disagree on which joints make up a chain:
+//!
+//! - [`Description::parse`]: the text as a typed description (the third-party reader runs
+//!   under `catch_unwind`, so a hostile file is an error, never a crash);
+//! - [`Description::chain`]: the joints from the base link down to the tip link, in order,
+//!   each with its typed facts ([`ChainJoint`]); [`ChainJoint::motion`] validates a
+//!   movable joint (supported type, non-zero axis, limits that are an interval);
+//! - [`Description::attached_links`] and [`Description::collisions`]: the solids that move
+//!   with each link, and [`mesh_path`] for the files their meshes name.
+//!
+//! Every error is a `#[non_exhaustive]` enum with structured fields; callers turn them
+//! into diagnostics (the compiler) or refuse the robot (the runtime). The crate does no
+//! I/O: it reads text it is given and resolves paths as strings.
+#![warn(missing_docs)]
+
+mod chain;
+mod description;
+mod geometry;
+
+pub use chain::{Chain, ChainError, ChainJoint, JointError, JointKind, JointType, Motion};
+pub use description::{Description, ParseError};
+pub use geometry::{mesh_path, Collision, Geometry, MeshPathError};
