@@ -8,6 +8,7 @@ pub mod commands;
 pub mod docs;
 pub mod explain_report;
 pub mod fs_files;
+pub mod fuzzing;
 pub mod import;
 pub mod output;
 pub mod plan_report;

@@ -1,0 +1,130 @@
+//! The bodies of the fuzz targets (`fuzz/fuzz_targets/*.rs`), here so that `cargo test`
+//! replays every committed corpus entry through exactly the code the fuzzer ran
+//! (`tests/fuzz_corpus.rs`). Each function takes arbitrary bytes and must return without
+//! panicking; a violated property (a formatter that is not idempotent, a validated
+//! artifact the planner cannot index) panics on purpose, which the fuzzer reports.
+
+use cellc_lang::FileId;
+use cellc_runtime::plan::PlanOptions;
+use cellc_runtime::{Cell, MemoryFiles};
+use cellc_schema::Artifact;
+
+/// Cells larger than this are not interesting to the fuzzer (the size limits are tested
+/// elsewhere) and would only slow it down.
+const MAX_INPUT: usize = 64 * 1024;
+
+/// Parse, resolve and check a cell, then render its diagnostics in every format.
+pub fn parse_check(data: &[u8]) {
+    let Some(text) = text(data) else {
+        return;
+    };
+    let files = MemoryFiles::new([("fuzz.cell", text)]);
+    let compilation = cellc_compiler::compile(&files, "fuzz.cell");
+    let _ = crate::render::human(
+        &compilation.diagnostics,
+        &compilation.sources,
+        crate::render::Color::Never,
+    );
+    let _ = crate::render::short(&compilation.diagnostics, &compilation.sources);
+    let json = crate::render::json(&compilation.diagnostics, &compilation.sources);
+    assert!(
+        serde_json::from_str::<serde_json::Value>(&json).is_ok(),
+        "the JSON report is not JSON"
+    );
+    if let (Some(cell), false) = (&compilation.cell, compilation.has_errors()) {
+        let artifact =
+            cellc_compiler::artifact::lower(cell, &compilation.graphs, &compilation.sources);
+        assert!(
+            cellc_schema::validate::validate(&artifact).is_ok(),
+            "the compiler lowered an artifact that does not validate"
+        );
+    }
+}
+
+/// The formatter on any cell that parses: its output parses again, without errors, and
+/// formatting it again changes nothing.
+pub fn format(data: &[u8]) {
+    let Some(text) = text(data) else {
+        return;
+    };
+    let parsed = cellc_lang::parse(FileId(0), text);
+    let (Some(file), true) = (parsed.file, parsed.diagnostics.is_empty()) else {
+        return;
+    };
+    let once = cellc_lang::format(&file, text);
+    let again = cellc_lang::parse(FileId(0), &once);
+    assert!(
+        again.diagnostics.is_empty(),
+        "formatted text does not parse: {:?}\n{once}",
+        again.diagnostics.first().map(|d| &d.message)
+    );
+    let file = again.file.expect("parsed without errors");
+    assert_eq!(cellc_lang::format(&file, &once), once, "not idempotent");
+}
+
+/// An artifact's bytes through the runtime's front door, then every named request planned
+/// (high level: motions would make each execution seconds long). Inputs that start with
+/// `P` are taken as the postcard content of an artifact without header and checksum, so
+/// the fuzzer reaches validation and planning instead of stopping at the checksum.
+pub fn artifact_plan(data: &[u8]) {
+    if data.len() > MAX_INPUT {
+        return;
+    }
+    let files = MemoryFiles::default();
+    let cell = match data.split_first() {
+        Some((b'P', content)) => {
+            let Ok(artifact) = postcard::from_bytes::<Artifact>(content) else {
+                return;
+            };
+            Cell::from_artifact(artifact, &files)
+        }
+        _ => Cell::load(data, &files),
+    };
+    let Ok(cell) = cell else {
+        return;
+    };
+    for named in &cell.artifact().requests {
+        let options = PlanOptions {
+            motions: false,
+            max_backtracks: 16,
+            ..PlanOptions::default()
+        };
+        if let Some(request) = cell.named_request(&named.name, options) {
+            if let Err(cellc_runtime::PlanError::Unreachable(u)) = cell.plan(&request) {
+                let _ = cell.explain(&u);
+            }
+        }
+    }
+}
+
+/// A robot description or a mesh. The first byte picks what: `U` a URDF whose first line
+/// names the base and tip links (`base tip`), `S` an STL mesh, `O` an OBJ mesh.
+pub fn urdf_mesh(data: &[u8]) {
+    if data.len() > MAX_INPUT {
+        return;
+    }
+    let files = MemoryFiles::default();
+    match data.split_first() {
+        Some((b'U', rest)) => {
+            let Ok(text) = std::str::from_utf8(rest) else {
+                return;
+            };
+            let (links, urdf) = text.split_once('\n').unwrap_or((text, ""));
+            let (base, tip) = links.split_once(' ').unwrap_or((links, links));
+            let _ = cellc_runtime::robot::Robot::from_urdf(urdf, "fuzz.urdf", base, tip, &files);
+        }
+        Some((b'S', rest)) => {
+            let _ = cellc_runtime::mesh::hull("fuzz.stl", rest, [1.0, 1.0, 1.0]);
+        }
+        Some((b'O', rest)) => {
+            let _ = cellc_runtime::mesh::hull("fuzz.obj", rest, [1.0, 1.0, 1.0]);
+        }
+        _ => {}
+    }
+}
+
+fn text(data: &[u8]) -> Option<&str> {
+    (data.len() <= MAX_INPUT)
+        .then(|| std::str::from_utf8(data).ok())
+        .flatten()
+}
