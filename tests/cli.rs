@@ -161,3 +161,49 @@ fn shipped_cells_are_formatted() {
         String::from_utf8_lossy(&out.stdout)
     );
 }
+
+/// A source edited after the build: diagnostics about the artifact do not point at lines
+/// of the new text (they would be the wrong ones); they say the file changed.
+#[test]
+fn a_source_changed_since_the_build_is_reported_not_misquoted() {
+    let source = std::fs::read_to_string("tests/ui/plan/R0004_no_way_across.cell").expect("ui");
+    let cell = temp_file("stale.cell", &source);
+    let artifact = cell.with_extension("json");
+    let built = cellc(&["build", cell.to_str().unwrap(), "-o", artifact.to_str().unwrap(), "--no-verify"]);
+    assert!(built.status.success());
+    let before = cellc(&["plan", artifact.to_str().unwrap()]);
+    let before = String::from_utf8_lossy(&before.stderr).to_string();
+    assert!(before.contains("movable left reaches w1"), "{before}");
+    std::fs::write(&cell, format!("// edited\n// again\n{source}")).expect("edit");
+    let after = cellc(&["plan", artifact.to_str().unwrap()]);
+    let after = String::from_utf8_lossy(&after.stderr).to_string();
+    assert!(after.contains("error[R0004]"), "{after}");
+    assert!(!after.contains("movable left reaches w1"), "{after}");
+    assert!(after.contains("changed since the artifact was built"), "{after}");
+}
+
+/// A closed standard output ends `cellc` quietly (SIGPIPE), not with a panic message.
+#[test]
+fn a_closed_pipe_ends_quietly() {
+    // A graph far larger than a pipe's buffer.
+    let mut text = String::from("cell wide {\n");
+    for i in 0..3000 {
+        text.push_str(&format!("  workspace w{i}\n"));
+    }
+    let all: Vec<String> = (0..3000).map(|i| format!("w{i}")).collect();
+    text.push_str(&format!("  fixed table reaches {}\n", all.join(", ")));
+    text.push_str(&format!("  movable left_arm reaches {}\n", all.join(", ")));
+    text.push_str("  object o {\n    grasp g1 by table\n    grasp g2 by left_arm\n    transition g1 <-> g2\n  }\n}\n");
+    let cell = temp_file("wide.cell", &text);
+    let script = format!(
+        "{} graph {} --object o | head -c 100 > /dev/null; echo \"${{PIPESTATUS[0]}}\"",
+        env!("CARGO_BIN_EXE_cellc"),
+        cell.display()
+    );
+    let out = Command::new("bash").args(["-c", &script]).output().expect("bash runs");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    let status = String::from_utf8_lossy(&out.stdout).trim().to_string();
+    // 141 = 128 + SIGPIPE, what any Unix tool gives.
+    assert_eq!(status, "141", "{stderr}");
+}

@@ -6,7 +6,7 @@ use std::process::ExitCode;
 use cellc_lang::ast::{PlaceSpec, RequestPlacement as AstPlacement};
 use cellc_lang::{Diagnostic, FileId, SourceMap};
 use cellc_runtime::plan::{GoalByName, PlacementByName, PlanError, PlanOptions, Request};
-use cellc_runtime::{Cell, LoadError, VerifyOptions};
+use cellc_runtime::{Cell, Files, LoadError, VerifyOptions};
 
 use crate::args::PlanFormat;
 use crate::fs_files::FsFiles;
@@ -73,6 +73,37 @@ pub struct Loaded {
     pub cell: Cell,
     /// Source files, for rendering.
     pub sources: SourceMap,
+    /// Sources that changed since the artifact was built: their spans would point at the
+    /// wrong lines, so labels in them are left out.
+    pub stale: Vec<FileId>,
+}
+
+impl Loaded {
+    /// Prints diagnostics against the cell's sources; a label in a file that changed
+    /// since the build is replaced by a note saying so.
+    pub fn report(&self, diagnostics: &[Diagnostic]) {
+        let shown: Vec<Diagnostic> = diagnostics
+            .iter()
+            .map(|d| {
+                let mut d = d.clone();
+                let before = d.labels.len();
+                d.labels.retain(|l| !self.stale.contains(&l.file));
+                if d.labels.len() < before {
+                    let paths: Vec<String> = self
+                        .stale
+                        .iter()
+                        .map(|f| format!("`{}`", self.sources.get(*f).path))
+                        .collect();
+                    d.notes.push(format!(
+                        "{} changed since the artifact was built, so its lines are not shown; rebuild the artifact",
+                        paths.join(", ")
+                    ));
+                }
+                d
+            })
+            .collect();
+        print(&shown, &self.sources);
+    }
 }
 
 /// Prints diagnostics to standard error.
@@ -87,6 +118,7 @@ pub fn print(diagnostics: &[Diagnostic], sources: &SourceMap) {
 
 /// Compiles (and verifies) a cell, or reads an artifact, and loads it into the runtime.
 pub fn load(input: &str, seed: u64) -> Result<Loaded, ExitCode> {
+    let mut stale = Vec::new();
     let (artifact, sources, fresh) = if input.ends_with(".cell") {
         let compilation = cellc_compiler::compile(&FsFiles, input);
         if compilation.has_errors() || compilation.cell.is_none() {
@@ -100,13 +132,16 @@ pub fn load(input: &str, seed: u64) -> Result<Loaded, ExitCode> {
     } else {
         match crate::artifact_io::read(input) {
             Ok(artifact) => {
-                // Diagnostics point into the cell's sources, read again if still there.
+                // Diagnostics point into the cell's sources, read again if still there and
+                // unchanged (the artifact records each one's hash).
                 let mut sources = SourceMap::new();
                 for s in &artifact.sources {
-                    sources.add(
-                        s.path.clone(),
-                        std::fs::read_to_string(&s.path).unwrap_or_default(),
-                    );
+                    let text = FsFiles.read_text(&s.path).unwrap_or_default();
+                    let same = cellc_schema::sha256_hex(text.as_bytes()) == s.sha256;
+                    let id = sources.add(s.path.clone(), if same { text } else { String::new() });
+                    if !same {
+                        stale.push(id);
+                    }
                 }
                 (artifact, sources, false)
             }
@@ -145,7 +180,11 @@ pub fn load(input: &str, seed: u64) -> Result<Loaded, ExitCode> {
             ..Default::default()
         });
     }
-    Ok(Loaded { cell, sources })
+    Ok(Loaded {
+        cell,
+        sources,
+        stale,
+    })
 }
 
 /// A placement given on the command line; numbers without units are metres and degrees.
@@ -230,7 +269,7 @@ pub fn prepare(args: &PlanArgs, loaded: &Loaded) -> Result<Prepared, ExitCode> {
                 }),
                 Err(e) => {
                     let d = plan_report::plan_error(artifact, &PlanError::Locate(e), None);
-                    print(&[d], &loaded.sources);
+                    loaded.report(&[d]);
                     Err(ExitCode::from(1))
                 }
             }
@@ -241,10 +280,7 @@ pub fn prepare(args: &PlanArgs, loaded: &Loaded) -> Result<Prepared, ExitCode> {
                 None => artifact.requests.first(),
             };
             let Some(named) = named else {
-                print(
-                    &[plan_report::no_request(artifact, args.request.as_deref())],
-                    &loaded.sources,
-                );
+                loaded.report(&[plan_report::no_request(artifact, args.request.as_deref())]);
                 return Err(ExitCode::from(1));
             };
             Ok(Prepared {
@@ -287,7 +323,7 @@ pub fn run(args: &PlanArgs) -> ExitCode {
         }
         Err(error) => {
             let d = plan_report::plan_error(artifact, &error, span);
-            print(&[d], &loaded.sources);
+            loaded.report(&[d]);
             ExitCode::from(1)
         }
     }

@@ -7,7 +7,7 @@ use std::process::ExitCode;
 use cellc_lang::Diagnostic;
 use cellc_runtime::{ExecuteOptions, ExecutionError};
 
-use super::plan::{load, prepare, print, PlanArgs, Prepared};
+use super::plan::{load, prepare, PlanArgs, Prepared};
 use crate::plan_report::{codes, describe, plan_error};
 
 /// Plans and simulates; `fail_at` makes the motion of that step (1-based) fail.
@@ -29,7 +29,7 @@ pub fn run(args: &PlanArgs, fail_at: Option<usize>) -> ExitCode {
     let plan = match cell.plan(&request) {
         Ok(plan) => plan,
         Err(e) => {
-            print(&[plan_error(artifact, &e, span)], &loaded.sources);
+            loaded.report(&[plan_error(artifact, &e, span)]);
             return ExitCode::from(1);
         }
     };
@@ -83,7 +83,7 @@ pub fn run(args: &PlanArgs, fail_at: Option<usize>) -> ExitCode {
             ExitCode::SUCCESS
         }
         Err(ExecutionError::Replan(e)) => {
-            print(&[plan_error(artifact, &e, span)], &loaded.sources);
+            loaded.report(&[plan_error(artifact, &e, span)]);
             ExitCode::from(1)
         }
         Err(ExecutionError::FailedAtStart { error }) => {
@@ -92,7 +92,7 @@ pub fn run(args: &PlanArgs, fail_at: Option<usize>) -> ExitCode {
                 format!("{error}, before the object left its start"),
             )
             .help("nothing moved, so there is nothing to recover from: fix the cause and run again");
-            print(&[d], &loaded.sources);
+            loaded.report(&[d]);
             ExitCode::from(1)
         }
         Err(ExecutionError::TooManyFailures { replans, last }) => {
@@ -101,13 +101,13 @@ pub fn run(args: &PlanArgs, fail_at: Option<usize>) -> ExitCode {
                 format!("steps kept failing ({last}); gave up after {replans} replans"),
             )
             .help("the object is where the last step left it; see the simulation log above");
-            print(&[d], &loaded.sources);
+            loaded.report(&[d]);
             ExitCode::from(1)
         }
         Err(e) => {
             let d = Diagnostic::error(codes::EXECUTION_FAILED, format!("execution failed: {e}"))
                 .help("see the simulation log above");
-            print(&[d], &loaded.sources);
+            loaded.report(&[d]);
             ExitCode::from(1)
         }
     }
