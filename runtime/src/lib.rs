@@ -12,9 +12,12 @@ pub mod kinematics;
 pub mod math;
 pub mod motion;
 pub mod plan;
+pub mod rest;
 pub mod robot;
 pub mod scene;
 pub mod symmetry;
+pub mod termination;
+pub mod validity;
 pub mod verify;
 
 /// Supplies file contents (URDFs, meshes) to the runtime.

@@ -13,24 +13,32 @@
 //! - transition between two arms in w (a handoff): one object pose in w where both hold
 //!   it at once, found with the closed-chain solver;
 //! - transition between an arm and a fixed surface in w: a resting pose on the surface
-//!   inside w that the arm reaches with its grasp.
+//!   inside w that the arm reaches with its grasp ([`crate::rest`]);
+//! - transition between two grasps of one arm (kept by the compiler, with a warning, when
+//!   a cell or an imported database lists one): refused, since nothing would hold the
+//!   object while the hand lets go and takes it again; the pruned arc says so.
 //!
 //! A move into a state is realised by the same holding pose whatever workspace it comes
 //! from, and a handoff A -> B by the same configurations as B -> A, so checks are keyed
 //! by what they depend on and shared between arcs.
+//!
+//! Here: the questions and their sharing; `attempt.rs`: one arm reaching one object pose,
+//! and what a failed check reports; `witness.rs`: how each question is answered. Every
+//! state is judged by [`crate::validity::SceneValidity`].
+
+mod attempt;
+mod witness;
 
 use std::collections::BTreeMap;
 
 use cellc_schema::{self as schema, ArcKind, Artifact, Infeasibility, Witness};
-use nalgebra as na;
-use rand::{Rng, SeedableRng};
+use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
 
-use crate::closed_chain::{solve_handoff, HandoffOptions, HandoffProblem};
-use crate::kinematics::{solve_ik, IkError, IkOptions, IkTarget};
-use crate::math::{iso_from_schema, iso_to_schema, Iso, Point, Quat, Vec3};
-use crate::scene::{Aabb, Holder, ObjectPlacement, Scene, SceneScratch};
+use crate::closed_chain::HandoffOptions;
+use crate::kinematics::IkOptions;
+use crate::scene::{Holder, Scene, SceneScratch};
 
 /// Verification settings.
 #[derive(Clone, Debug)]
@@ -103,6 +111,14 @@ enum Check {
         r: u32,
         w: u32,
     },
+    /// Arm `e` changing its own grasp from `from` to `to` in `w`.
+    Regrasp {
+        object: u32,
+        e: u32,
+        from: u32,
+        to: u32,
+        w: u32,
+    },
 }
 
 /// Verifies every arc of `artifact` in place: feasible arcs get witnesses, infeasible ones
@@ -119,7 +135,7 @@ pub fn verify(
     for (o, object) in artifact.objects.iter().enumerate() {
         let mut per_arc = Vec::with_capacity(object.graph.arcs.len());
         for arc in &object.graph.arcs {
-            let check = check_of(artifact, scene, o as u32, object, arc);
+            let check = check_of(scene, o as u32, object, arc);
             if let Some(c) = check {
                 checks.insert(c, ());
             }
@@ -133,7 +149,7 @@ pub fn verify(
     let results: Vec<(Check, Result<Witness, Infeasibility>)> = checks
         .par_iter()
         .map_init(SceneScratch::default, |scratch, &check| {
-            let result = run_check(artifact, scene, scratch, options, check);
+            let result = witness::run_check(artifact, scene, scratch, options, check);
             let n = done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
             progress(n, total);
             (check, result)
@@ -183,13 +199,9 @@ pub fn verify(
     report
 }
 
-fn check_of(
-    artifact: &Artifact,
-    scene: &Scene,
-    object: u32,
-    obj: &schema::Object,
-    arc: &schema::Arc,
-) -> Option<Check> {
+/// The question an arc asks, or `None` when it has nothing geometric to check (abstract
+/// holders).
+fn check_of(scene: &Scene, object: u32, obj: &schema::Object, arc: &schema::Arc) -> Option<Check> {
     let from = obj.graph.nodes[arc.from as usize];
     let to = obj.graph.nodes[arc.to as usize];
     let holder = |e: u32| &scene.holders[e as usize];
@@ -207,7 +219,14 @@ fn check_of(
             let w = to.workspace;
             let (a, ga, b, gb) = (from.end_effector, from.grasp, to.end_effector, to.grasp);
             match (holder(a), holder(b)) {
-                (Holder::Arm { .. }, Holder::Arm { .. }) if a != b => {
+                (Holder::Arm { .. }, Holder::Arm { .. }) if a == b => Some(Check::Regrasp {
+                    object,
+                    e: a,
+                    from: ga,
+                    to: gb,
+                    w,
+                }),
+                (Holder::Arm { .. }, Holder::Arm { .. }) => {
                     let ((a, ga), (b, gb)) = if (a, ga) <= (b, gb) {
                         ((a, ga), (b, gb))
                     } else {
@@ -238,10 +257,7 @@ fn check_of(
                     r: ga,
                     w,
                 }),
-                _ => {
-                    let _ = artifact;
-                    None
-                }
+                _ => None,
             }
         }
     }
@@ -269,6 +285,13 @@ fn rng_for(seed: u64, check: &Check) -> ChaCha8Rng {
             r,
             w,
         } => vec![3, object, arm, g, surface, r, w],
+        Check::Regrasp {
+            object,
+            e,
+            from,
+            to,
+            w,
+        } => vec![4, object, e, from, to, w],
     };
     for word in words {
         // SplitMix64 steps: a cheap, well-mixed hash of the check's identity.
@@ -281,452 +304,4 @@ fn rng_for(seed: u64, check: &Check) -> ChaCha8Rng {
         h = z ^ (z >> 31);
     }
     ChaCha8Rng::seed_from_u64(h)
-}
-
-/// A point drawn uniformly from a union of boxes (volume-weighted).
-fn sample_point(boxes: &[Aabb], rng: &mut ChaCha8Rng) -> Option<Point> {
-    let total: f64 = boxes.iter().map(Aabb::volume).sum();
-    if boxes.is_empty() || total <= 0.0 {
-        return None;
-    }
-    let mut pick = rng.random::<f64>() * total;
-    let chosen = boxes
-        .iter()
-        .find(|b| {
-            pick -= b.volume();
-            pick <= 0.0
-        })
-        .unwrap_or(&boxes[boxes.len() - 1]);
-    Some(Point::from(na::Vector3::from_fn(|i, _| {
-        chosen.min[i] + rng.random::<f64>() * (chosen.max[i] - chosen.min[i])
-    })))
-}
-
-fn grasp_pose(artifact: &Artifact, object: u32, g: u32) -> Iso {
-    artifact.objects[object as usize].grasps[g as usize]
-        .pose
-        .as_ref()
-        .map(iso_from_schema)
-        .unwrap_or_else(Iso::identity)
-}
-
-/// Keeps the smallest IK errors seen, for the reason of a failed check.
-#[derive(Default)]
-struct BestIk {
-    end_effector: u32,
-    tries: u32,
-    position_error: f64,
-    rotation_error: f64,
-    seen: bool,
-}
-
-impl BestIk {
-    fn record(&mut self, end_effector: u32, error: &IkError) {
-        let IkError::NotConverged {
-            tries,
-            position_error,
-            rotation_error,
-        } = error
-        else {
-            return;
-        };
-        self.tries += *tries as u32;
-        if !self.seen || *position_error < self.position_error {
-            self.end_effector = end_effector;
-            self.position_error = *position_error;
-            self.rotation_error = *rotation_error;
-            self.seen = true;
-        }
-    }
-}
-
-struct Outcome {
-    best_ik: BestIk,
-    /// For a handoff, the other arm: the failure is the closed chain's, not one arm's.
-    partner: Option<u32>,
-    last_collision: Option<(String, String)>,
-}
-
-impl Outcome {
-    fn new() -> Outcome {
-        Outcome {
-            best_ik: BestIk::default(),
-            partner: None,
-            last_collision: None,
-        }
-    }
-
-    fn into_reason(self, no_placement: &str) -> Infeasibility {
-        if let Some((a, b)) = self.last_collision {
-            return Infeasibility::Collision { a, b };
-        }
-        if let (true, Some(b)) = (self.best_ik.seen, self.partner) {
-            return Infeasibility::NoClosedChain {
-                a: self.best_ik.end_effector,
-                b,
-                tries: self.best_ik.tries,
-                position_error: self.best_ik.position_error,
-                rotation_error: self.best_ik.rotation_error,
-            };
-        }
-        if self.best_ik.seen {
-            return Infeasibility::NoIkSolution {
-                end_effector: self.best_ik.end_effector,
-                tries: self.best_ik.tries,
-                position_error: self.best_ik.position_error,
-                rotation_error: self.best_ik.rotation_error,
-            };
-        }
-        Infeasibility::NoPlacement {
-            detail: no_placement.to_string(),
-        }
-    }
-}
-
-fn arm(scene: &Scene, e: u32) -> Option<(&crate::robot::Robot, Iso, &[f64])> {
-    match &scene.holders[e as usize] {
-        Holder::Arm { robot, base, home } => Some((&scene.robots[*robot], *base, home.as_slice())),
-        _ => None,
-    }
-}
-
-/// One arm holding the object with `grasp` at a given object pose: the IK solve, the
-/// collision check and the witness, shared by holds and rests.
-struct Attempt<'s> {
-    scene: &'s Scene,
-    object: u32,
-    e: u32,
-    robot: &'s crate::robot::Robot,
-    base: Iso,
-    home: &'s [f64],
-    grasp: Iso,
-}
-
-impl Attempt<'_> {
-    /// A witness when the arm reaches the pose free of collisions; otherwise records why
-    /// not in `outcome`.
-    fn run(
-        &self,
-        object_pose: Iso,
-        placement: ObjectPlacement,
-        rng: &mut ChaCha8Rng,
-        options: &VerifyOptions,
-        scratch: &mut SceneScratch,
-        outcome: &mut Outcome,
-    ) -> Option<Witness> {
-        let tip = object_pose * self.grasp.inverse();
-        match solve_ik(
-            self.robot,
-            &self.base,
-            &IkTarget::Pose(tip),
-            self.home,
-            rng,
-            &options.ik,
-        ) {
-            Ok(q) => {
-                match collision(self.scene, &[(self.e, &q)], self.object, placement, scratch) {
-                    None => Some(Witness {
-                        object: iso_to_schema(&object_pose),
-                        configurations: vec![schema::ArmConfiguration {
-                            end_effector: self.e,
-                            joints: q,
-                        }],
-                    }),
-                    Some(pair) => {
-                        outcome.last_collision = Some(pair);
-                        None
-                    }
-                }
-            }
-            Err(error) => {
-                outcome.best_ik.record(self.e, &error);
-                None
-            }
-        }
-    }
-}
-
-/// The colliding pair of a state, or `None` when it is free. A state the collision world
-/// cannot evaluate counts as colliding (with the reason as the pair), never as free.
-fn collision(
-    scene: &Scene,
-    arms: &[(u32, &[f64])],
-    object: u32,
-    placement: ObjectPlacement,
-    scratch: &mut SceneScratch,
-) -> Option<(String, String)> {
-    match scene.collision(arms, object, placement, scratch) {
-        Ok(found) => found,
-        Err(error) => Some(("collision query".to_string(), format!("{error:?}"))),
-    }
-}
-
-fn run_check(
-    artifact: &Artifact,
-    scene: &Scene,
-    scratch: &mut SceneScratch,
-    options: &VerifyOptions,
-    check: Check,
-) -> Result<Witness, Infeasibility> {
-    let mut rng = rng_for(options.seed, &check);
-    let mut outcome = Outcome::new();
-    match check {
-        Check::Hold { object, e, g, w } => {
-            let Some((robot, base, home)) = arm(scene, e) else {
-                return Err(Infeasibility::NoPlacement {
-                    detail: "the holder is not an arm".into(),
-                });
-            };
-            let grasp = grasp_pose(artifact, object, g);
-            // A robot with fewer than six joints (a conveyor) cannot take an arbitrary
-            // pose: sample its joints instead and keep a placement inside the workspace.
-            if robot.n_joints() < 6 {
-                let mut q = home.to_vec();
-                for _ in 0..options.placements * 4 {
-                    robot.sample_configuration(&mut rng, &mut q);
-                    let object_pose = robot.tip_pose(&base, &q) * grasp;
-                    let center = Point::from(object_pose.translation.vector);
-                    if !scene.workspaces[w as usize]
-                        .iter()
-                        .any(|b| b.contains(&center))
-                    {
-                        continue;
-                    }
-                    let placement = ObjectPlacement::Held { by: e, grasp };
-                    match collision(scene, &[(e, &q)], object, placement, scratch) {
-                        None => {
-                            return Ok(Witness {
-                                object: iso_to_schema(&object_pose),
-                                configurations: vec![schema::ArmConfiguration {
-                                    end_effector: e,
-                                    joints: q,
-                                }],
-                            })
-                        }
-                        Some(pair) => outcome.last_collision = Some(pair),
-                    }
-                }
-                return Err(outcome
-                    .into_reason("the robot's joints never bring the object into the workspace"));
-            }
-            let attempt = Attempt {
-                scene,
-                object,
-                e,
-                robot,
-                base,
-                home,
-                grasp,
-            };
-            for _ in 0..options.placements {
-                let Some(center) = sample_point(&scene.workspaces[w as usize], &mut rng) else {
-                    break;
-                };
-                // Objects are carried upright, turned about the vertical at random.
-                let yaw = rng.random::<f64>() * std::f64::consts::TAU;
-                let object_pose = Iso::from_parts(
-                    center.coords.into(),
-                    Quat::from_axis_angle(&Vec3::z_axis(), yaw),
-                );
-                let placement = ObjectPlacement::Held { by: e, grasp };
-                if let Some(witness) = attempt.run(
-                    object_pose,
-                    placement,
-                    &mut rng,
-                    options,
-                    scratch,
-                    &mut outcome,
-                ) {
-                    return Ok(witness);
-                }
-            }
-            Err(outcome.into_reason("the workspace has no volume"))
-        }
-        Check::Handoff {
-            object,
-            a,
-            ga,
-            b,
-            gb,
-            w,
-        } => {
-            let (Some((robot_a, base_a, home_a)), Some((robot_b, base_b, home_b))) =
-                (arm(scene, a), arm(scene, b))
-            else {
-                return Err(Infeasibility::NoPlacement {
-                    detail: "a holder is not an arm".into(),
-                });
-            };
-            let boxes = &scene.workspaces[w as usize];
-            outcome.partner = Some(b);
-            // A symmetric object may be held by B in a grasp turned by a symmetry: a ball
-            // passed between two hands with the same grasp is held from opposite sides.
-            let all_turns =
-                crate::symmetry::candidates(&artifact.objects[object as usize].symmetries);
-            // With the same grasp on both sides, the unturned grasp puts both hands in one
-            // place: only turns that send the second hand round to the other side (over
-            // 120°) can work, so only those are tried.
-            let turns: Vec<_> = if ga == gb {
-                let far: Vec<_> = all_turns
-                    .iter()
-                    .copied()
-                    .filter(|t| t.angle() > 2.0)
-                    .collect();
-                if far.is_empty() {
-                    all_turns
-                } else {
-                    far
-                }
-            } else {
-                all_turns
-            };
-            for attempt in 0..options.placements {
-                let Some(target) = sample_point(boxes, &mut rng) else {
-                    break;
-                };
-                let turn = if attempt == 0 {
-                    turns[0]
-                } else {
-                    turns[rng.random_range(0..turns.len())]
-                };
-                let bounds = boxes
-                    .iter()
-                    .find(|bx| bx.contains(&target))
-                    .map(|bx| (bx.min, bx.max));
-                let problem = HandoffProblem {
-                    a: (robot_a, base_a),
-                    b: (robot_b, base_b),
-                    grasp_a: grasp_pose(artifact, object, ga),
-                    grasp_b: grasp_pose(artifact, object, gb) * turn,
-                    target,
-                    bounds,
-                };
-                match solve_handoff(&problem, home_a, home_b, &mut rng, &options.handoff) {
-                    Ok(solution) => {
-                        let center = Point::from(solution.object.translation.vector);
-                        if !boxes.iter().any(|bx| bx.contains(&center)) {
-                            continue;
-                        }
-                        let placement = ObjectPlacement::Handoff {
-                            a,
-                            grasp_a: problem.grasp_a,
-                            b,
-                        };
-                        let arms = [(a, solution.qa.as_slice()), (b, solution.qb.as_slice())];
-                        match collision(scene, &arms, object, placement, scratch) {
-                            None => {
-                                return Ok(Witness {
-                                    object: iso_to_schema(&solution.object),
-                                    configurations: vec![
-                                        schema::ArmConfiguration {
-                                            end_effector: a,
-                                            joints: solution.qa,
-                                        },
-                                        schema::ArmConfiguration {
-                                            end_effector: b,
-                                            joints: solution.qb,
-                                        },
-                                    ],
-                                })
-                            }
-                            Some(pair) => outcome.last_collision = Some(pair),
-                        }
-                    }
-                    Err(error) => outcome.best_ik.record(a, &error),
-                }
-            }
-            Err(outcome.into_reason("the workspace has no volume"))
-        }
-        Check::Rest {
-            object,
-            arm: e,
-            g,
-            surface,
-            r,
-            w,
-        } => {
-            let Some((robot, base, home)) = arm(scene, e) else {
-                return Err(Infeasibility::NoPlacement {
-                    detail: "the holder is not an arm".into(),
-                });
-            };
-            let Holder::Surface { slab, .. } = &scene.holders[surface as usize] else {
-                return Err(Infeasibility::NoPlacement {
-                    detail: "the support is not a surface".into(),
-                });
-            };
-            let rest = grasp_pose(artifact, object, r);
-            let grasp = grasp_pose(artifact, object, g);
-            // The object rests on the top face, anywhere and turned any way about the
-            // vertical, as long as its centre lies in the workspace.
-            let top = slab.max.z;
-            let center_z = top + rest.translation.vector.z;
-            let regions: Vec<Aabb> = scene.workspaces[w as usize]
-                .iter()
-                .filter_map(|bx| {
-                    let min = Point::new(bx.min.x.max(slab.min.x), bx.min.y.max(slab.min.y), top);
-                    let max = Point::new(bx.max.x.min(slab.max.x), bx.max.y.min(slab.max.y), top);
-                    let z_inside = bx.min.z <= center_z + 1e-6 && bx.max.z >= center_z - 1e-6;
-                    (max.x > min.x && max.y > min.y && z_inside).then_some(Aabb { min, max })
-                })
-                .collect();
-            if regions.is_empty() {
-                let surface_name = &artifact.end_effectors[surface as usize].name;
-                let rest_name = &artifact.objects[object as usize].grasps[r as usize].name;
-                let ws = &artifact.workspaces[w as usize].name;
-                return Err(Infeasibility::NoPlacement {
-                    detail: format!(
-                        "resting as `{rest_name}` on `{surface_name}`, the object's centre ({center_z:.3} m high) is never inside `{ws}`"
-                    ),
-                });
-            }
-            let attempt = Attempt {
-                scene,
-                object,
-                e,
-                robot,
-                base,
-                home,
-                grasp,
-            };
-            for _ in 0..options.placements {
-                let area: f64 = regions
-                    .iter()
-                    .map(|a| (a.max.x - a.min.x) * (a.max.y - a.min.y))
-                    .sum();
-                let mut pick = rng.random::<f64>() * area;
-                let region = regions
-                    .iter()
-                    .find(|a| {
-                        pick -= (a.max.x - a.min.x) * (a.max.y - a.min.y);
-                        pick <= 0.0
-                    })
-                    .unwrap_or(&regions[regions.len() - 1]);
-                let x = region.min.x + rng.random::<f64>() * (region.max.x - region.min.x);
-                let y = region.min.y + rng.random::<f64>() * (region.max.y - region.min.y);
-                let yaw = rng.random::<f64>() * std::f64::consts::TAU;
-                let surface_frame = Iso::from_parts(
-                    na::Translation3::new(x, y, top),
-                    Quat::from_axis_angle(&Vec3::z_axis(), yaw),
-                );
-                let object_pose = surface_frame * rest;
-                let placement = ObjectPlacement::Resting {
-                    on: surface,
-                    pose: object_pose,
-                    by: Some(e),
-                };
-                if let Some(witness) = attempt.run(
-                    object_pose,
-                    placement,
-                    &mut rng,
-                    options,
-                    scratch,
-                    &mut outcome,
-                ) {
-                    return Ok(witness);
-                }
-            }
-            Err(outcome.into_reason("no resting pose"))
-        }
-    }
 }
