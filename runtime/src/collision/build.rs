@@ -82,7 +82,7 @@ impl CollisionWorldBuilder {
 
     /// Adds a robot instance named `name` (the cell's arm name, e.g. `left`) with its
     /// links as loaded from the URDF and the hand on its tip, and returns its index (the
-    /// index of its frames in a [`Configuration`]).
+    /// index of its frames in a [`Configuration`](super::Configuration)).
     pub fn add_robot(&mut self, name: &str, robot: &Robot, hand: Option<Hand>) -> usize {
         self.add_chain(
             name,
@@ -126,7 +126,7 @@ impl CollisionWorldBuilder {
     }
 
     /// Adds a fixed body (a surface slab, an obstacle) at world pose `pose`; returns its
-    /// index (for [`Holder::Fixed`]).
+    /// index (for [`Holder::Fixed`](super::Holder::Fixed)).
     pub fn add_fixed(&mut self, name: &str, pose: Iso, shape: SharedShape) -> usize {
         self.fixed.push((name.to_string(), pose, shape));
         self.fixed.len() - 1
@@ -153,7 +153,7 @@ impl CollisionWorldBuilder {
     }
 
     /// Adds an object made of `solids` (placed in the object frame); returns its index
-    /// (of its [`ObjectState`] in a [`Configuration`]). An object without solids (an
+    /// (of its [`ObjectState`](super::ObjectState) in a [`Configuration`](super::Configuration)(super::Configuration)). An object without solids (an
     /// abstract cell's) keeps its index but never collides.
     pub fn add_object(&mut self, name: &str, solids: Vec<Solid>) -> usize {
         self.objects.push((name.to_string(), solids));

@@ -20,7 +20,7 @@ pub struct CollisionScratch {
     pub(super) margin: f64,
 }
 
-/// The collision world of a cell. Immutable after [`CollisionWorldBuilder::build`];
+/// The collision world of a cell. Immutable after [`CollisionWorldBuilder::build`](super::CollisionWorldBuilder::build);
 /// `Send + Sync`, so one world serves every thread.
 #[derive(Clone, Debug)]
 pub struct CollisionWorld {
@@ -81,7 +81,7 @@ impl CollisionWorld {
     }
 
     /// The world pose of robot `robot`'s tip (its hand frame) for its frame poses
-    /// `frames`: where a held object's grasp is applied ([`ObjectState::held`]).
+    /// `frames`: where a held object's grasp is applied ([`ObjectState::held`](super::ObjectState::held)).
     pub fn tip(&self, robot: usize, frames: &[Iso]) -> Option<Iso> {
         let info = self.robots.get(robot)?;
         (frames.len() == info.frames).then(|| frames[info.frames - 1] * info.tip_offset)

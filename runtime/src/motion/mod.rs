@@ -12,7 +12,7 @@
 //!
 //! Three traits, where OMPL and MoveIt put them, so a part can be replaced without
 //! editing the others:
-//! - [`StateValidity`](crate::validity::StateValidity): is one configuration valid (the
+//! - [`StateValidity`]: is one configuration valid (the
 //!   default, [`SceneValidity`](crate::validity::SceneValidity), checks limits and
 //!   collisions in the cell with the object placed as the motion carries it);
 //! - [`MotionValidity`]: is the straight segment between two configurations valid (the
@@ -27,19 +27,19 @@
 //! 1. check the problem (arms, lengths, limits, options) and that start and goal are
 //!    valid;
 //! 2. try the straight line from start to goal (most motions in an uncluttered cell);
-//! 3. otherwise RRT-Connect ([`rrt`]): two trees (from the start and from the goal), each
+//! 3. otherwise RRT-Connect (`rrt.rs`): two trees (from the start and from the goal), each
 //!    extended towards uniform samples within the joint limits (goal-biased), the other
 //!    tree greedily connected to every new node;
 //! 4. random shortcuts between waypoints, then dropping waypoints whose neighbours see
-//!    each other ([`shortcut`]);
+//!    each other (`shortcut.rs`);
 //! 5. a trapezoidal velocity profile per segment (rest to rest, every joint synchronised),
 //!    sampled so that no joint moves more than [`MotionOptions::step`] between points
-//!    ([`timing`]).
+//!    (`timing.rs`).
 //!
 //! Every edge is checked at [`MotionOptions::collision_resolution`]: no joint moves more
 //! than that between two checked configurations. The checked configurations are exactly
 //! those [`check_trajectory`] visits at that resolution once the edge is part of the timed
-//! trajectory ([`segment`]), so a planned trajectory always passes that re-check (a finer
+//! trajectory (`segment.rs`), so a planned trajectory always passes that re-check (a finer
 //! re-check can still find contacts shallower than what a resolution step sweeps, as with
 //! any sampled collision checking). The held object is part of every check and follows
 //! the hand (its pose is recomputed from the arm's tip each time).
@@ -56,8 +56,6 @@ mod timing;
 
 use std::fmt;
 
-use rand_chacha::ChaCha8Rng;
-
 use crate::plan::Trajectory;
 use crate::scene::{QueryError, Scene, SceneScratch};
 use crate::termination::Termination;
@@ -65,6 +63,9 @@ use crate::validity::StateValidity;
 
 pub use check::{check_trajectory, TrajectoryFault};
 pub use problem::{Joints, MotionError, MotionOptions};
+/// The generator [`MotionPlanner::solve`] draws from, re-exported so that an
+/// implementation needs no dependency of its own.
+pub use rand_chacha::ChaCha8Rng;
 pub use rrt::RrtConnect;
 pub use segment::DiscreteMotion;
 
@@ -112,6 +113,20 @@ pub trait MotionPlanner {
         stop: &Termination,
         scratch: &mut SceneScratch,
     ) -> Result<Trajectory, MotionError>;
+}
+
+/// A borrowed planner plans as the planner does (so a caller can lend one to
+/// [`crate::plan::planner::Planner`] and keep it).
+impl<P: MotionPlanner + ?Sized> MotionPlanner for &P {
+    fn solve(
+        &self,
+        problem: &MotionProblem<'_>,
+        rng: &mut ChaCha8Rng,
+        stop: &Termination,
+        scratch: &mut SceneScratch,
+    ) -> Result<Trajectory, MotionError> {
+        (**self).solve(problem, rng, stop, scratch)
+    }
 }
 
 /// Decides whether the straight joint-space segment between two configurations is valid

@@ -86,6 +86,10 @@ impl RrtConnect {
                 }
             }
         }
+        // A request already out of time gets no motion, not even a free straight line.
+        if stop.should_stop() {
+            return Err(MotionError::Terminated { iterations: 0 });
+        }
         let (start, goal) = (problem.start, problem.goal);
         let mut path = Vec::with_capacity(2 * dim);
         path.extend_from_slice(start);

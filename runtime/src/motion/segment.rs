@@ -11,8 +11,8 @@ use crate::validity::StateValidity;
 /// every configuration at which [`super::check_trajectory`] at `resolution` will look
 /// once the segment is part of a trajectory timed with output step `step`.
 ///
-/// The segment is cut into the output samples ([`sample`] with `step`), each piece into
-/// the fewest equal steps that move no joint more than `resolution` ([`sample`] again),
+/// The segment is cut into the output samples (the trajectory's points at `step`), each
+/// piece into the fewest equal steps that move no joint more than `resolution`,
 /// and every step's end is checked: so a planned trajectory always passes
 /// `check_trajectory` at the planner's resolution, bit for bit, whatever the rounding.
 /// The order is coarse to fine (the pieces' ends in bisection order, then the points
