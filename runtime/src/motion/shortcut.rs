@@ -29,9 +29,9 @@ pub(super) fn dedup_waypoints(path: &mut Vec<f64>, dim: usize) {
 /// is free, dropping those in between. Then every waypoint whose neighbours see each
 /// other is dropped too, since each waypoint costs a stop in the timing. Shortcuts join
 /// waypoints only (never points inside segments), so every segment of the result is an
-/// edge checked as a whole, which keeps the planner's checks and [`check_trajectory`](super::check_trajectory)'s
-/// identical; RRT waypoints are at most `step` apart, so little is lost. `stop` is checked
-/// before every attempt.
+/// edge checked as a whole, which keeps the planner's checks and those of
+/// [`check_trajectory`](super::check_trajectory) identical; RRT waypoints are at most
+/// `step` apart, so little is lost. `stop` is checked before every attempt.
 pub(super) fn shortcut(
     motion: &mut dyn MotionValidity,
     path: &mut Vec<f64>,
