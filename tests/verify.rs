@@ -215,6 +215,37 @@ fn an_impossible_handoff_is_pruned_with_its_reason() {
     }
 }
 
+/// A transition between two grasps of one arm (kept by the compiler, with W0004) is
+/// refused at verification with its reason, never kept without a witness; the other arcs
+/// are verified as usual.
+#[test]
+fn a_regrasp_within_one_hand_is_refused_not_kept() {
+    let (artifact, scene) = verified("tests/ui/runtime/W0006_same_hand_regrasp.cell", 0);
+    let cylinder = &artifact.objects[0];
+    let graph = &cylinder.graph;
+    let same_hand = |arc: &cellc_schema::Arc| {
+        arc.kind == ArcKind::Transition
+            && graph.nodes[arc.from as usize].end_effector
+                == graph.nodes[arc.to as usize].end_effector
+    };
+    assert!(!graph.arcs.iter().any(same_hand), "a regrasp was kept");
+    let refused: Vec<_> = graph.pruned.iter().filter(|p| same_hand(&p.arc)).collect();
+    assert_eq!(refused.len(), 2, "both directions are refused");
+    for pruned in refused {
+        match &pruned.reason {
+            Infeasibility::NoPlacement { detail } => assert!(
+                detail.contains("cannot pass the object to itself"),
+                "{detail}"
+            ),
+            other => panic!("wrong reason: {other:?}"),
+        }
+    }
+    assert!(!graph.arcs.is_empty(), "the arcs through the table remain");
+    for arc in &graph.arcs {
+        recheck(&artifact, &scene, 0, arc).unwrap_or_else(|e| panic!("{e}"));
+    }
+}
+
 #[test]
 fn the_same_seed_gives_the_same_artifact() {
     for cell in geometric_cells() {

@@ -21,6 +21,7 @@ use cellc_runtime::kinematics::{solve_ik, IkOptions, IkTarget};
 use cellc_runtime::math::{Iso, Quat, Vec3};
 use cellc_runtime::robot::Robot;
 use cellc_runtime::{FileError, Files};
+use cellc_runtime::termination::Termination;
 use criterion::{criterion_group, criterion_main, Criterion};
 use parry3d_f64::shape::SharedShape;
 use rand::SeedableRng;
@@ -111,6 +112,7 @@ fn reach(robot: &Robot, base: &Iso, position: [f64; 3], seed: &[f64]) -> Vec<f64
         seed,
         &mut rng,
         &IkOptions::default(),
+        &Termination::never(),
     )
     .expect("the Vito arms reach over the table")
 }

@@ -19,6 +19,7 @@ use cellc_runtime::kinematics::{random_configuration, solve_ik, IkOptions, IkTar
 use cellc_runtime::math::{Iso, Point, Vec3};
 use cellc_runtime::robot::Robot;
 use cellc_runtime::MemoryFiles;
+use cellc_runtime::termination::Termination;
 use criterion::{criterion_group, criterion_main, Criterion};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -122,6 +123,7 @@ fn inverse_kinematics(c: &mut Criterion) {
             start,
             &mut rng,
             &opts,
+            &Termination::never(),
         )
     };
     summarise("lwr ik (pose, cold start)", &cases, |case| {
@@ -169,7 +171,14 @@ fn handoff(c: &mut Criterion) {
     // would seed them.
     let solve = |(target, seed): &(Point, u64)| {
         let mut rng = ChaCha8Rng::seed_from_u64(*seed);
-        solve_handoff(&problem(target), &[0.0; 7], &[0.0; 7], &mut rng, &opts)
+        solve_handoff(
+            &problem(target),
+            &[0.0; 7],
+            &[0.0; 7],
+            &mut rng,
+            &opts,
+            &Termination::never(),
+        )
     };
     let near_target = |(target, seed): &(Point, u64)| {
         solve(&(*target, *seed)).is_ok_and(|solution| {
@@ -186,7 +195,15 @@ fn handoff(c: &mut Criterion) {
         let mut rng = ChaCha8Rng::seed_from_u64(*seed);
         let seed_a = random_configuration(&robot, &mut rng);
         let seed_b = random_configuration(&robot, &mut rng);
-        solve_handoff(&problem(target), &seed_a, &seed_b, &mut rng, &opts).is_ok()
+        solve_handoff(
+            &problem(target),
+            &seed_a,
+            &seed_b,
+            &mut rng,
+            &opts,
+            &Termination::never(),
+        )
+        .is_ok()
     });
     let mut next = 0;
     c.bench_function("lwr-lwr handoff", |b| {

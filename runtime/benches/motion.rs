@@ -10,9 +10,11 @@ use std::f64::consts::PI;
 use std::hint::black_box;
 use std::time::Instant;
 
-use cellc_runtime::motion::{plan_motion, MotionOptions, MotionProblem};
+use cellc_runtime::motion::{MotionPlanner, MotionProblem, RrtConnect};
 use cellc_runtime::scene::ObjectPlacement;
 use cellc_runtime::scene::{Scene, SceneScratch};
+use cellc_runtime::termination::Termination;
+use cellc_runtime::validity::SceneValidity;
 use criterion::{criterion_group, criterion_main, Criterion};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
@@ -51,14 +53,14 @@ fn down(base: [f64; 4], at: [f64; 3]) -> Vec<f64> {
 /// many failed.
 fn summarise(name: &str, problem: &MotionProblem<'_>, seeds: u64) {
     let mut scratch = SceneScratch::default();
-    let options = MotionOptions::default();
+    let planner = RrtConnect::default();
     let mut times = Vec::new();
     let mut points = Vec::new();
     let mut failures = 0;
     for seed in 0..seeds {
         let mut rng = ChaCha8Rng::seed_from_u64(seed);
         let start = Instant::now();
-        let result = plan_motion(problem, &mut rng, &options, &mut scratch);
+        let result = planner.solve(problem, &mut rng, &Termination::never(), &mut scratch);
         times.push(start.elapsed().as_secs_f64() * 1e3);
         match result {
             Ok(t) => points.push(t.points.len()),
@@ -78,13 +80,18 @@ fn summarise(name: &str, problem: &MotionProblem<'_>, seeds: u64) {
 fn bench_problem(c: &mut Criterion, name: &str, problem: &MotionProblem<'_>) {
     summarise(name, problem, 64);
     let mut scratch = SceneScratch::default();
-    let options = MotionOptions::default();
+    let planner = RrtConnect::default();
+    let never = Termination::never();
     let mut seed = 0;
     c.bench_function(name, |b| {
         b.iter(|| {
             seed = (seed + 1) % 32;
             let mut rng = ChaCha8Rng::seed_from_u64(seed);
-            black_box(plan_motion(problem, &mut rng, &options, &mut scratch).is_ok())
+            black_box(
+                planner
+                    .solve(problem, &mut rng, &never, &mut scratch)
+                    .is_ok(),
+            )
         })
     });
 }
@@ -95,28 +102,33 @@ fn motions(c: &mut Criterion) {
         &[("left", arm)],
         &[("pillar", [0.4, -0.1, 0.0], [0.7, 0.1, 0.75])],
     );
+    let validity =
+        SceneValidity::new(&pillar, &[0], &[], 0, ObjectPlacement::Absent).expect("one arm");
+    let (start, goal) = (down(arm, [0.5, -0.35, 0.35]), down(arm, [0.5, 0.35, 0.35]));
     let one = MotionProblem {
         scene: &pillar,
-        arms: vec![0],
-        start: down(arm, [0.5, -0.35, 0.35]),
-        goal: down(arm, [0.5, 0.35, 0.35]),
-        stationary: Vec::new(),
-        object: 0,
-        placement: ObjectPlacement::Absent,
+        arms: &[0],
+        start: &start,
+        goal: &goal,
+        validity: &validity,
     };
     bench_problem(c, "motion: one arm around a pillar", &one);
 
     let (l, r) = ([0.0, 0.0, 0.0, 0.0], [1.0, 0.0, 0.0, PI]);
     let facing = scene(&[("left", l), ("right", r)], &[]);
     let (a, b) = ([0.5, 0.25, 0.3], [0.5, -0.25, 0.3]);
+    let validity =
+        SceneValidity::new(&facing, &[0, 1], &[], 0, ObjectPlacement::Absent).expect("two arms");
+    let (start, goal) = (
+        [down(l, a), down(r, b)].concat(),
+        [down(l, b), down(r, a)].concat(),
+    );
     let two = MotionProblem {
         scene: &facing,
-        arms: vec![0, 1],
-        start: [down(l, a), down(r, b)].concat(),
-        goal: [down(l, b), down(r, a)].concat(),
-        stationary: Vec::new(),
-        object: 0,
-        placement: ObjectPlacement::Absent,
+        arms: &[0, 1],
+        start: &start,
+        goal: &goal,
+        validity: &validity,
     };
     bench_problem(c, "motion: two arms swapping sides", &two);
 }

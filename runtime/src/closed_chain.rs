@@ -22,6 +22,9 @@
 //! more tries ([`HandoffOptions::target_attempts`]) look for one near it. Loop closure
 //! and the bounds are hard requirements; the target is a preference.
 //!
+//! The caller's [`Termination`] is checked before every try after the first, as in
+//! single-arm IK.
+//!
 //! B may be any chain, including a 1-DoF prismatic conveyor: then `grasp_b` is the
 //! object's resting pose on the conveyor's tip and the solve finds where the carriage and
 //! arm A meet.
@@ -32,6 +35,7 @@ use rand_chacha::ChaCha8Rng;
 use crate::kinematics::{lm_solve, rotation_log, IkError, IkOptions, LmBuffers, Residual};
 use crate::math::{Iso, Point, Vec3};
 use crate::robot::Robot;
+use crate::termination::Termination;
 
 /// A handoff to solve: two placed chains, how each holds the object, and where the
 /// object should be.
@@ -106,13 +110,15 @@ pub struct HandoffSolution {
 /// give the same result.
 ///
 /// On failure, [`IkError::NotConverged`] carries the loop-closure error of the best try
-/// (the position and rotation difference between the object poses through A and B).
+/// (the position and rotation difference between the object poses through A and B);
+/// [`IkError::Terminated`] says `stop` ended the tries first.
 pub fn solve_handoff(
     problem: &HandoffProblem<'_>,
     seed_a: &[f64],
     seed_b: &[f64],
     rng: &mut ChaCha8Rng,
     opts: &HandoffOptions,
+    stop: &Termination,
 ) -> Result<HandoffSolution, IkError> {
     let (robot_a, base_a) = problem.a;
     let (robot_b, base_b) = problem.b;
@@ -167,6 +173,9 @@ pub fn solve_handoff(
             tries_since_fallback += 1;
         }
         if attempt > 0 {
+            if stop.should_stop() {
+                return Err(IkError::Terminated { tries });
+            }
             let (qa, qb) = q.split_at_mut(na_);
             robot_a.sample_configuration(rng, qa);
             robot_b.sample_configuration(rng, qb);

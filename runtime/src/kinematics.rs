@@ -10,7 +10,9 @@
 //! it further out is dropped from that step's system, so the other joints take up the
 //! motion instead of the step stalling against the limit. A try that stalls or runs out
 //! of iterations is followed by a restart from a configuration drawn uniformly inside the
-//! limits with the caller's seeded RNG, so the result depends on the seed only.
+//! limits with the caller's seeded RNG, so the result depends on the seed only. The
+//! caller's [`Termination`] is checked before every restart, so a request out of time
+//! stops within one try ([`IkError::Terminated`]).
 //!
 //! The solver core (`lm_solve`) is generic over the residual, so the closed-chain
 //! handoff solver in [`crate::closed_chain`] uses the same machinery.
@@ -23,6 +25,7 @@ use rand_chacha::ChaCha8Rng;
 
 use crate::math::{Iso, Point, Quat, Vec3};
 use crate::robot::{JointKind, Robot};
+use crate::termination::Termination;
 
 impl Robot {
     /// World poses of frames 0..=n (frame 0 = the base link placed at `base`) for the
@@ -223,6 +226,11 @@ pub enum IkError {
         /// The best try's rotation error, radians (0 for a position-only target).
         rotation_error: f64,
     },
+    /// The termination condition stopped the restarts before any try converged.
+    Terminated {
+        /// How many start configurations were tried.
+        tries: usize,
+    },
     /// A seed configuration does not have one value per joint.
     SeedLength {
         /// The number of joints.
@@ -244,6 +252,9 @@ impl fmt::Display for IkError {
                 "inverse kinematics did not converge in {tries} tries (best: {position_error:.2e} m, \
                  {rotation_error:.2e} rad off)"
             ),
+            IkError::Terminated { tries } => {
+                write!(f, "inverse kinematics was stopped after {tries} tries")
+            }
             IkError::SeedLength { expected, got } => write!(
                 f,
                 "the seed has {got} joint values, the robot has {expected} joints"
@@ -259,7 +270,8 @@ impl std::error::Error for IkError {}
 /// drawn with `rng`.
 ///
 /// The result reaches the target within `opts`' tolerances and lies within the limits;
-/// the same `rng` state and inputs always give the same result.
+/// the same `rng` state and inputs always give the same result. `stop` is checked before
+/// every restart.
 pub fn solve_ik(
     robot: &Robot,
     base: &Iso,
@@ -267,6 +279,7 @@ pub fn solve_ik(
     seed: &[f64],
     rng: &mut ChaCha8Rng,
     opts: &IkOptions,
+    stop: &Termination,
 ) -> Result<Vec<f64>, IkError> {
     let n = robot.n_joints();
     if seed.len() != n {
@@ -293,15 +306,18 @@ pub fn solve_ik(
                 &mut problem,
                 &mut buffers,
                 &start,
-                lower,
-                upper,
+                (lower, upper),
                 opts,
+                stop,
                 |q| robot.sample_configuration(rng, q),
             )
-            .map_err(|(tries, r)| IkError::NotConverged {
-                tries,
-                position_error: r.fixed_rows::<3>(0).norm(),
-                rotation_error: r.fixed_rows::<3>(3).norm(),
+            .map_err(|failure| match failure {
+                Unsolved::Terminated { tries } => IkError::Terminated { tries },
+                Unsolved::NotConverged { tries, best: r } => IkError::NotConverged {
+                    tries,
+                    position_error: r.fixed_rows::<3>(0).norm(),
+                    rotation_error: r.fixed_rows::<3>(3).norm(),
+                },
             })
         }
         IkTarget::Position(point) => {
@@ -317,35 +333,52 @@ pub fn solve_ik(
                 &mut problem,
                 &mut buffers,
                 &start,
-                lower,
-                upper,
+                (lower, upper),
                 opts,
+                stop,
                 |q| robot.sample_configuration(rng, q),
             )
-            .map_err(|(tries, r)| IkError::NotConverged {
-                tries,
-                position_error: r.norm(),
-                rotation_error: 0.0,
+            .map_err(|failure| match failure {
+                Unsolved::Terminated { tries } => IkError::Terminated { tries },
+                Unsolved::NotConverged { tries, best: r } => IkError::NotConverged {
+                    tries,
+                    position_error: r.norm(),
+                    rotation_error: 0.0,
+                },
             })
         }
     }
 }
 
+/// Why [`solve_with_restarts`] found nothing.
+enum Unsolved<const R: usize> {
+    /// Every try ended away from the target; the residual of the best one.
+    NotConverged {
+        tries: usize,
+        best: na::SVector<f64, R>,
+    },
+    /// The termination condition stopped the restarts.
+    Terminated { tries: usize },
+}
+
 /// Runs [`lm_solve`] from `start`, then from up to `opts.restarts` configurations drawn
-/// by `sample`. On failure: the number of tries and the residual of the best one.
-pub(crate) fn solve_with_restarts<const R: usize, P: Residual<R>>(
+/// by `sample`, checking `stop` before each restart.
+fn solve_with_restarts<const R: usize, P: Residual<R>>(
     problem: &mut P,
     buffers: &mut LmBuffers<R>,
     start: &[f64],
-    lower: &[f64],
-    upper: &[f64],
+    (lower, upper): (&[f64], &[f64]),
     opts: &IkOptions,
+    stop: &Termination,
     mut sample: impl FnMut(&mut [f64]),
-) -> Result<Vec<f64>, (usize, na::SVector<f64, R>)> {
+) -> Result<Vec<f64>, Unsolved<R>> {
     let mut q = start.to_vec();
     let mut best: Option<na::SVector<f64, R>> = None;
     for attempt in 0..=opts.restarts {
         if attempt > 0 {
+            if stop.should_stop() {
+                return Err(Unsolved::Terminated { tries: attempt });
+            }
             sample(&mut q);
         }
         let outcome = lm_solve(problem, buffers, &mut q, lower, upper, opts);
@@ -356,7 +389,10 @@ pub(crate) fn solve_with_restarts<const R: usize, P: Residual<R>>(
             best = Some(outcome.residual);
         }
     }
-    Err((opts.restarts + 1, best.unwrap_or_else(na::SVector::zeros)))
+    Err(Unsolved::NotConverged {
+        tries: opts.restarts + 1,
+        best: best.unwrap_or_else(na::SVector::zeros),
+    })
 }
 
 /// A least-squares problem over joint values: a residual with `R` rows to drive to zero.

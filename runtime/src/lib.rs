@@ -22,11 +22,17 @@ pub mod motion;
 #[doc(hidden)]
 pub mod plan;
 #[doc(hidden)]
+pub mod rest;
+#[doc(hidden)]
 pub mod robot;
 #[doc(hidden)]
 pub mod scene;
 #[doc(hidden)]
 pub mod symmetry;
+#[doc(hidden)]
+pub mod termination;
+#[doc(hidden)]
+pub mod validity;
 #[doc(hidden)]
 pub mod verify;
 
@@ -42,5 +48,11 @@ pub use plan::{
     PlanGoal, PlanOptions, Request, Step, Strategy, Trajectory, Unreachable,
 };
 pub use verify::VerifyOptions;
+
+// The seams: plug in another state checker, motion validator or motion planner, and stop
+// a long request from outside.
+pub use motion::{MotionPlanner, MotionValidity};
+pub use termination::Termination;
+pub use validity::StateValidity;
 
 pub use cellc_schema::files::{FileError, Files, MemoryFiles};

@@ -6,7 +6,7 @@ use cellc_schema::{self as schema, sha256_hex, Artifact};
 use parry3d_f64::shape::SharedShape;
 
 use crate::collision::{
-    BuildError, CollisionError, CollisionScratch, CollisionWorld, CollisionWorldBuilder,
+    BuildError, Collision, CollisionError, CollisionScratch, CollisionWorld, CollisionWorldBuilder,
     Configuration, Hand, Holder as CollisionHolder, ObjectState, Solid,
 };
 use crate::math::{aabb_from_schema, iso_from_schema, Aabb, Iso, Vec3};
@@ -188,7 +188,17 @@ pub enum QueryError {
     NotASurface(u32),
     /// The collision world refused the state.
     Collision(CollisionError),
+    /// A configuration has the wrong number of joint values for the arms it is for.
+    WrongLength {
+        /// Values expected.
+        expected: usize,
+        /// Values given.
+        found: usize,
+    },
 }
+
+/// Robots whose frames one query lists without allocating (more fall back to a vector).
+const INLINE_ROBOTS: usize = 16;
 
 /// Buffers for [`Scene::collision`], one per thread.
 #[derive(Default)]
@@ -370,6 +380,35 @@ impl Scene {
         placement: ObjectPlacement,
         scratch: &mut SceneScratch,
     ) -> Result<Option<(String, String)>, QueryError> {
+        let found = self.first_collision(arms, object, placement, scratch)?;
+        Ok(found.map(|c| {
+            let (a, b) = self.world.names(&c);
+            (a.to_string(), b.to_string())
+        }))
+    }
+
+    /// Whether the state [`Scene::collision`] describes is free, without naming anything
+    /// (the inner loops of motion planning ask this millions of times).
+    pub fn is_free(
+        &self,
+        arms: &[(u32, &[f64])],
+        object: u32,
+        placement: ObjectPlacement,
+        scratch: &mut SceneScratch,
+    ) -> Result<bool, QueryError> {
+        Ok(self
+            .first_collision(arms, object, placement, scratch)?
+            .is_none())
+    }
+
+    /// The first colliding pair of the state [`Scene::collision`] describes, as body ids.
+    fn first_collision(
+        &self,
+        arms: &[(u32, &[f64])],
+        object: u32,
+        placement: ObjectPlacement,
+        scratch: &mut SceneScratch,
+    ) -> Result<Option<Collision>, QueryError> {
         let n = self.robot_holder.len();
         scratch.frames.resize_with(n, Vec::new);
         for (r, &e) in self.robot_holder.iter().enumerate() {
@@ -449,19 +488,25 @@ impl Scene {
         if let Some(slot) = scratch.objects.get_mut(object as usize) {
             *slot = state;
         }
-        let frames: Vec<&[Iso]> = scratch.frames.iter().map(Vec::as_slice).collect();
+        // The frames as slices, listed without allocating for the usual handful of arms.
+        let mut inline: [&[Iso]; INLINE_ROBOTS] = [&[]; INLINE_ROBOTS];
+        let heap: Vec<&[Iso]>;
+        let frames: &[&[Iso]] = if n <= INLINE_ROBOTS {
+            for (slot, f) in inline.iter_mut().zip(&scratch.frames) {
+                *slot = f;
+            }
+            &inline[..n]
+        } else {
+            heap = scratch.frames.iter().map(Vec::as_slice).collect();
+            &heap
+        };
         let configuration = Configuration {
-            robots: &frames,
+            robots: frames,
             objects: &scratch.objects,
         };
-        let found = self
-            .world
+        self.world
             .first_collision(&configuration, &mut scratch.collision)
-            .map_err(QueryError::Collision)?;
-        Ok(found.map(|c| {
-            let (a, b) = self.world.names(&c);
-            (a.to_string(), b.to_string())
-        }))
+            .map_err(QueryError::Collision)
     }
 
     /// True when the artifact has any arm, i.e. anything to verify kinematically.

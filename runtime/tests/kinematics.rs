@@ -12,6 +12,7 @@ use cellc_runtime::kinematics::{
 use cellc_runtime::math::{Iso, Point, Vec3};
 use cellc_runtime::robot::{ChainError, JointError, JointKind, Robot, RobotError};
 use cellc_runtime::MemoryFiles;
+use cellc_runtime::termination::Termination;
 use nalgebra as na;
 use proptest::prelude::*;
 use rand::SeedableRng;
@@ -291,7 +292,7 @@ proptest! {
         let mut rng = ChaCha8Rng::seed_from_u64(seed);
         let start = random_configuration(&robot, &mut rng);
         let opts = IkOptions::default();
-        let solution = solve_ik(&robot, &base, &IkTarget::Pose(target), &start, &mut rng, &opts);
+        let solution = solve_ik(&robot, &base, &IkTarget::Pose(target), &start, &mut rng, &opts, &Termination::never());
         prop_assert!(solution.is_ok(), "no solution: {:?}", solution);
         let solution = solution.unwrap_or_default();
         prop_assert!(robot.within_limits(&solution));
@@ -320,6 +321,7 @@ fn position_only_ik_reaches_points() {
             &[0.0; 7],
             &mut rng,
             &opts,
+            &Termination::never(),
         )
         .expect("a point well inside the reach");
         assert!(robot.within_limits(&q));
@@ -344,6 +346,7 @@ fn unreachable_target_reports_the_error() {
         &[0.0; 7],
         &mut rng,
         &opts,
+        &Termination::never(),
     ) {
         Err(IkError::NotConverged {
             tries,
@@ -365,9 +368,48 @@ fn unreachable_target_reports_the_error() {
     }
     let point = IkTarget::Position(Point::new(0.0, 5.0, 0.0));
     assert!(matches!(
-        solve_ik(&robot, &Iso::identity(), &point, &[0.0; 7], &mut rng, &opts),
+        solve_ik(&robot, &Iso::identity(), &point, &[0.0; 7], &mut rng, &opts, &Termination::never()),
         Err(IkError::NotConverged { rotation_error, .. }) if rotation_error == 0.0
     ));
+}
+
+/// A deadline that has passed lets each solver make its first try only, and says it was
+/// stopped rather than that the target is out of reach.
+#[test]
+fn a_passed_deadline_stops_the_restarts() {
+    let robot = lwr();
+    let mut rng = ChaCha8Rng::seed_from_u64(11);
+    let stop = Termination::at(std::time::Instant::now());
+    let target = IkTarget::Pose(Iso::translation(5.0, 0.0, 0.5));
+    let opts = IkOptions::default();
+    assert_eq!(
+        solve_ik(
+            &robot,
+            &Iso::identity(),
+            &target,
+            &[0.0; 7],
+            &mut rng,
+            &opts,
+            &stop
+        ),
+        Err(IkError::Terminated { tries: 1 })
+    );
+    assert!(stop.fired());
+    // Two arms 5 m apart never close the loop; stopped, they report it after one try.
+    let (base_a, _, grasp_a, grasp_b) = facing_arms();
+    let far = HandoffProblem {
+        a: (&robot, base_a),
+        b: (&robot, Iso::translation(0.0, 5.0, 0.0)),
+        grasp_a,
+        grasp_b,
+        target: Point::new(0.0, 2.5, 0.5),
+        bounds: None,
+    };
+    let opts = HandoffOptions::default();
+    assert_eq!(
+        solve_handoff(&far, &[0.0; 7], &[0.0; 7], &mut rng, &opts, &stop),
+        Err(IkError::Terminated { tries: 1 })
+    );
 }
 
 #[test]
@@ -382,7 +424,8 @@ fn wrong_seed_length_is_an_error() {
             &target,
             &[0.0; 6],
             &mut rng,
-            &IkOptions::default()
+            &IkOptions::default(),
+            &Termination::never()
         ),
         Err(IkError::SeedLength {
             expected: 7,
@@ -405,6 +448,7 @@ fn ik_is_deterministic_for_a_seed() {
             &[2.0, -1.0, 2.0, 1.5, -2.0, -1.5, 2.5],
             &mut rng,
             &IkOptions::default(),
+            &Termination::never(),
         )
         .expect("reachable")
     };
@@ -470,8 +514,15 @@ fn handoff_between_facing_arms_closes_the_loop_near_the_target() {
     };
     let opts = HandoffOptions::default();
     let mut rng = ChaCha8Rng::seed_from_u64(5);
-    let solution =
-        solve_handoff(&problem, &[0.0; 7], &[0.0; 7], &mut rng, &opts).expect("a handoff");
+    let solution = solve_handoff(
+        &problem,
+        &[0.0; 7],
+        &[0.0; 7],
+        &mut rng,
+        &opts,
+        &Termination::never(),
+    )
+    .expect("a handoff");
     check_handoff(&problem, &solution, &opts);
     let distance = (solution.object.translation.vector - target.coords).norm();
     assert!(
@@ -486,7 +537,14 @@ fn handoff_between_facing_arms_closes_the_loop_near_the_target() {
     // Same seed, same answer.
     let mut again = ChaCha8Rng::seed_from_u64(5);
     assert_eq!(
-        solve_handoff(&problem, &[0.0; 7], &[0.0; 7], &mut again, &opts),
+        solve_handoff(
+            &problem,
+            &[0.0; 7],
+            &[0.0; 7],
+            &mut again,
+            &opts,
+            &Termination::never()
+        ),
         Ok(solution)
     );
 }
@@ -507,8 +565,15 @@ fn handoff_with_an_out_of_reach_target_still_closes_the_loop() {
     };
     let opts = HandoffOptions::default();
     let mut rng = ChaCha8Rng::seed_from_u64(9);
-    let solution =
-        solve_handoff(&problem, &[0.0; 7], &[0.0; 7], &mut rng, &opts).expect("a handoff");
+    let solution = solve_handoff(
+        &problem,
+        &[0.0; 7],
+        &[0.0; 7],
+        &mut rng,
+        &opts,
+        &Termination::never(),
+    )
+    .expect("a handoff");
     check_handoff(&problem, &solution, &opts);
     assert!(
         solution.object.translation.z > 0.9,
@@ -537,7 +602,15 @@ fn handoff_from_an_arm_onto_a_conveyor() {
     };
     let opts = HandoffOptions::default();
     let mut rng = ChaCha8Rng::seed_from_u64(1);
-    let solution = solve_handoff(&problem, &[0.0; 7], &[0.0], &mut rng, &opts).expect("a handoff");
+    let solution = solve_handoff(
+        &problem,
+        &[0.0; 7],
+        &[0.0],
+        &mut rng,
+        &opts,
+        &Termination::never(),
+    )
+    .expect("a handoff");
     check_handoff(&problem, &solution, &opts);
     // Resting on the belt: upright, at the carriage height, where the carriage is.
     let object = solution.object;
@@ -566,7 +639,8 @@ fn handoff_seed_lengths_are_checked() {
             &[0.0; 7],
             &[0.0; 7],
             &mut rng,
-            &HandoffOptions::default()
+            &HandoffOptions::default(),
+            &Termination::never()
         ),
         Err(IkError::SeedLength {
             expected: 1,

@@ -4,13 +4,20 @@
 
 use std::f64::consts::PI;
 
+use std::cell::Cell;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
+use std::time::Instant;
+
 use cellc_runtime::math::Iso;
 use cellc_runtime::motion::{
-    check_trajectory, plan_motion, Joints, MotionError, MotionOptions, MotionProblem,
-    TrajectoryFault,
+    check_trajectory, DiscreteMotion, Joints, MotionError, MotionOptions, MotionPlanner,
+    MotionProblem, MotionValidity, RrtConnect, TrajectoryFault,
 };
 use cellc_runtime::plan::Trajectory;
-use cellc_runtime::scene::{Holder, ObjectPlacement, Scene, SceneScratch};
+use cellc_runtime::scene::{Holder, ObjectPlacement, QueryError, Scene, SceneScratch};
+use cellc_runtime::termination::Termination;
+use cellc_runtime::validity::{SceneValidity, StateFault, StateValidity};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
@@ -53,48 +60,89 @@ const PILLAR: (&str, [f64; 3], [f64; 3]) = ("pillar", [0.4, -0.1, 0.0], [0.7, 0.
 /// Fine enough that nothing slips between checks in these cells.
 const DENSE: f64 = 0.005;
 
-fn problem<'a>(
+/// A motion in a test cell: the arms, their ends, and the world the default state
+/// validity checks them in (the object, when there is one, is the fixture's only one).
+#[derive(Clone)]
+struct Case<'a> {
     scene: &'a Scene,
     arms: Vec<u32>,
     start: Vec<f64>,
     goal: Vec<f64>,
-) -> MotionProblem<'a> {
-    MotionProblem {
+    stationary: Vec<(u32, Vec<f64>)>,
+    placement: ObjectPlacement,
+}
+
+fn problem<'a>(scene: &'a Scene, arms: Vec<u32>, start: Vec<f64>, goal: Vec<f64>) -> Case<'a> {
+    Case {
         scene,
         arms,
         start,
         goal,
         stationary: Vec::new(),
-        object: 0,
         placement: ObjectPlacement::Absent,
     }
 }
 
-fn plan(problem: &MotionProblem<'_>, seed: u64) -> Result<Trajectory, MotionError> {
-    let mut rng = ChaCha8Rng::seed_from_u64(seed);
-    plan_motion(
-        problem,
-        &mut rng,
-        &MotionOptions::default(),
-        &mut SceneScratch::default(),
-    )
+impl Case<'_> {
+    /// The default state validity of this motion.
+    fn validity(&self) -> Result<SceneValidity<'_>, MotionError> {
+        Ok(SceneValidity::new(
+            self.scene,
+            &self.arms,
+            &self.stationary,
+            0,
+            self.placement,
+        )?)
+    }
+
+    /// The motion problem with `validity` deciding which states are valid.
+    fn with<'v>(&'v self, validity: &'v dyn StateValidity) -> MotionProblem<'v> {
+        MotionProblem {
+            scene: self.scene,
+            arms: &self.arms,
+            start: &self.start,
+            goal: &self.goal,
+            validity,
+        }
+    }
+
+    /// Plans with RRT-Connect and the default state validity.
+    fn solve(
+        &self,
+        options: &MotionOptions,
+        rng: &mut ChaCha8Rng,
+        stop: &Termination,
+    ) -> Result<Trajectory, MotionError> {
+        let validity = self.validity()?;
+        RrtConnect::new(options.clone()).solve(
+            &self.with(&validity),
+            rng,
+            stop,
+            &mut SceneScratch::default(),
+        )
+    }
 }
 
-/// The dense, independent re-check of a planned trajectory for `problem`.
-fn recheck(problem: &MotionProblem<'_>, trajectory: &Trajectory) -> Result<(), TrajectoryFault> {
+fn plan(case: &Case<'_>, seed: u64) -> Result<Trajectory, MotionError> {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    case.solve(&MotionOptions::default(), &mut rng, &Termination::never())
+}
+
+/// The dense, independent re-check of a planned trajectory for `case`.
+fn recheck(case: &Case<'_>, trajectory: &Trajectory) -> Result<(), TrajectoryFault> {
     check_trajectory(
-        problem.scene,
+        case.scene,
         trajectory,
-        &problem.stationary,
-        problem.object,
-        &problem.placement,
+        &case.stationary,
+        0,
+        &case.placement,
         DENSE,
         &mut SceneScratch::default(),
     )
 }
 
 /// The straight line from start to goal as a (roughly timed) trajectory.
-fn straight(problem: &MotionProblem<'_>) -> Trajectory {
+fn straight(problem: &Case<'_>) -> Trajectory {
     Trajectory {
         arms: problem.arms.clone(),
         points: vec![(0.0, problem.start.clone()), (1.0, problem.goal.clone())],
@@ -129,7 +177,7 @@ fn is_straight(t: &Trajectory) -> bool {
 /// What every planned trajectory must satisfy: it starts at time 0 at `start`, ends
 /// exactly at `goal`, times increase, no joint moves more than `step` between points or
 /// faster than the speed limit, and the dense re-check finds nothing.
-fn assert_valid(problem: &MotionProblem<'_>, t: &Trajectory) {
+fn assert_valid(problem: &Case<'_>, t: &Trajectory) {
     let options = MotionOptions::default();
     assert_eq!(t.arms, problem.arms);
     assert_eq!(t.points[0], (0.0, problem.start.clone()));
@@ -238,7 +286,7 @@ const FACING: [(&str, [f64; 4]); 2] = [
 
 /// Both hands at table height on opposite sides of the middle line, swapping sides: moved
 /// together along the straight line, the arms meet in the middle.
-fn swap(scene: &Scene) -> MotionProblem<'_> {
+fn swap(scene: &Scene) -> Case<'_> {
     let (l, r) = (FACING[0].1, FACING[1].1);
     let (a, b) = ([0.5, 0.25, 0.3], [0.5, -0.25, 0.3]);
     let start = [down(l, a), down(r, b)].concat();
@@ -333,7 +381,9 @@ fn timing_is_monotonic_and_within_limits() {
         ..MotionOptions::default()
     };
     let mut rng = ChaCha8Rng::seed_from_u64(5);
-    let t = plan_motion(&p, &mut rng, &slow, &mut SceneScratch::default()).expect("a path");
+    let t = p
+        .solve(&slow, &mut rng, &Termination::never())
+        .expect("a path");
     let mut peak: f64 = 0.0;
     for pair in t.points.windows(2) {
         let ((t0, a), (t1, b)) = (&pair[0], &pair[1]);
@@ -352,13 +402,9 @@ fn timing_is_monotonic_and_within_limits() {
     assert!(total >= travelled / 0.3, "{total} s for {travelled} rad");
     // The same motion with the defaults is faster.
     let mut rng = ChaCha8Rng::seed_from_u64(5);
-    let fast = plan_motion(
-        &p,
-        &mut rng,
-        &MotionOptions::default(),
-        &mut SceneScratch::default(),
-    )
-    .expect("a path");
+    let fast = p
+        .solve(&MotionOptions::default(), &mut rng, &Termination::never())
+        .expect("a path");
     assert!(fast.points[fast.points.len() - 1].0 < total);
 }
 
@@ -426,12 +472,7 @@ fn malformed_problems_are_errors() {
         ..MotionOptions::default()
     };
     assert!(matches!(
-        plan_motion(
-            &problem(&scene, vec![0], q.clone(), q.clone()),
-            &mut rng,
-            &bad,
-            &mut SceneScratch::default()
-        ),
+        problem(&scene, vec![0], q.clone(), q.clone()).solve(&bad, &mut rng, &Termination::never()),
         Err(MotionError::InvalidOption {
             name: "collision_resolution",
             ..
@@ -444,6 +485,147 @@ fn malformed_problems_are_errors() {
         grasp: Iso::identity(),
     };
     assert!(matches!(plan(&p, 0), Err(MotionError::Query(_))));
+}
+
+/// A state validity that delegates to the default one, counts the states it is asked
+/// about, and raises a cancel flag once it has answered `limit` of them: a deterministic
+/// stand-in for a deadline that passes mid-search.
+struct Tripwire<'a> {
+    inner: SceneValidity<'a>,
+    calls: Cell<usize>,
+    limit: usize,
+    flag: Arc<AtomicBool>,
+}
+
+impl StateValidity for Tripwire<'_> {
+    fn check(
+        &self,
+        q: &[f64],
+        scratch: &mut SceneScratch,
+    ) -> Result<Option<StateFault>, QueryError> {
+        self.calls.set(self.calls.get() + 1);
+        if self.calls.get() >= self.limit {
+            self.flag.store(true, Ordering::Relaxed);
+        }
+        self.inner.check(q, scratch)
+    }
+}
+
+/// The arm swinging round the pillar: the straight line is blocked, so RRT-Connect runs.
+fn around_the_pillar(scene: &Scene) -> Case<'_> {
+    problem(
+        scene,
+        vec![0],
+        down(ARM.1, [0.5, -0.35, 0.35]),
+        down(ARM.1, [0.5, 0.35, 0.35]),
+    )
+}
+
+/// Solves `case` through a [`Tripwire`] that trips after `limit` states, stopped by its
+/// flag (and by `stop`'s deadline, if any); also gives how many states were checked.
+fn tripped(
+    case: &Case<'_>,
+    limit: usize,
+    stop: Termination,
+) -> (Result<Trajectory, MotionError>, usize) {
+    let flag = Arc::new(AtomicBool::new(false));
+    let tripwire = Tripwire {
+        inner: case.validity().expect("a valid layout"),
+        calls: Cell::new(0),
+        limit,
+        flag: flag.clone(),
+    };
+    let mut rng = ChaCha8Rng::seed_from_u64(9);
+    let result = RrtConnect::default().solve(
+        &case.with(&tripwire),
+        &mut rng,
+        &stop.with_cancel(flag),
+        &mut SceneScratch::default(),
+    );
+    (result, tripwire.calls.get())
+}
+
+#[test]
+fn a_deadline_already_past_stops_before_the_first_iteration() {
+    let scene = scene(&[ARM], &[PILLAR]);
+    let case = around_the_pillar(&scene);
+    let stop = Termination::at(Instant::now());
+    let (result, _) = tripped(&case, usize::MAX, stop);
+    assert_eq!(result, Err(MotionError::Terminated { iterations: 0 }));
+}
+
+#[test]
+fn a_cancelled_search_stops_mid_way_with_its_own_error() {
+    let scene = scene(&[ARM], &[PILLAR]);
+    let case = around_the_pillar(&scene);
+    // Unhurried, the search finds a path after many checks.
+    let (full, all_checks) = tripped(&case, usize::MAX, Termination::never());
+    assert_valid(&case, &full.expect("a way round the pillar"));
+    // The checks before the first iteration: start, goal, the straight line.
+    let (early, before_search) = tripped(&case, usize::MAX, Termination::at(Instant::now()));
+    assert!(matches!(
+        early,
+        Err(MotionError::Terminated { iterations: 0 })
+    ));
+    let limit = before_search + 40;
+    assert!(all_checks > limit, "{all_checks} checks in all");
+    // Raised 40 checks into the search: it stops in the iteration that raised it.
+    let (stopped, checks) = tripped(&case, limit, Termination::never());
+    let Err(MotionError::Terminated { iterations }) = stopped else {
+        panic!("the raised flag stops the search: {stopped:?}");
+    };
+    assert!(iterations >= 1, "stopped mid-search, not before it");
+    assert!(iterations < MotionOptions::default().max_iterations);
+    assert!(checks < all_checks, "{checks} of {all_checks} checks");
+    // Deterministic: the same limit stops at the same iteration.
+    let (again, _) = tripped(&case, limit, Termination::never());
+    assert_eq!(again, Err(MotionError::Terminated { iterations }));
+}
+
+/// Counts the segments it is asked about and lets [`DiscreteMotion`] answer.
+struct CountingSegments<'v> {
+    inner: DiscreteMotion<'v>,
+    segments: usize,
+}
+
+impl MotionValidity for CountingSegments<'_> {
+    fn check_motion(
+        &mut self,
+        a: &[f64],
+        b: &[f64],
+        scratch: &mut SceneScratch,
+    ) -> Result<bool, QueryError> {
+        self.segments += 1;
+        self.inner.check_motion(a, b, scratch)
+    }
+}
+
+#[test]
+fn another_motion_validator_plugs_into_rrt_connect() {
+    let scene = scene(&[ARM], &[PILLAR]);
+    let case = around_the_pillar(&scene);
+    let validity = case.validity().expect("a valid layout");
+    let options = MotionOptions::default();
+    let mut counting = CountingSegments {
+        inner: DiscreteMotion::new(&validity, options.step, options.collision_resolution),
+        segments: 0,
+    };
+    let planner = RrtConnect::new(options);
+    let mut rng = ChaCha8Rng::seed_from_u64(4);
+    let through_it = planner
+        .solve_with(
+            &case.with(&validity),
+            &mut counting,
+            &mut rng,
+            &Termination::never(),
+            &mut SceneScratch::default(),
+        )
+        .expect("a path");
+    assert!(
+        counting.segments > 1,
+        "the straight line and the tree's edges"
+    );
+    assert_eq!(Ok(through_it), plan(&case, 4));
 }
 
 proptest::proptest! {
@@ -479,7 +661,7 @@ proptest::proptest! {
         let p = problem(&scene, vec![0], start, goal);
         let options = MotionOptions::default();
         let mut rng = ChaCha8Rng::seed_from_u64(seed);
-        let t = match plan_motion(&p, &mut rng, &options, &mut scratch) {
+        let t = match p.solve(&options, &mut rng, &Termination::never()) {
             Ok(t) => t,
             Err(MotionError::NoPath { .. }) => return Ok(()),
             Err(e) => panic!("{e}"),

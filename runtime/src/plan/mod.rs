@@ -108,8 +108,12 @@ pub struct PlanOptions {
     /// Arc weights for this request (move, transition), instead of the cell's: e.g. the
     /// original planner's integer costs, or costs from failure statistics.
     pub weights: Option<(f64, f64)>,
-    /// Give up (with [`PlanError::TimeBudget`]) when planning takes longer than this.
+    /// Give up (with [`PlanError::TimeBudget`]) when planning takes longer than this: the
+    /// deadline of the request's [`Termination`](crate::termination::Termination), checked
+    /// between searches and inside every IK and motion search.
     pub time_budget: Option<std::time::Duration>,
+    /// Give up (with [`PlanError::TimeBudget`]) as soon as another thread raises this flag.
+    pub cancel: Option<std::sync::Arc<std::sync::atomic::AtomicBool>>,
 }
 
 impl Default for PlanOptions {
@@ -122,6 +126,7 @@ impl Default for PlanOptions {
             rotation_tolerance: 0.05,
             weights: None,
             time_budget: None,
+            cancel: None,
         }
     }
 }
@@ -306,7 +311,7 @@ pub enum PlanError {
     Locate(LocateError),
     /// No path from the start to the goal.
     Unreachable(Box<Unreachable>),
-    /// The request's time budget ran out before a plan was found.
+    /// The request's time budget ran out (or it was cancelled) before a plan was found.
     TimeBudget {
         /// Searches started (the first, and one per backtrack).
         searches: u32,

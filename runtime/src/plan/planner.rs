@@ -20,8 +20,11 @@ use super::{
 };
 use crate::kinematics::{solve_ik, IkError, IkOptions, IkTarget};
 use crate::math::{iso_from_schema, Iso};
-use crate::motion::{plan_motion, MotionOptions, MotionProblem};
+use crate::motion::{MotionError, MotionPlanner, MotionProblem, RrtConnect};
+use crate::rest::RestRegions;
 use crate::scene::{Holder, ObjectPlacement, Scene, SceneScratch};
+use crate::termination::Termination;
+use crate::validity::{SceneValidity, StateFault, StateValidity};
 
 /// IK settings for request-specific solves: each call is one of several attempts (other
 /// symmetric grasps, other candidate poses), so a few restarts per call find reachable
@@ -40,6 +43,8 @@ pub struct Planner<'a> {
     artifact: &'a Artifact,
     scene: Option<&'a Scene>,
     search: std::borrow::Cow<'a, [SearchGraph]>,
+    /// Plans the joint motion of each command ([`RrtConnect`] unless replaced).
+    motion_planner: Box<dyn MotionPlanner + Send + Sync + 'a>,
 }
 
 /// Where the plan stands while commands are realised.
@@ -82,6 +87,7 @@ impl<'a> Planner<'a> {
             artifact,
             scene,
             search: std::borrow::Cow::Owned(SearchGraph::for_artifact(artifact)),
+            motion_planner: Box::new(RrtConnect::default()),
         }
     }
 
@@ -97,7 +103,17 @@ impl<'a> Planner<'a> {
             artifact,
             scene,
             search: std::borrow::Cow::Borrowed(search),
+            motion_planner: Box::new(RrtConnect::default()),
         }
+    }
+
+    /// The same planner with joint motions planned by `motion_planner`.
+    pub fn with_motion_planner(
+        mut self,
+        motion_planner: impl MotionPlanner + Send + Sync + 'a,
+    ) -> Planner<'a> {
+        self.motion_planner = Box::new(motion_planner);
+        self
     }
 
     /// The artifact planned on.
@@ -187,15 +203,16 @@ impl<'a> Planner<'a> {
             _ => false,
         };
         let mut backtracks = 0;
-        let started = std::time::Instant::now();
+        // Checked between searches and inside every IK and motion search of this request.
+        let mut stop = Termination::after(options.time_budget);
+        if let Some(flag) = &options.cancel {
+            stop = stop.with_cancel(flag.clone());
+        }
         let reweighted = options
             .weights
             .map(|w| self.search[object as usize].reweighted(w));
         loop {
-            if options
-                .time_budget
-                .is_some_and(|budget| started.elapsed() >= budget)
-            {
+            if stop.should_stop() {
                 return Err(PlanError::TimeBudget {
                     searches: backtracks,
                 });
@@ -209,7 +226,15 @@ impl<'a> Planner<'a> {
             let Some(path) = found else {
                 return Err(unreachable(&removed, failed));
             };
-            match self.realise(object, &path, goal_pose, &state, options) {
+            let realised = self.realise(object, &path, goal_pose, &state, options, &stop);
+            // A step decided by a search that was cut short is not the plan an unhurried
+            // search would give: out of time, whatever came of it.
+            if stop.fired() {
+                return Err(PlanError::TimeBudget {
+                    searches: backtracks + 1,
+                });
+            }
+            match realised {
                 Ok(steps) => {
                     let kept = simplify(graph, &path);
                     let states: Vec<Node> = kept.iter().map(|&i| graph.nodes[i as usize]).collect();
@@ -244,6 +269,7 @@ impl<'a> Planner<'a> {
         goal_pose: Option<Iso>,
         state: &WorldState,
         options: &PlanOptions,
+        stop: &Termination,
     ) -> Result<Vec<Step>, Failure> {
         let graph = &self.artifact.objects[object as usize].graph;
         let kept = simplify(graph, path);
@@ -294,18 +320,18 @@ impl<'a> Planner<'a> {
             let shared_pose = match next_pick {
                 Some(b) if !last => {
                     let picker = graph.nodes[graph.arcs[b].to as usize];
-                    self.shared_rest_pose(object, (from, a), (picker, b), &mut rng)
+                    self.shared_rest_pose(object, (from, a), (picker, b), &mut rng, stop)
                 }
                 _ => None,
             };
             let place_at = if last { goal_pose } else { shared_pose };
-            let exchange = match self.exchange(object, a, from, to, object_now, place_at, &mut rng)
-            {
-                Err(_) if !last && place_at.is_some() => {
-                    self.exchange(object, a, from, to, object_now, None, &mut rng)?
-                }
-                other => other?,
-            };
+            let exchange =
+                match self.exchange(object, a, from, to, object_now, place_at, &mut rng, stop) {
+                    Err(_) if !last && place_at.is_some() => {
+                        self.exchange(object, a, from, to, object_now, None, &mut rng, stop)?
+                    }
+                    other => other?,
+                };
             if exchange.object.is_some() {
                 object_now = exchange.object;
             }
@@ -384,7 +410,7 @@ impl<'a> Planner<'a> {
         }
         if options.motions {
             let start = graph.nodes[path.nodes[0] as usize];
-            self.add_motions(object, start, &mut steps, &state_at_start, &mut rng)?;
+            self.add_motions(object, start, &mut steps, &state_at_start, &mut rng, stop)?;
         }
         Ok(steps)
     }
@@ -400,6 +426,7 @@ impl<'a> Planner<'a> {
         steps: &mut [Step],
         start: &WorldState,
         rng: &mut ChaCha8Rng,
+        stop: &Termination,
     ) -> Result<(), Failure> {
         let Some(scene) = self.scene.filter(|s| s.has_kinematics()) else {
             return Ok(());
@@ -418,7 +445,6 @@ impl<'a> Planner<'a> {
         // Who holds the object now, and with which grasp.
         let mut holder: Option<(u32, u32)> = Some((start_state.end_effector, start_state.grasp));
         let mut scratch = SceneScratch::default();
-        let options = MotionOptions::default();
         // A carry begins where a pick left the object (still touching that surface) and
         // may end where a put-down needs it (touching the next one): at those ends the
         // object touches a surface, which the carry's checks must allow.
@@ -553,16 +579,22 @@ impl<'a> Planner<'a> {
                 .filter_map(|(e, q)| Some((e as u32, q.clone()?)))
                 .filter(|(e, _)| !moving.iter().any(|m| m.0 == *e))
                 .collect();
-            let problem = MotionProblem {
-                scene,
-                arms: moving.iter().map(|m| m.0).collect(),
-                start: moving.iter().flat_map(|m| m.1.iter().copied()).collect(),
-                goal: moving.iter().flat_map(|m| m.2.iter().copied()).collect(),
-                stationary,
-                object,
-                placement,
-            };
-            match plan_motion(&problem, rng, &options, &mut scratch) {
+            let moving_arms: Vec<u32> = moving.iter().map(|m| m.0).collect();
+            let from: Vec<f64> = moving.iter().flat_map(|m| m.1.iter().copied()).collect();
+            let to: Vec<f64> = moving.iter().flat_map(|m| m.2.iter().copied()).collect();
+            let motion = SceneValidity::new(scene, &moving_arms, &stationary, object, placement)
+                .map_err(MotionError::from)
+                .and_then(|validity| {
+                    let problem = MotionProblem {
+                        scene,
+                        arms: &moving_arms,
+                        start: &from,
+                        goal: &to,
+                        validity: &validity,
+                    };
+                    self.motion_planner.solve(&problem, rng, stop, &mut scratch)
+                });
+            match motion {
                 Ok(trajectory) => {
                     for (e, _, goal) in &moving {
                         arms[*e as usize] = Some(goal.clone());
@@ -572,8 +604,8 @@ impl<'a> Planner<'a> {
                     }
                     step.motion = Some(trajectory);
                     step.motion_context = Some(super::MotionContext {
-                        stationary: problem.stationary,
-                        placement: problem.placement,
+                        stationary,
+                        placement,
                     });
                 }
                 Err(error) => {
@@ -604,8 +636,8 @@ impl<'a> Planner<'a> {
         giver: (Node, usize),
         picker: (Node, usize),
         rng: &mut ChaCha8Rng,
+        stop: &Termination,
     ) -> Option<Iso> {
-        use rand::Rng;
         let scene = self.scene.filter(|s| s.has_kinematics())?;
         let graph = &self.artifact.objects[object as usize].graph;
         let (giver, put) = giver;
@@ -641,6 +673,7 @@ impl<'a> Planner<'a> {
                         home,
                         rng,
                         &SCREENING,
+                        stop,
                     )
                     .ok()
                 });
@@ -652,15 +685,8 @@ impl<'a> Planner<'a> {
                     pose: *pose,
                     by: Some(arm.end_effector),
                 };
-                matches!(
-                    scene.collision(
-                        &[(arm.end_effector, &q)],
-                        object,
-                        placement,
-                        &mut SceneScratch::default()
-                    ),
-                    Ok(None)
-                )
+                SceneValidity::new(scene, &[arm.end_effector], &[], object, placement)
+                    .is_ok_and(|v| matches!(v.is_valid(&q, &mut SceneScratch::default()), Ok(true)))
             })
         };
         let witnessed = [
@@ -673,35 +699,13 @@ impl<'a> Planner<'a> {
             }
         }
         // Sampled resting poses: anywhere on the top face with the centre in the workspace.
-        let top = slab.maxs.z;
-        let center_z = top + rest.translation.vector.z;
-        let regions: Vec<crate::math::Aabb> = scene.workspaces[rest_node.workspace as usize]
-            .iter()
-            .filter(|b| b.mins.z <= center_z && b.maxs.z >= center_z)
-            .map(|b| crate::math::Aabb {
-                mins: crate::math::Point::new(
-                    b.mins.x.max(slab.mins.x),
-                    b.mins.y.max(slab.mins.y),
-                    top,
-                ),
-                maxs: crate::math::Point::new(
-                    b.maxs.x.min(slab.maxs.x),
-                    b.maxs.y.min(slab.maxs.y),
-                    top,
-                ),
-            })
-            .filter(|r| r.maxs.x > r.mins.x && r.maxs.y > r.mins.y)
-            .collect();
+        let workspace = &scene.workspaces[rest_node.workspace as usize];
+        let regions = RestRegions::new(slab, workspace, &rest);
         for _ in 0..100 {
-            let region = regions.get(rng.random_range(0..regions.len().max(1)))?;
-            let x = region.mins.x + rng.random::<f64>() * (region.maxs.x - region.mins.x);
-            let y = region.mins.y + rng.random::<f64>() * (region.maxs.y - region.mins.y);
-            let yaw = rng.random::<f64>() * std::f64::consts::TAU;
-            let frame = Iso::from_parts(
-                nalgebra::Translation3::new(x, y, top),
-                crate::math::Quat::from_axis_angle(&crate::math::Vec3::z_axis(), yaw),
-            );
-            let pose = frame * rest;
+            if stop.should_stop() {
+                return None;
+            }
+            let pose = regions.sample(rng)?;
             if works(&pose, rng) {
                 return Some(pose);
             }
@@ -740,6 +744,7 @@ impl<'a> Planner<'a> {
         lying_at: Option<Iso>,
         place_at: Option<Iso>,
         rng: &mut ChaCha8Rng,
+        stop: &Termination,
     ) -> Result<Exchange, Failure> {
         let graph = &self.artifact.objects[object as usize].graph;
         let arc_ref = ArcRef {
@@ -785,30 +790,45 @@ impl<'a> Planner<'a> {
             let mut best: Option<IkError> = None;
             let mut scratch = SceneScratch::default();
             for attempt in 0..8 {
+                if stop.should_stop() {
+                    break;
+                }
                 let tip = pose * (grasp * turns[attempt % turns.len()]).inverse();
-                match solve_ik(robot, base, &IkTarget::Pose(tip), home, rng, &SCREENING) {
+                match solve_ik(
+                    robot,
+                    base,
+                    &IkTarget::Pose(tip),
+                    home,
+                    rng,
+                    &SCREENING,
+                    stop,
+                ) {
                     Ok(q) => {
                         let placement = ObjectPlacement::Resting {
                             on: surface.end_effector,
                             pose,
                             by: Some(arm.end_effector),
                         };
-                        match scene.collision(
-                            &[(arm.end_effector, &q)],
-                            object,
-                            placement,
-                            &mut scratch,
-                        ) {
+                        let checked =
+                            SceneValidity::new(scene, &[arm.end_effector], &[], object, placement)
+                                .map_err(|e| format!("{e:?}"))
+                                .and_then(|v| {
+                                    v.check(&q, &mut scratch).map_err(|e| format!("{e:?}"))
+                                });
+                        match checked {
                             Ok(None) => {
                                 return Ok(Exchange {
                                     object: Some(pose),
                                     configurations: vec![(arm.end_effector, q)],
                                 })
                             }
-                            Ok(Some(pair)) => last_collision = Some(pair),
-                            Err(e) => {
-                                last_collision = Some(("collision query".into(), format!("{e:?}")))
+                            Ok(Some(StateFault::Collision { a, b })) => {
+                                last_collision = Some((a, b))
                             }
+                            Ok(Some(fault)) => {
+                                last_collision = Some(("joint limits".into(), fault.to_string()))
+                            }
+                            Err(e) => last_collision = Some(("collision query".into(), e)),
                         }
                     }
                     Err(e) => best = Some(e),

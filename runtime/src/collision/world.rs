@@ -1,0 +1,234 @@
+//! The queries of a built collision world: names, counts, the first collision, all
+//! collisions, and the clearance of a state.
+
+use parry3d_f64::bounding_volume::Aabb;
+use parry3d_f64::query;
+
+use super::build::{BitMatrix, Body, RobotInfo};
+use super::{BodyId, Collision, CollisionError, Configuration, Proximity};
+use crate::math::{Iso, Point};
+
+/// Buffers of one query, reused between calls (one per thread).
+#[derive(Clone, Debug, Default)]
+pub struct CollisionScratch {
+    pub(super) poses: Vec<Iso>,
+    pub(super) aabbs: Vec<Aabb>,
+    /// World centres of the bodies' bounding spheres.
+    pub(super) centres: Vec<Point>,
+    pub(super) order: Vec<u32>,
+    /// How much the AABBs and spheres were grown (half a clearance cutoff).
+    pub(super) margin: f64,
+}
+
+/// The collision world of a cell. Immutable after [`CollisionWorldBuilder::build`](super::CollisionWorldBuilder::build);
+/// `Send + Sync`, so one world serves every thread.
+#[derive(Clone, Debug)]
+pub struct CollisionWorld {
+    /// Robots' links and hands (robot by robot), then fixed bodies, then objects.
+    pub(super) bodies: Vec<Body>,
+    pub(super) robots: Vec<RobotInfo>,
+    /// Body index of each fixed body.
+    pub(super) fixed: Vec<usize>,
+    /// Body index of each object's first solid (`None`: no solids).
+    pub(super) objects: Vec<Option<usize>>,
+    pub(super) object_names: Vec<String>,
+    pub(super) allowed: BitMatrix,
+}
+
+/// What the sweep does with a candidate pair.
+pub(super) enum Visit {
+    Continue,
+    Stop,
+}
+
+impl CollisionWorld {
+    /// The report name of a body (`left/lwr_link_4`, `left/softhand`, `table`).
+    pub fn name(&self, id: BodyId) -> &str {
+        if let BodyId::Object(i) = id {
+            return self.object_names.get(i).map_or("?", String::as_str);
+        }
+        self.index(id)
+            .map(|i| self.bodies[i].name.as_str())
+            .unwrap_or("?")
+    }
+
+    /// Both names of a collision, `a` first.
+    pub fn names(&self, c: &Collision) -> (&str, &str) {
+        (self.name(c.a), self.name(c.b))
+    }
+
+    /// "`a` and `b`", for messages.
+    pub fn describe(&self, c: &Collision) -> String {
+        let (a, b) = self.names(c);
+        format!("`{a}` and `{b}`")
+    }
+
+    /// Every solid with its body id and name (an object of several solids appears once
+    /// per solid).
+    pub fn bodies(&self) -> impl Iterator<Item = (BodyId, &str)> + '_ {
+        self.bodies.iter().map(|b| (b.id, b.name.as_str()))
+    }
+
+    /// Number of robots (the length a [`Configuration`]'s `robots` must have).
+    pub fn robot_count(&self) -> usize {
+        self.robots.len()
+    }
+
+    /// Number of frames of robot `robot` (the length of its frame list in a
+    /// [`Configuration`]).
+    pub fn frame_count(&self, robot: usize) -> Option<usize> {
+        self.robots.get(robot).map(|r| r.frames)
+    }
+
+    /// The world pose of robot `robot`'s tip (its hand frame) for its frame poses
+    /// `frames`: where a held object's grasp is applied ([`ObjectState::held`](super::ObjectState::held)).
+    pub fn tip(&self, robot: usize, frames: &[Iso]) -> Option<Iso> {
+        let info = self.robots.get(robot)?;
+        (frames.len() == info.frames).then(|| frames[info.frames - 1] * info.tip_offset)
+    }
+
+    /// Number of objects (the length a [`Configuration`]'s `objects` must have).
+    pub fn object_count(&self) -> usize {
+        self.objects.len()
+    }
+
+    /// Whether `a` and `b` are never tested (the static rules and the cell's allowed
+    /// pairs; the per-state holder rule is not included).
+    pub fn is_allowed(&self, a: BodyId, b: BodyId) -> bool {
+        match (self.index(a), self.index(b)) {
+            (Some(i), Some(j)) => i == j || self.allowed.get(i, j),
+            _ => false,
+        }
+    }
+
+    fn index(&self, id: BodyId) -> Option<usize> {
+        match id {
+            BodyId::Fixed(i) => self.fixed.get(i).copied(),
+            BodyId::Object(i) => self.objects.get(i).copied().flatten(),
+            // Robot bodies are few; a scan keeps the world free of per-robot offsets
+            // that would have to be kept in step with the body list.
+            _ => self.bodies.iter().position(|b| b.id == id),
+        }
+    }
+
+    /// The first intersecting pair found in `state`, or `None` when it is collision-free.
+    /// Which pair is found first depends on the sweep order; use
+    /// [`all_collisions`](Self::all_collisions) for a complete, ordered report.
+    pub fn first_collision(
+        &self,
+        state: &Configuration<'_>,
+        scratch: &mut CollisionScratch,
+    ) -> Result<Option<Collision>, CollisionError> {
+        self.place(state, scratch, 0.0)?;
+        let mut found = None;
+        self.sweep(state, scratch, |i, j, scratch| {
+            if self.intersect(i, j, scratch)? {
+                found = Some(self.collision(i, j));
+                return Ok(Visit::Stop);
+            }
+            Ok(Visit::Continue)
+        })?;
+        Ok(found)
+    }
+
+    /// Whether `state` is collision-free.
+    pub fn is_free(
+        &self,
+        state: &Configuration<'_>,
+        scratch: &mut CollisionScratch,
+    ) -> Result<bool, CollisionError> {
+        Ok(self.first_collision(state, scratch)?.is_none())
+    }
+
+    /// Every intersecting pair in `state`, written to `out` (cleared first) sorted, so
+    /// reports are deterministic.
+    pub fn all_collisions(
+        &self,
+        state: &Configuration<'_>,
+        scratch: &mut CollisionScratch,
+        out: &mut Vec<Collision>,
+    ) -> Result<(), CollisionError> {
+        out.clear();
+        self.place(state, scratch, 0.0)?;
+        self.sweep(state, scratch, |i, j, scratch| {
+            if self.intersect(i, j, scratch)? {
+                out.push(self.collision(i, j));
+            }
+            Ok(Visit::Continue)
+        })?;
+        out.sort_unstable();
+        // An object of several solids is one body to reports.
+        out.dedup();
+        Ok(())
+    }
+
+    /// The closest pair that is not allowed to touch, if any is closer than `cutoff`
+    /// metres (pairs farther apart are skipped by the broad phase, so a small cutoff keeps
+    /// this nearly as cheap as [`first_collision`](Self::first_collision)). An
+    /// intersecting pair has distance 0. Ties go to the smaller pair (`a`, `b`), so the answer does
+    /// not depend on the sweep order.
+    pub fn clearance(
+        &self,
+        state: &Configuration<'_>,
+        scratch: &mut CollisionScratch,
+        cutoff: f64,
+    ) -> Result<Option<Proximity>, CollisionError> {
+        let cutoff = if cutoff.is_finite() {
+            cutoff.max(0.0)
+        } else {
+            0.0
+        };
+        self.place(state, scratch, cutoff / 2.0)?;
+        let mut best: Option<(f64, Collision)> = None;
+        self.sweep(state, scratch, |i, j, scratch| {
+            let (bi, bj) = (&self.bodies[i], &self.bodies[j]);
+            let d = query::distance(
+                &scratch.poses[i],
+                bi.shape.as_ref(),
+                &scratch.poses[j],
+                bj.shape.as_ref(),
+            )
+            .map_err(|_| self.unsupported(i, j))?;
+            let pair = self.collision(i, j);
+            if d <= cutoff && best.is_none_or(|(bd, bp)| d < bd || (d == bd && pair < bp)) {
+                best = Some((d, pair));
+            }
+            Ok(Visit::Continue)
+        })?;
+        Ok(best.map(|(distance, pair)| Proximity {
+            a: pair.a,
+            b: pair.b,
+            distance,
+        }))
+    }
+
+    pub(super) fn collision(&self, i: usize, j: usize) -> Collision {
+        let (a, b) = (self.bodies[i].id, self.bodies[j].id);
+        Collision {
+            a: a.min(b),
+            b: a.max(b),
+        }
+    }
+
+    pub(super) fn unsupported(&self, i: usize, j: usize) -> CollisionError {
+        CollisionError::Unsupported {
+            a: self.bodies[i].name.clone(),
+            b: self.bodies[j].name.clone(),
+        }
+    }
+
+    pub(super) fn intersect(
+        &self,
+        i: usize,
+        j: usize,
+        scratch: &CollisionScratch,
+    ) -> Result<bool, CollisionError> {
+        query::intersection_test(
+            &scratch.poses[i],
+            self.bodies[i].shape.as_ref(),
+            &scratch.poses[j],
+            self.bodies[j].shape.as_ref(),
+        )
+        .map_err(|_| self.unsupported(i, j))
+    }
+}

@@ -1,0 +1,305 @@
+//! State validity: whether one configuration of the arms that move, with the rest of the
+//! cell as it stands, is a state a plan may pass through (OMPL's
+//! `StateValidityChecker`).
+//!
+//! [`StateValidity`] is the seam: RRT-Connect, its shortcutting, the re-check of a
+//! trajectory and the verification of arcs ask it about configurations and never look
+//! at the collision world themselves, so another checker (a safety margin, a cache, a
+//! world with perceived obstacles, a test double) plugs in without editing them.
+//! [`SceneValidity`] is the default: joint limits, then [`Scene::collision`] with the
+//! stationary arms where they stand, every other arm at home and the object placed as
+//! given (a held object following its hand).
+
+use std::fmt;
+
+use crate::scene::{Holder, ObjectPlacement, QueryError, Scene, SceneScratch};
+
+/// Decides whether configurations of a fixed set of moving arms (their joints
+/// concatenated, as in a [`crate::motion::MotionProblem`]) are valid.
+///
+/// Implementations must be deterministic (the same answer for the same configuration),
+/// since plans are reproducible from a seed, and must not call a state they cannot
+/// evaluate valid: that is an error, not a free state.
+pub trait StateValidity {
+    /// What is wrong with `q`, or `None` when it is valid. `scratch` holds the scene's
+    /// per-thread buffers; a checker that does not query the scene ignores it.
+    fn check(
+        &self,
+        q: &[f64],
+        scratch: &mut SceneScratch,
+    ) -> Result<Option<StateFault>, QueryError>;
+
+    /// Whether `q` is valid. The default asks [`StateValidity::check`]; implementations
+    /// may answer without building the fault (no names, no allocation).
+    fn is_valid(&self, q: &[f64], scratch: &mut SceneScratch) -> Result<bool, QueryError> {
+        Ok(self.check(q, scratch)?.is_none())
+    }
+}
+
+/// Why a configuration is not valid.
+#[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
+pub enum StateFault {
+    /// Two bodies intersect.
+    Collision {
+        /// One body.
+        a: String,
+        /// The other.
+        b: String,
+    },
+    /// A joint is outside its limits or not finite.
+    OutOfLimits {
+        /// The arm.
+        end_effector: u32,
+        /// Joint index in the arm's chain.
+        joint: usize,
+        /// The value.
+        value: f64,
+    },
+}
+
+impl fmt::Display for StateFault {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            StateFault::Collision { a, b } => write!(f, "`{a}` and `{b}` collide"),
+            StateFault::OutOfLimits {
+                end_effector,
+                joint,
+                value,
+            } => write!(
+                f,
+                "joint {joint} of arm {end_effector} is {value}, outside its limits"
+            ),
+        }
+    }
+}
+
+/// Why a set of arms and stationary arms cannot be checked.
+#[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
+pub enum LayoutError {
+    /// The end-effector is not an arm of the scene.
+    NotAnArm {
+        /// End-effector.
+        end_effector: u32,
+    },
+    /// The end-effector is listed twice (among the moving arms, the stationary ones, or
+    /// in both).
+    RepeatedArm {
+        /// End-effector.
+        end_effector: u32,
+    },
+    /// A stationary arm's joints have the wrong length.
+    WrongLength {
+        /// The arm.
+        end_effector: u32,
+        /// Values expected.
+        expected: usize,
+        /// Values given.
+        found: usize,
+    },
+    /// A stationary arm's joint is outside its limits or not finite.
+    OutOfLimits {
+        /// The arm.
+        end_effector: u32,
+        /// Joint index in the arm's chain.
+        joint: usize,
+        /// The value.
+        value: f64,
+    },
+}
+
+/// A moving arm's slice of the combined configuration.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct ArmSlice {
+    pub(crate) end_effector: u32,
+    pub(crate) robot: usize,
+    pub(crate) offset: usize,
+    pub(crate) len: usize,
+}
+
+/// The slices of `arms` in the combined configuration, in order.
+pub(crate) fn arm_slices(scene: &Scene, arms: &[u32]) -> Result<Vec<ArmSlice>, LayoutError> {
+    let mut slices = Vec::with_capacity(arms.len());
+    let mut offset = 0;
+    for (i, &end_effector) in arms.iter().enumerate() {
+        let Some(Holder::Arm { robot, .. }) = scene.holders.get(end_effector as usize) else {
+            return Err(LayoutError::NotAnArm { end_effector });
+        };
+        if arms[..i].contains(&end_effector) {
+            return Err(LayoutError::RepeatedArm { end_effector });
+        }
+        let len = scene.robots[*robot].n_joints();
+        slices.push(ArmSlice {
+            end_effector,
+            robot: *robot,
+            offset,
+            len,
+        });
+        offset += len;
+    }
+    Ok(slices)
+}
+
+/// The first joint of `q` outside its arm's limits (or not finite): (arm, joint, value).
+pub(crate) fn out_of_limits(
+    scene: &Scene,
+    slices: &[ArmSlice],
+    q: &[f64],
+) -> Option<(u32, usize, f64)> {
+    for s in slices {
+        let (lower, upper) = scene.robots[s.robot].limits();
+        let values = &q[s.offset..s.offset + s.len];
+        for (j, ((&v, &lo), &hi)) in values.iter().zip(lower).zip(upper).enumerate() {
+            if !(v.is_finite() && lo <= v && v <= hi) {
+                return Some((s.end_effector, j, v));
+            }
+        }
+    }
+    None
+}
+
+/// Arms listed in one query without allocating, up to this many (more fall back to a
+/// vector).
+const INLINE_ARMS: usize = 16;
+
+/// The default [`StateValidity`]: the moving arms within their limits and the cell free
+/// of collisions, with `stationary` arms at their joints, every other arm at home and the
+/// object placed as given.
+#[derive(Clone)]
+pub struct SceneValidity<'a> {
+    scene: &'a Scene,
+    slices: Vec<ArmSlice>,
+    dim: usize,
+    stationary: &'a [(u32, Vec<f64>)],
+    object: u32,
+    placement: ObjectPlacement,
+}
+
+impl<'a> SceneValidity<'a> {
+    /// States of `arms` (joints concatenated in that order) in `scene`, with `stationary`
+    /// arms standing at their joints and `object` placed as `placement`.
+    ///
+    /// # Errors
+    /// An end-effector that is not an arm or is listed twice, or a stationary arm whose
+    /// joints have the wrong length or leave its limits.
+    pub fn new(
+        scene: &'a Scene,
+        arms: &[u32],
+        stationary: &'a [(u32, Vec<f64>)],
+        object: u32,
+        placement: ObjectPlacement,
+    ) -> Result<SceneValidity<'a>, LayoutError> {
+        let slices = arm_slices(scene, arms)?;
+        for (i, (e, q)) in stationary.iter().enumerate() {
+            let end_effector = *e;
+            let Some(Holder::Arm { robot, .. }) = scene.holders.get(end_effector as usize) else {
+                return Err(LayoutError::NotAnArm { end_effector });
+            };
+            if arms.contains(e) || stationary[..i].iter().any(|(s, _)| s == e) {
+                return Err(LayoutError::RepeatedArm { end_effector });
+            }
+            let robot = &scene.robots[*robot];
+            if q.len() != robot.n_joints() {
+                return Err(LayoutError::WrongLength {
+                    end_effector,
+                    expected: robot.n_joints(),
+                    found: q.len(),
+                });
+            }
+            let (lower, upper) = robot.limits();
+            for (joint, ((&value, &lo), &hi)) in q.iter().zip(lower).zip(upper).enumerate() {
+                if !(value.is_finite() && lo <= value && value <= hi) {
+                    return Err(LayoutError::OutOfLimits {
+                        end_effector,
+                        joint,
+                        value,
+                    });
+                }
+            }
+        }
+        let dim = slices.iter().map(|s| s.len).sum();
+        Ok(SceneValidity {
+            scene,
+            slices,
+            dim,
+            stationary,
+            object,
+            placement,
+        })
+    }
+
+    /// Joint values in one configuration.
+    pub fn dim(&self) -> usize {
+        self.dim
+    }
+
+    /// The first joint of `q` (of the right length) outside its limits, as a fault.
+    pub(crate) fn limits_fault(&self, q: &[f64]) -> Option<StateFault> {
+        out_of_limits(self.scene, &self.slices, q).map(|(end_effector, joint, value)| {
+            StateFault::OutOfLimits {
+                end_effector,
+                joint,
+                value,
+            }
+        })
+    }
+
+    /// Calls `query` with every arm's joints at `q` (moving arms from `q`, then the
+    /// stationary ones), listed without allocating for up to [`INLINE_ARMS`] arms.
+    fn with_arms<T>(
+        &self,
+        q: &[f64],
+        query: impl FnOnce(&[(u32, &[f64])]) -> Result<T, QueryError>,
+    ) -> Result<T, QueryError> {
+        if q.len() != self.dim {
+            return Err(QueryError::WrongLength {
+                expected: self.dim,
+                found: q.len(),
+            });
+        }
+        let n = self.slices.len() + self.stationary.len();
+        let mut inline: [(u32, &[f64]); INLINE_ARMS] = [(0, &[]); INLINE_ARMS];
+        let mut heap: Vec<(u32, &[f64])>;
+        let list: &mut [(u32, &[f64])] = if n <= INLINE_ARMS {
+            &mut inline[..n]
+        } else {
+            heap = vec![(0, &[][..]); n];
+            &mut heap
+        };
+        for (slot, s) in list.iter_mut().zip(&self.slices) {
+            *slot = (s.end_effector, &q[s.offset..s.offset + s.len]);
+        }
+        for (slot, (e, joints)) in list[self.slices.len()..].iter_mut().zip(self.stationary) {
+            *slot = (*e, joints.as_slice());
+        }
+        query(list)
+    }
+}
+
+impl StateValidity for SceneValidity<'_> {
+    fn check(
+        &self,
+        q: &[f64],
+        scratch: &mut SceneScratch,
+    ) -> Result<Option<StateFault>, QueryError> {
+        self.with_arms(q, |arms| {
+            if let Some(fault) = self.limits_fault(q) {
+                return Ok(Some(fault));
+            }
+            let pair = self
+                .scene
+                .collision(arms, self.object, self.placement, scratch)?;
+            Ok(pair.map(|(a, b)| StateFault::Collision { a, b }))
+        })
+    }
+
+    fn is_valid(&self, q: &[f64], scratch: &mut SceneScratch) -> Result<bool, QueryError> {
+        self.with_arms(q, |arms| {
+            Ok(out_of_limits(self.scene, &self.slices, q).is_none()
+                && self
+                    .scene
+                    .is_free(arms, self.object, self.placement, scratch)?)
+        })
+    }
+}

@@ -1,0 +1,209 @@
+//! One arm reaching one object pose (the IK solve, the state check, the witness), and
+//! what the failed attempts of a check report.
+
+use cellc_schema::{self as schema, Artifact, Infeasibility, Witness};
+use nalgebra as na;
+use rand::Rng;
+use rand_chacha::ChaCha8Rng;
+
+use super::VerifyOptions;
+use crate::kinematics::{solve_ik, IkError, IkTarget};
+use crate::math::{iso_from_schema, iso_to_schema, Iso, Point};
+use crate::robot::Robot;
+use crate::math::Aabb;
+use crate::scene::{Holder, ObjectPlacement, Scene, SceneScratch};
+use crate::termination::Termination;
+use crate::validity::{SceneValidity, StateFault, StateValidity};
+
+/// A point drawn uniformly from a union of boxes (volume-weighted).
+pub(super) fn sample_point(boxes: &[Aabb], rng: &mut ChaCha8Rng) -> Option<Point> {
+    let total: f64 = boxes.iter().map(Aabb::volume).sum();
+    if boxes.is_empty() || total <= 0.0 {
+        return None;
+    }
+    let mut pick = rng.random::<f64>() * total;
+    let chosen = boxes
+        .iter()
+        .find(|b| {
+            pick -= b.volume();
+            pick <= 0.0
+        })
+        .unwrap_or(&boxes[boxes.len() - 1]);
+    Some(Point::from(na::Vector3::from_fn(|i, _| {
+        chosen.mins[i] + rng.random::<f64>() * (chosen.maxs[i] - chosen.mins[i])
+    })))
+}
+
+/// The pose of grasp (or resting pose) `g` of `object`; the identity when it has none.
+pub(super) fn grasp_pose(artifact: &Artifact, object: u32, g: u32) -> Iso {
+    artifact.objects[object as usize].grasps[g as usize]
+        .pose
+        .as_ref()
+        .map(iso_from_schema)
+        .unwrap_or_else(Iso::identity)
+}
+
+/// Keeps the smallest IK errors seen, for the reason of a failed check.
+#[derive(Default)]
+pub(super) struct BestIk {
+    end_effector: u32,
+    tries: u32,
+    position_error: f64,
+    rotation_error: f64,
+    seen: bool,
+}
+
+impl BestIk {
+    pub(super) fn record(&mut self, end_effector: u32, error: &IkError) {
+        let IkError::NotConverged {
+            tries,
+            position_error,
+            rotation_error,
+        } = error
+        else {
+            return;
+        };
+        self.tries += *tries as u32;
+        if !self.seen || *position_error < self.position_error {
+            self.end_effector = end_effector;
+            self.position_error = *position_error;
+            self.rotation_error = *rotation_error;
+            self.seen = true;
+        }
+    }
+}
+
+/// What the failed attempts of a check saw, for its reason.
+pub(super) struct Outcome {
+    pub(super) best_ik: BestIk,
+    /// For a handoff, the other arm: the failure is the closed chain's, not one arm's.
+    pub(super) partner: Option<u32>,
+    pub(super) last_collision: Option<(String, String)>,
+}
+
+impl Outcome {
+    pub(super) fn new() -> Outcome {
+        Outcome {
+            best_ik: BestIk::default(),
+            partner: None,
+            last_collision: None,
+        }
+    }
+
+    /// The reason of the failed check: the last collision seen, else the best IK (or
+    /// closed-chain) error, else `no_placement`.
+    pub(super) fn reason(&self, no_placement: &str) -> Infeasibility {
+        if let Some((a, b)) = &self.last_collision {
+            return Infeasibility::Collision {
+                a: a.clone(),
+                b: b.clone(),
+            };
+        }
+        if let (true, Some(b)) = (self.best_ik.seen, self.partner) {
+            return Infeasibility::NoClosedChain {
+                a: self.best_ik.end_effector,
+                b,
+                tries: self.best_ik.tries,
+                position_error: self.best_ik.position_error,
+                rotation_error: self.best_ik.rotation_error,
+            };
+        }
+        if self.best_ik.seen {
+            return Infeasibility::NoIkSolution {
+                end_effector: self.best_ik.end_effector,
+                tries: self.best_ik.tries,
+                position_error: self.best_ik.position_error,
+                rotation_error: self.best_ik.rotation_error,
+            };
+        }
+        Infeasibility::NoPlacement {
+            detail: no_placement.to_string(),
+        }
+    }
+}
+
+/// The robot, base and home of an arm.
+pub(super) fn arm(scene: &Scene, e: u32) -> Option<(&Robot, Iso, &[f64])> {
+    match &scene.holders[e as usize] {
+        Holder::Arm { robot, base, home } => Some((&scene.robots[*robot], *base, home.as_slice())),
+        _ => None,
+    }
+}
+
+/// One arm holding the object with `grasp` at a given object pose: the IK solve, the
+/// collision check and the witness, shared by holds and rests.
+pub(super) struct Attempt<'s> {
+    pub(super) scene: &'s Scene,
+    pub(super) object: u32,
+    pub(super) e: u32,
+    pub(super) robot: &'s Robot,
+    pub(super) base: Iso,
+    pub(super) home: &'s [f64],
+    pub(super) grasp: Iso,
+}
+
+impl Attempt<'_> {
+    /// A witness when the arm reaches the pose free of collisions; otherwise records why
+    /// not in `outcome`.
+    pub(super) fn run(
+        &self,
+        object_pose: Iso,
+        placement: ObjectPlacement,
+        rng: &mut ChaCha8Rng,
+        options: &VerifyOptions,
+        scratch: &mut SceneScratch,
+        outcome: &mut Outcome,
+    ) -> Option<Witness> {
+        let tip = object_pose * self.grasp.inverse();
+        match solve_ik(
+            self.robot,
+            &self.base,
+            &IkTarget::Pose(tip),
+            self.home,
+            rng,
+            &options.ik,
+            &Termination::never(),
+        ) {
+            Ok(q) => match invalidity(self.scene, &[self.e], &q, self.object, placement, scratch) {
+                None => Some(Witness {
+                    object: iso_to_schema(&object_pose),
+                    configurations: vec![schema::ArmConfiguration {
+                        end_effector: self.e,
+                        joints: q,
+                    }],
+                }),
+                Some(pair) => {
+                    outcome.last_collision = Some(pair);
+                    None
+                }
+            },
+            Err(error) => {
+                outcome.best_ik.record(self.e, &error);
+                None
+            }
+        }
+    }
+}
+
+/// Why a state is not valid, as the pair a pruned arc reports, or `None` when it is. A
+/// state the scene cannot evaluate counts as colliding (with the reason as the pair),
+/// never as free; so would a joint outside its limits, which the solvers never return.
+pub(super) fn invalidity(
+    scene: &Scene,
+    arms: &[u32],
+    q: &[f64],
+    object: u32,
+    placement: ObjectPlacement,
+    scratch: &mut SceneScratch,
+) -> Option<(String, String)> {
+    let validity = match SceneValidity::new(scene, arms, &[], object, placement) {
+        Ok(validity) => validity,
+        Err(error) => return Some(("state".to_string(), format!("{error:?}"))),
+    };
+    match validity.check(q, scratch) {
+        Ok(None) => None,
+        Ok(Some(StateFault::Collision { a, b })) => Some((a, b)),
+        Ok(Some(fault)) => Some(("joint limits".to_string(), fault.to_string())),
+        Err(error) => Some(("collision query".to_string(), format!("{error:?}"))),
+    }
+}

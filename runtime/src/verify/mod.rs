@@ -1,0 +1,307 @@
+//! Build-time verification: every arc of every object graph is checked kinematically
+//! once, and either gets a witness (an object pose and joint configurations that realise
+//! it, collision-free and within limits) or is pruned with a reason.
+//!
+//! Handoff and resting-pose feasibility depend only on (end-effectors, grasps, workspace),
+//! never on a request, so checking them here, in parallel, means the runtime planner
+//! rarely backtracks. Results are deterministic for a seed: each check draws from its own
+//! generator, seeded from the seed and the check's identity, so thread scheduling cannot
+//! change them.
+//!
+//! What each arc needs:
+//! - move S(e, g, wi) -> S(e, g, wj): e holds the object with g somewhere in wj;
+//! - transition between two arms in w (a handoff): one object pose in w where both hold
+//!   it at once, found with the closed-chain solver;
+//! - transition between an arm and a fixed surface in w: a resting pose on the surface
+//!   inside w that the arm reaches with its grasp ([`crate::rest`]);
+//! - transition between two grasps of one arm (kept by the compiler, with a warning, when
+//!   a cell or an imported database lists one): refused, since nothing would hold the
+//!   object while the hand lets go and takes it again; the pruned arc says so.
+//!
+//! A move into a state is realised by the same holding pose whatever workspace it comes
+//! from, and a handoff A -> B by the same configurations as B -> A, so checks are keyed
+//! by what they depend on and shared between arcs.
+//!
+//! Here: the questions and their sharing; `attempt.rs`: one arm reaching one object pose,
+//! and what a failed check reports; `witness.rs`: how each question is answered. Every
+//! state is judged by [`crate::validity::SceneValidity`].
+
+mod attempt;
+mod witness;
+
+use std::collections::BTreeMap;
+
+use cellc_schema::{self as schema, ArcKind, Artifact, Infeasibility, Witness};
+use rand::SeedableRng;
+use rand_chacha::ChaCha8Rng;
+use rayon::prelude::*;
+
+use crate::closed_chain::HandoffOptions;
+use crate::kinematics::IkOptions;
+use crate::scene::{Holder, Scene, SceneScratch};
+
+/// Verification settings.
+#[derive(Clone, Debug)]
+pub struct VerifyOptions {
+    /// Seed of every randomized solver.
+    pub seed: u64,
+    /// Object poses tried per check before giving up.
+    pub placements: u32,
+    /// Inverse-kinematics settings.
+    pub ik: IkOptions,
+    /// Closed-chain (handoff) settings.
+    pub handoff: HandoffOptions,
+}
+
+impl Default for VerifyOptions {
+    fn default() -> VerifyOptions {
+        VerifyOptions {
+            seed: 0,
+            // Failing checks dominate the time: a few placements, each with a modest number
+            // of restarts, find the feasible arcs of real cells (measured on the shipped
+            // cells) while keeping infeasible ones cheap.
+            placements: 16,
+            ik: IkOptions {
+                restarts: 12,
+                ..IkOptions::default()
+            },
+            handoff: HandoffOptions {
+                ik: IkOptions {
+                    restarts: 20,
+                    ..HandoffOptions::default().ik
+                },
+                ..HandoffOptions::default()
+            },
+        }
+    }
+}
+
+/// What verification found, for reporting.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct VerifyReport {
+    /// Arcs checked.
+    pub n_checked: u64,
+    /// Arcs pruned.
+    pub n_pruned: u64,
+    /// Distinct feasibility checks run (arcs share checks).
+    pub n_checks: u64,
+}
+
+/// One feasibility question, keyed by everything its answer depends on.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+enum Check {
+    /// Arm `e` holds the object with grasp `g` somewhere in workspace `w`.
+    Hold { object: u32, e: u32, g: u32, w: u32 },
+    /// Arms (or an arm and a conveyor) `a` with `ga` and `b` with `gb` hold it at once in
+    /// `w`; stored with (a, ga) <= (b, gb) so both directions share it.
+    Handoff {
+        object: u32,
+        a: u32,
+        ga: u32,
+        b: u32,
+        gb: u32,
+        w: u32,
+    },
+    /// Arm `arm` with `g` and surface `surface` with resting pose `r` in `w`.
+    Rest {
+        object: u32,
+        arm: u32,
+        g: u32,
+        surface: u32,
+        r: u32,
+        w: u32,
+    },
+    /// Arm `e` changing its own grasp from `from` to `to` in `w`.
+    Regrasp {
+        object: u32,
+        e: u32,
+        from: u32,
+        to: u32,
+        w: u32,
+    },
+}
+
+/// Verifies every arc of `artifact` in place: feasible arcs get witnesses, infeasible ones
+/// move to `pruned`. `progress` is called with (done, total) as checks finish.
+pub fn verify(
+    artifact: &mut Artifact,
+    scene: &Scene,
+    options: &VerifyOptions,
+    progress: &(dyn Fn(u64, u64) + Sync),
+) -> VerifyReport {
+    // Which check each arc needs (None: nothing geometric to check, e.g. abstract holders).
+    let mut arc_checks: Vec<Vec<Option<Check>>> = Vec::new();
+    let mut checks: BTreeMap<Check, ()> = BTreeMap::new();
+    for (o, object) in artifact.objects.iter().enumerate() {
+        let mut per_arc = Vec::with_capacity(object.graph.arcs.len());
+        for arc in &object.graph.arcs {
+            let check = check_of(scene, o as u32, object, arc);
+            if let Some(c) = check {
+                checks.insert(c, ());
+            }
+            per_arc.push(check);
+        }
+        arc_checks.push(per_arc);
+    }
+    let checks: Vec<Check> = checks.into_keys().collect();
+    let total = checks.len() as u64;
+    let done = std::sync::atomic::AtomicU64::new(0);
+    let results: Vec<(Check, Result<Witness, Infeasibility>)> = checks
+        .par_iter()
+        .map_init(SceneScratch::default, |scratch, &check| {
+            let result = witness::run_check(artifact, scene, scratch, options, check);
+            let n = done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
+            progress(n, total);
+            (check, result)
+        })
+        .collect();
+    let results: BTreeMap<Check, Result<Witness, Infeasibility>> = results.into_iter().collect();
+
+    let mut report = VerifyReport {
+        n_checks: total,
+        ..VerifyReport::default()
+    };
+    for (object, per_arc) in artifact.objects.iter_mut().zip(arc_checks) {
+        let graph = &mut object.graph;
+        let mut witness_of: BTreeMap<Check, u32> = BTreeMap::new();
+        let mut kept = Vec::with_capacity(graph.arcs.len());
+        for (mut arc, check) in graph.arcs.drain(..).zip(per_arc) {
+            let Some(check) = check else {
+                kept.push(arc);
+                continue;
+            };
+            report.n_checked += 1;
+            match &results[&check] {
+                Ok(witness) => {
+                    let index = *witness_of.entry(check).or_insert_with(|| {
+                        graph.witnesses.push(witness.clone());
+                        graph.witnesses.len() as u32 - 1
+                    });
+                    arc.witness = Some(index);
+                    kept.push(arc);
+                }
+                Err(reason) => {
+                    report.n_pruned += 1;
+                    graph.pruned.push(schema::PrunedArc {
+                        arc,
+                        reason: reason.clone(),
+                    });
+                }
+            }
+        }
+        graph.arcs = kept;
+    }
+    artifact.verification = Some(schema::Verification {
+        seed: options.seed,
+        n_checked: report.n_checked,
+        n_pruned: report.n_pruned,
+    });
+    report
+}
+
+/// The question an arc asks, or `None` when it has nothing geometric to check (abstract
+/// holders).
+fn check_of(scene: &Scene, object: u32, obj: &schema::Object, arc: &schema::Arc) -> Option<Check> {
+    let from = obj.graph.nodes[arc.from as usize];
+    let to = obj.graph.nodes[arc.to as usize];
+    let holder = |e: u32| &scene.holders[e as usize];
+    match arc.kind {
+        ArcKind::Move => match holder(to.end_effector) {
+            Holder::Arm { .. } => Some(Check::Hold {
+                object,
+                e: to.end_effector,
+                g: to.grasp,
+                w: to.workspace,
+            }),
+            _ => None,
+        },
+        ArcKind::Transition => {
+            let w = to.workspace;
+            let (a, ga, b, gb) = (from.end_effector, from.grasp, to.end_effector, to.grasp);
+            match (holder(a), holder(b)) {
+                (Holder::Arm { .. }, Holder::Arm { .. }) if a == b => Some(Check::Regrasp {
+                    object,
+                    e: a,
+                    from: ga,
+                    to: gb,
+                    w,
+                }),
+                (Holder::Arm { .. }, Holder::Arm { .. }) => {
+                    let ((a, ga), (b, gb)) = if (a, ga) <= (b, gb) {
+                        ((a, ga), (b, gb))
+                    } else {
+                        ((b, gb), (a, ga))
+                    };
+                    Some(Check::Handoff {
+                        object,
+                        a,
+                        ga,
+                        b,
+                        gb,
+                        w,
+                    })
+                }
+                (Holder::Arm { .. }, Holder::Surface { .. }) => Some(Check::Rest {
+                    object,
+                    arm: a,
+                    g: ga,
+                    surface: b,
+                    r: gb,
+                    w,
+                }),
+                (Holder::Surface { .. }, Holder::Arm { .. }) => Some(Check::Rest {
+                    object,
+                    arm: b,
+                    g: gb,
+                    surface: a,
+                    r: ga,
+                    w,
+                }),
+                _ => None,
+            }
+        }
+    }
+}
+
+/// The generator of one check: the same for a given seed and check, whatever thread runs
+/// it and in whatever order.
+fn rng_for(seed: u64, check: &Check) -> ChaCha8Rng {
+    let mut h: u64 = seed ^ 0x9E37_79B9_7F4A_7C15;
+    let words: Vec<u32> = match *check {
+        Check::Hold { object, e, g, w } => vec![1, object, e, g, w],
+        Check::Handoff {
+            object,
+            a,
+            ga,
+            b,
+            gb,
+            w,
+        } => vec![2, object, a, ga, b, gb, w],
+        Check::Rest {
+            object,
+            arm,
+            g,
+            surface,
+            r,
+            w,
+        } => vec![3, object, arm, g, surface, r, w],
+        Check::Regrasp {
+            object,
+            e,
+            from,
+            to,
+            w,
+        } => vec![4, object, e, from, to, w],
+    };
+    for word in words {
+        // SplitMix64 steps: a cheap, well-mixed hash of the check's identity.
+        h = h
+            .wrapping_add(u64::from(word))
+            .wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = h;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        h = z ^ (z >> 31);
+    }
+    ChaCha8Rng::seed_from_u64(h)
+}

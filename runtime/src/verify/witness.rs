@@ -1,0 +1,320 @@
+//! How each question is answered: a hold by sampling object poses in the workspace, a
+//! handoff with the closed-chain solver, a rest by sampling resting poses on the surface,
+//! and a regrasp within one hand by refusing it.
+
+use cellc_schema::{self as schema, Artifact, Infeasibility, Witness};
+use rand::Rng;
+use rand_chacha::ChaCha8Rng;
+
+use super::attempt::{arm, grasp_pose, invalidity, sample_point, Attempt, Outcome};
+use super::{rng_for, Check, VerifyOptions};
+use crate::closed_chain::{solve_handoff, HandoffProblem};
+use crate::math::{iso_to_schema, Iso, Point, Quat, Vec3};
+use crate::rest::RestRegions;
+use crate::scene::{Holder, ObjectPlacement, Scene, SceneScratch};
+use crate::termination::Termination;
+
+/// The answer to one question: a witness, or why there is none.
+pub(super) fn run_check(
+    artifact: &Artifact,
+    scene: &Scene,
+    scratch: &mut SceneScratch,
+    options: &VerifyOptions,
+    check: Check,
+) -> Result<Witness, Infeasibility> {
+    let mut answer = Answer {
+        artifact,
+        scene,
+        options,
+        scratch,
+        rng: rng_for(options.seed, &check),
+        outcome: Outcome::new(),
+    };
+    match check {
+        Check::Hold { object, e, g, w } => answer.hold(object, e, g, w),
+        Check::Handoff {
+            object,
+            a,
+            ga,
+            b,
+            gb,
+            w,
+        } => answer.handoff(object, (a, ga), (b, gb), w),
+        Check::Rest {
+            object,
+            arm,
+            g,
+            surface,
+            r,
+            w,
+        } => answer.rest(object, (arm, g), (surface, r), w),
+        Check::Regrasp {
+            object,
+            e,
+            from,
+            to,
+            w: _,
+        } => Err(regrasp(artifact, object, e, from, to)),
+    }
+}
+
+/// What answering a check needs: its inputs, its own generator, and what its failed
+/// attempts saw.
+struct Answer<'a> {
+    artifact: &'a Artifact,
+    scene: &'a Scene,
+    options: &'a VerifyOptions,
+    scratch: &'a mut SceneScratch,
+    rng: ChaCha8Rng,
+    outcome: Outcome,
+}
+
+impl Answer<'_> {
+    /// Arm `e` holding the object with grasp `g` somewhere in workspace `w`.
+    fn hold(&mut self, object: u32, e: u32, g: u32, w: u32) -> Result<Witness, Infeasibility> {
+        let (artifact, scene, options) = (self.artifact, self.scene, self.options);
+        let (rng, outcome, scratch) = (&mut self.rng, &mut self.outcome, &mut *self.scratch);
+        let Some((robot, base, home)) = arm(scene, e) else {
+            return Err(Infeasibility::NoPlacement {
+                detail: "the holder is not an arm".into(),
+            });
+        };
+        let grasp = grasp_pose(artifact, object, g);
+        // A robot with fewer than six joints (a conveyor) cannot take an arbitrary
+        // pose: sample its joints instead and keep a placement inside the workspace.
+        if robot.n_joints() < 6 {
+            let mut q = home.to_vec();
+            for _ in 0..options.placements * 4 {
+                robot.sample_configuration(rng, &mut q);
+                let object_pose = robot.tip_pose(&base, &q) * grasp;
+                let center = Point::from(object_pose.translation.vector);
+                if !scene.workspaces[w as usize]
+                    .iter()
+                    .any(|b| crate::math::contains_point(b, &center))
+                {
+                    continue;
+                }
+                let placement = ObjectPlacement::Held { by: e, grasp };
+                match invalidity(scene, &[e], &q, object, placement, scratch) {
+                    None => {
+                        return Ok(Witness {
+                            object: iso_to_schema(&object_pose),
+                            configurations: vec![schema::ArmConfiguration {
+                                end_effector: e,
+                                joints: q,
+                            }],
+                        })
+                    }
+                    Some(pair) => outcome.last_collision = Some(pair),
+                }
+            }
+            return Err(
+                outcome.reason("the robot's joints never bring the object into the workspace")
+            );
+        }
+        let attempt = Attempt {
+            scene,
+            object,
+            e,
+            robot,
+            base,
+            home,
+            grasp,
+        };
+        for _ in 0..options.placements {
+            let Some(center) = sample_point(&scene.workspaces[w as usize], rng) else {
+                break;
+            };
+            // Objects are carried upright, turned about the vertical at random.
+            let yaw = rng.random::<f64>() * std::f64::consts::TAU;
+            let object_pose = Iso::from_parts(
+                center.coords.into(),
+                Quat::from_axis_angle(&Vec3::z_axis(), yaw),
+            );
+            let placement = ObjectPlacement::Held { by: e, grasp };
+            if let Some(witness) =
+                attempt.run(object_pose, placement, rng, options, scratch, outcome)
+            {
+                return Ok(witness);
+            }
+        }
+        Err(outcome.reason("the workspace has no volume"))
+    }
+
+    /// Arms `a` and `b`, each with its grasp, holding the object at once in `w`.
+    fn handoff(
+        &mut self,
+        object: u32,
+        (a, ga): (u32, u32),
+        (b, gb): (u32, u32),
+        w: u32,
+    ) -> Result<Witness, Infeasibility> {
+        let (artifact, scene, options) = (self.artifact, self.scene, self.options);
+        let (rng, outcome, scratch) = (&mut self.rng, &mut self.outcome, &mut *self.scratch);
+        let (Some((robot_a, base_a, home_a)), Some((robot_b, base_b, home_b))) =
+            (arm(scene, a), arm(scene, b))
+        else {
+            return Err(Infeasibility::NoPlacement {
+                detail: "a holder is not an arm".into(),
+            });
+        };
+        let boxes = &scene.workspaces[w as usize];
+        outcome.partner = Some(b);
+        // A symmetric object may be held by B in a grasp turned by a symmetry: a ball
+        // passed between two hands with the same grasp is held from opposite sides.
+        let all_turns = crate::symmetry::candidates(&artifact.objects[object as usize].symmetries);
+        // With the same grasp on both sides, the unturned grasp puts both hands in one
+        // place: only turns that send the second hand round to the other side (over
+        // 120°) can work, so only those are tried.
+        let turns: Vec<_> = if ga == gb {
+            let far: Vec<_> = all_turns
+                .iter()
+                .copied()
+                .filter(|t| t.angle() > 2.0)
+                .collect();
+            if far.is_empty() {
+                all_turns
+            } else {
+                far
+            }
+        } else {
+            all_turns
+        };
+        for attempt in 0..options.placements {
+            let Some(target) = sample_point(boxes, rng) else {
+                break;
+            };
+            let turn = if attempt == 0 {
+                turns[0]
+            } else {
+                turns[rng.random_range(0..turns.len())]
+            };
+            let bounds = boxes
+                .iter()
+                .find(|bx| crate::math::contains_point(bx, &target))
+                .map(|bx| (bx.mins, bx.maxs));
+            let problem = HandoffProblem {
+                a: (robot_a, base_a),
+                b: (robot_b, base_b),
+                grasp_a: grasp_pose(artifact, object, ga),
+                grasp_b: grasp_pose(artifact, object, gb) * turn,
+                target,
+                bounds,
+            };
+            let never = Termination::never();
+            match solve_handoff(&problem, home_a, home_b, rng, &options.handoff, &never) {
+                Ok(solution) => {
+                    let center = Point::from(solution.object.translation.vector);
+                    if !boxes.iter().any(|bx| crate::math::contains_point(bx, &center)) {
+                        continue;
+                    }
+                    let placement = ObjectPlacement::Handoff {
+                        a,
+                        grasp_a: problem.grasp_a,
+                        b,
+                    };
+                    let q = [solution.qa.as_slice(), solution.qb.as_slice()].concat();
+                    match invalidity(scene, &[a, b], &q, object, placement, scratch) {
+                        None => {
+                            return Ok(Witness {
+                                object: iso_to_schema(&solution.object),
+                                configurations: vec![
+                                    schema::ArmConfiguration {
+                                        end_effector: a,
+                                        joints: solution.qa,
+                                    },
+                                    schema::ArmConfiguration {
+                                        end_effector: b,
+                                        joints: solution.qb,
+                                    },
+                                ],
+                            })
+                        }
+                        Some(pair) => outcome.last_collision = Some(pair),
+                    }
+                }
+                Err(error) => outcome.best_ik.record(a, &error),
+            }
+        }
+        Err(outcome.reason("the workspace has no volume"))
+    }
+
+    /// Arm `e` with grasp `g` taking the object from (or leaving it on) `surface`, where
+    /// it rests as `r`, in `w`.
+    fn rest(
+        &mut self,
+        object: u32,
+        (e, g): (u32, u32),
+        (surface, r): (u32, u32),
+        w: u32,
+    ) -> Result<Witness, Infeasibility> {
+        let (artifact, scene, options) = (self.artifact, self.scene, self.options);
+        let (rng, outcome, scratch) = (&mut self.rng, &mut self.outcome, &mut *self.scratch);
+        let Some((robot, base, home)) = arm(scene, e) else {
+            return Err(Infeasibility::NoPlacement {
+                detail: "the holder is not an arm".into(),
+            });
+        };
+        let Holder::Surface { slab, .. } = &scene.holders[surface as usize] else {
+            return Err(Infeasibility::NoPlacement {
+                detail: "the support is not a surface".into(),
+            });
+        };
+        let rest = grasp_pose(artifact, object, r);
+        let grasp = grasp_pose(artifact, object, g);
+        // The object rests on the top face, anywhere and turned any way about the
+        // vertical, as long as its centre lies in the workspace.
+        let regions = RestRegions::new(slab, &scene.workspaces[w as usize], &rest);
+        if regions.is_empty() {
+            let center_z = regions.center_height();
+            let surface_name = &artifact.end_effectors[surface as usize].name;
+            let rest_name = &artifact.objects[object as usize].grasps[r as usize].name;
+            let ws = &artifact.workspaces[w as usize].name;
+            return Err(Infeasibility::NoPlacement {
+                detail: format!(
+                    "resting as `{rest_name}` on `{surface_name}`, the object's centre ({center_z:.3} m high) is never inside `{ws}`"
+                ),
+            });
+        }
+        let attempt = Attempt {
+            scene,
+            object,
+            e,
+            robot,
+            base,
+            home,
+            grasp,
+        };
+        for _ in 0..options.placements {
+            let Some(object_pose) = regions.sample(rng) else {
+                break;
+            };
+            let placement = ObjectPlacement::Resting {
+                on: surface,
+                pose: object_pose,
+                by: Some(e),
+            };
+            if let Some(witness) =
+                attempt.run(object_pose, placement, rng, options, scratch, outcome)
+            {
+                return Ok(witness);
+            }
+        }
+        Err(outcome.reason("no resting pose"))
+    }
+}
+
+/// Why arm `e` cannot change its own grasp of `object` from `from` to `to`: nothing
+/// would hold the object between letting go and taking it again. The compiler keeps
+/// such transitions (imported databases list them) and warns; verification refuses
+/// them, so no plan relies on an arc without a witness.
+fn regrasp(artifact: &Artifact, object: u32, e: u32, from: u32, to: u32) -> Infeasibility {
+    let arm = &artifact.end_effectors[e as usize].name;
+    let grasps = &artifact.objects[object as usize].grasps;
+    let (from, to) = (&grasps[from as usize].name, &grasps[to as usize].name);
+    Infeasibility::NoPlacement {
+        detail: format!(
+            "`{arm}` cannot pass the object to itself: nothing holds it while the grasp changes from `{from}` to `{to}`"
+        ),
+    }
+}
