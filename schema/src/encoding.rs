@@ -1,0 +1,193 @@
+//! The two encodings of an artifact and how a file is read back: format and version
+//! first, then the checksum, then the content, then validation (see
+//! [`Artifact::from_bytes`]).
+
+use serde::Deserialize;
+
+use crate::hash::sha256_hex;
+use crate::{validate, Artifact, FORMAT, FORMAT_VERSION, MAGIC};
+
+/// Encoding of an artifact file.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Encoding {
+    /// Compact JSON.
+    Json,
+    /// `MAGIC`, version, postcard.
+    Binary,
+}
+
+/// Why bytes are not a usable artifact.
+#[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
+pub enum ReadError {
+    /// Neither a cellc JSON artifact nor the binary magic.
+    NotAnArtifact,
+    /// Written by an incompatible version of the format.
+    WrongVersion {
+        /// Version in the file.
+        found: u32,
+        /// Version this reader understands.
+        expected: u32,
+    },
+    /// The header is right but the content does not decode (truncated or corrupted).
+    Corrupt {
+        /// What the decoder said.
+        detail: String,
+    },
+    /// The content is not what was written: its checksum does not match.
+    Damaged,
+    /// The content decodes and its checksum matches, but it is inconsistent (an index out
+    /// of range, a number outside its domain): not written by cellc as it is.
+    Invalid(validate::Invalid),
+}
+
+impl std::fmt::Display for ReadError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            ReadError::NotAnArtifact => f.write_str("not a cellc artifact"),
+            ReadError::WrongVersion { found, expected } => {
+                write!(
+                    f,
+                    "artifact format version {found}, this cellc reads version {expected}"
+                )
+            }
+            ReadError::Corrupt { detail } => {
+                write!(f, "the artifact is truncated or corrupted: {detail}")
+            }
+            ReadError::Damaged => f.write_str(
+                "the artifact is damaged: its content does not match its checksum",
+            ),
+            ReadError::Invalid(invalid) => write!(f, "the artifact is inconsistent: {invalid}"),
+        }
+    }
+}
+
+impl std::error::Error for ReadError {}
+
+/// Prefix of a JSON artifact: the checksum comes first so that it can be checked on the
+/// exact bytes that follow, whatever they contain.
+const JSON_CHECKSUM: &[u8] = b"{\"checksum\":\"";
+/// Hex digits of a SHA-256.
+const HEX_LEN: usize = 64;
+
+impl Artifact {
+    /// Encodes the artifact, with a SHA-256 of the content so damage is detected.
+    ///
+    /// JSON: `{"checksum":"HEX",` followed by the artifact's fields; the checksum is over
+    /// the artifact's own JSON (`{` and the rest). Binary: `MAGIC`, the version, the 32
+    /// bytes of the checksum, then postcard.
+    pub fn to_bytes(&self, encoding: Encoding) -> Vec<u8> {
+        match encoding {
+            Encoding::Json => {
+                // Serialising plain data with string keys cannot fail.
+                let mut content = serde_json::to_vec(self).unwrap_or_default();
+                content.push(b'\n');
+                let mut bytes = JSON_CHECKSUM.to_vec();
+                bytes.extend_from_slice(sha256_hex(&content).as_bytes());
+                bytes.extend_from_slice(b"\",");
+                bytes.extend_from_slice(content.get(1..).unwrap_or_default());
+                bytes
+            }
+            Encoding::Binary => {
+                let content = postcard::to_stdvec(self).unwrap_or_default();
+                let mut bytes = MAGIC.to_vec();
+                bytes.extend_from_slice(&FORMAT_VERSION.to_le_bytes());
+                {
+                    use sha2::Digest;
+                    bytes.extend_from_slice(&sha2::Sha256::digest(&content));
+                }
+                bytes.extend(content);
+                bytes
+            }
+        }
+    }
+
+    /// Decodes an artifact in either encoding and validates it. The format and version are
+    /// read first, so that an old file is reported as old, not as damaged; then the
+    /// checksum, so that damage is reported as damage; then the content is decoded and
+    /// [`validate::validate`]d, so that nothing downstream indexes unchecked data.
+    pub fn from_bytes(bytes: &[u8]) -> Result<(Artifact, Encoding), ReadError> {
+        let (artifact, encoding) = Artifact::decode(bytes)?;
+        validate::validate(&artifact).map_err(ReadError::Invalid)?;
+        Ok((artifact, encoding))
+    }
+
+    fn decode(bytes: &[u8]) -> Result<(Artifact, Encoding), ReadError> {
+        let corrupt = |detail: &str| ReadError::Corrupt {
+            detail: detail.to_string(),
+        };
+        if let Some(rest) = bytes.strip_prefix(MAGIC.as_slice()) {
+            let version = rest
+                .get(..4)
+                .and_then(|v| v.try_into().ok())
+                .map(u32::from_le_bytes)
+                .ok_or_else(|| corrupt("the file ends inside its header"))?;
+            if version != FORMAT_VERSION {
+                return Err(ReadError::WrongVersion {
+                    found: version,
+                    expected: FORMAT_VERSION,
+                });
+            }
+            let checksum = rest
+                .get(4..36)
+                .ok_or_else(|| corrupt("the file ends inside its header"))?;
+            let content = &rest[36..];
+            {
+                use sha2::Digest;
+                if sha2::Sha256::digest(content).as_slice() != checksum {
+                    return Err(ReadError::Damaged);
+                }
+            }
+            let (artifact, left) = postcard::take_from_bytes::<Artifact>(content)
+                .map_err(|e| corrupt(&e.to_string()))?;
+            if !left.is_empty() {
+                return Err(ReadError::Corrupt {
+                    detail: format!("{} bytes after the end of the artifact", left.len()),
+                });
+            }
+            return Ok((artifact, Encoding::Binary));
+        }
+        #[derive(Deserialize)]
+        struct Header {
+            format: String,
+            format_version: u32,
+        }
+        // With a checksum, the content is checked before anything is parsed, so a damaged
+        // file is reported as damaged whatever the damage did to its syntax.
+        let content = match bytes.strip_prefix(JSON_CHECKSUM) {
+            Some(after) => {
+                let (hex, rest) = (after.get(..HEX_LEN), after.get(HEX_LEN..));
+                let (Some(hex), Some(rest)) = (hex, rest.and_then(|r| r.strip_prefix(b"\",")))
+                else {
+                    return Err(corrupt("the checksum is malformed or cut short"));
+                };
+                let mut content = Vec::with_capacity(rest.len() + 1);
+                content.push(b'{');
+                content.extend_from_slice(rest);
+                if sha256_hex(&content).as_bytes() != hex {
+                    return Err(ReadError::Damaged);
+                }
+                Some(content)
+            }
+            None => None,
+        };
+        let header: Header = match serde_json::from_slice(content.as_deref().unwrap_or(bytes)) {
+            Ok(h) => h,
+            Err(e) if content.is_some() => return Err(corrupt(&e.to_string())),
+            Err(_) => return Err(ReadError::NotAnArtifact),
+        };
+        if header.format != FORMAT {
+            return Err(ReadError::NotAnArtifact);
+        }
+        if header.format_version != FORMAT_VERSION {
+            return Err(ReadError::WrongVersion {
+                found: header.format_version,
+                expected: FORMAT_VERSION,
+            });
+        }
+        let content = content.ok_or_else(|| corrupt("the checksum is missing"))?;
+        serde_json::from_slice(&content)
+            .map(|a| (a, Encoding::Json))
+            .map_err(|e| corrupt(&e.to_string()))
+    }
+}
