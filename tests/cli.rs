@@ -207,3 +207,28 @@ fn a_closed_pipe_ends_quietly() {
     // 141 = 128 + SIGPIPE, what any Unix tool gives.
     assert_eq!(status, "141", "{stderr}");
 }
+
+/// `cellc plan --format json` writes JSON on standard output on every path: a plan, or a
+/// diagnostics report in the schema of `cellc check --format json`.
+#[test]
+fn plan_json_output_is_json_on_every_path() {
+    let cases: &[&[&str]] = &[
+        &["plan", "cells/fig3.cell", "--format", "json"],
+        &["plan", "cells/fig3.cell", "--format", "json", "--request", "nope"],
+        &["plan", "no/such/file.json", "--format", "json"],
+        &["plan", "tests/ui/artifact/E0503_truncated.json", "--format", "json"],
+        &["plan", "tests/ui/plan/R0004_no_way_across.cell", "--format", "json"],
+        &["plan", "cells/fig3.cell", "--format", "json", "--object", "cylinder", "--from", "tabel in w1", "--to", "table in w3"],
+        &["plan", "cells/fig3.cell", "--format", "json", "--object", "cylinder", "--from", "table at (", "--to", "table in w3"],
+    ];
+    for args in cases {
+        let out = cellc(args);
+        let stdout = String::from_utf8_lossy(&out.stdout);
+        let parsed: Result<serde_json::Value, _> = serde_json::from_str(&stdout);
+        assert!(parsed.is_ok(), "{args:?}: not JSON:\n{stdout}");
+        if !out.status.success() {
+            let report = parsed.expect("json");
+            assert!(report["errors"].as_u64() >= Some(1), "{args:?}: {report}");
+        }
+    }
+}

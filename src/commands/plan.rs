@@ -76,6 +76,9 @@ pub struct Loaded {
     /// Sources that changed since the artifact was built: their spans would point at the
     /// wrong lines, so labels in them are left out.
     pub stale: Vec<FileId>,
+    /// How diagnostics are reported: human text on standard error, or (with JSON output)
+    /// the JSON report on standard output, so that output stays JSON on every path.
+    pub format: PlanFormat,
 }
 
 impl Loaded {
@@ -102,7 +105,16 @@ impl Loaded {
                 d
             })
             .collect();
-        print(&shown, &self.sources);
+        emit(self.format, &shown, &self.sources);
+    }
+}
+
+/// Reports diagnostics as `format` asks: human text on standard error, or the JSON
+/// report (the schema of `cellc check --format json`) on standard output.
+pub fn emit(format: PlanFormat, diagnostics: &[Diagnostic], sources: &SourceMap) {
+    match format {
+        PlanFormat::Human => print(diagnostics, sources),
+        PlanFormat::Json => print!("{}", render::json(diagnostics, sources)),
     }
 }
 
@@ -117,12 +129,12 @@ pub fn print(diagnostics: &[Diagnostic], sources: &SourceMap) {
 }
 
 /// Compiles (and verifies) a cell, or reads an artifact, and loads it into the runtime.
-pub fn load(input: &str, seed: u64) -> Result<Loaded, ExitCode> {
+pub fn load(input: &str, seed: u64, format: PlanFormat) -> Result<Loaded, ExitCode> {
     let mut stale = Vec::new();
     let (artifact, sources, fresh) = if input.ends_with(".cell") {
         let compilation = cellc_compiler::compile(&FsFiles, input);
         if compilation.has_errors() || compilation.cell.is_none() {
-            print(&compilation.diagnostics, &compilation.sources);
+            emit(format, &compilation.diagnostics, &compilation.sources);
             return Err(ExitCode::from(1));
         }
         let cell = compilation.cell.as_ref().ok_or(ExitCode::from(1))?;
@@ -146,7 +158,7 @@ pub fn load(input: &str, seed: u64) -> Result<Loaded, ExitCode> {
                 (artifact, sources, false)
             }
             Err(d) => {
-                print(&[d], &SourceMap::new());
+                emit(format, &[d], &SourceMap::new());
                 return Err(ExitCode::from(1));
             }
         }
@@ -157,20 +169,20 @@ pub fn load(input: &str, seed: u64) -> Result<Loaded, ExitCode> {
     let mut cell = match Cell::from_artifact(artifact, &FsFiles) {
         Ok(cell) => cell,
         Err(LoadError::Scene(e)) => {
-            print(
+            emit(format, 
                 &[crate::verify_report::scene_error_at(&e, &robots, &spans)],
                 &sources,
             );
             return Err(ExitCode::from(1));
         }
         Err(LoadError::Artifact(e)) => {
-            print(&[crate::artifact_io::diagnostic(input, &e)], &sources);
+            emit(format, &[crate::artifact_io::diagnostic(input, &e)], &sources);
             return Err(ExitCode::from(1));
         }
         Err(e) => {
             let d = Diagnostic::error(crate::verify_report::codes::MODEL_UNUSABLE, e.to_string())
                 .help("rebuild the artifact with `cellc build` from a cell whose robot files load");
-            print(&[d], &sources);
+            emit(format, &[d], &sources);
             return Err(ExitCode::from(1));
         }
     };
@@ -184,6 +196,7 @@ pub fn load(input: &str, seed: u64) -> Result<Loaded, ExitCode> {
         cell,
         sources,
         stale,
+        format,
     })
 }
 
@@ -254,7 +267,7 @@ pub fn prepare(args: &PlanArgs, loaded: &Loaded) -> Result<Prepared, ExitCode> {
                 Ok(placements) => placements,
                 Err(failure) => {
                     let (d, sources) = *failure;
-                    print(&[d], &sources);
+                    emit(args.format, &[d], &sources);
                     return Err(ExitCode::from(2));
                 }
             };
@@ -296,7 +309,7 @@ pub fn prepare(args: &PlanArgs, loaded: &Loaded) -> Result<Prepared, ExitCode> {
 
 /// Plans a request and prints the plan.
 pub fn run(args: &PlanArgs) -> ExitCode {
-    let loaded = match load(&args.input, args.seed) {
+    let loaded = match load(&args.input, args.seed, args.format) {
         Ok(l) => l,
         Err(code) => return code,
     };
