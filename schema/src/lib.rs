@@ -13,6 +13,7 @@
 use serde::{Deserialize, Serialize};
 
 pub mod ids;
+pub mod rules;
 pub use ids::{EndEffectorId, GraspId, NodeId, ObjectId, RobotId, SpanId, WorkspaceId};
 
 /// The value of [`Artifact::format`], identifying the file type.
