@@ -208,17 +208,19 @@ fn declared_adjacency_limits_moves_and_derived_adjacency_joins_what_one_hand_rea
     assert_eq!(arcs.len(), 6 + 2);
 }
 
-/// A random small cell from a seed (splitmix64): 1-4 workspaces, 1-4 end-effectors, one
-/// or two grasps each, sometimes a kind grasp, random transitions, adjacency declared or
-/// derived.
-fn random(
-    seed: u64,
-) -> (
+/// The rules of a random cell, with what they were made from: (movable, reaches) per
+/// end-effector, and the declared adjacent pairs (`None`: derived).
+type RandomCell = (
     CellRules,
     ObjectRules,
     Vec<(bool, Vec<u32>)>,
     Option<Vec<(u32, u32)>>,
-) {
+);
+
+/// A random small cell from a seed (splitmix64): 1-4 workspaces, 1-4 end-effectors, one
+/// or two grasps each, sometimes a kind grasp, random transitions, adjacency declared or
+/// derived.
+fn random(seed: u64) -> RandomCell {
     let mut x = seed;
     let mut next = move |n: u64| {
         x = x.wrapping_add(0x9e37_79b9_7f4a_7c15);
