@@ -221,15 +221,15 @@ impl<'a> Ctx<'a> {
         let from_start = petgraph::algo::dijkstra(&graph, start, None, |e| weight(e.weight()));
         let hub = NodeIndex::new(n);
         let to_goal = petgraph::algo::dijkstra(Reversed(&graph), hub, None, |e| weight(e.weight()));
-        let dense = |map: &dyn Fn(NodeIndex) -> Option<f64>| -> Vec<f64> {
-            (0..n)
-                .map(|i| map(NodeIndex::new(i)).unwrap_or(f64::INFINITY))
-                .collect()
-        };
-        (
-            dense(&|i| from_start.get(&i).copied()),
-            dense(&|i| to_goal.get(&i).copied()),
-        )
+        let from_start = (0..n)
+            .map(|i| from_start.get(&NodeIndex::new(i)).copied())
+            .map(|d| d.unwrap_or(f64::INFINITY))
+            .collect();
+        let to_goal = (0..n)
+            .map(|i| to_goal.get(&NodeIndex::new(i)).copied())
+            .map(|d| d.unwrap_or(f64::INFINITY))
+            .collect();
+        (from_start, to_goal)
     }
 
     /// Restoring which lost arcs connects the start to a goal.
