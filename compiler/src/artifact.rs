@@ -272,11 +272,12 @@ fn lower_object(cell: &Cell, g: &ObjectGraph, spans: &mut SpanTable) -> schema::
 
 /// Every adjacent pair of workspaces, each once, in order.
 fn adjacent_pairs(cell: &Cell) -> Vec<(u32, u32)> {
+    let rules = crate::graph::cell_rules(cell);
     let n = cell.workspaces.len() as u32;
     let mut pairs = Vec::new();
     for a in 0..n {
         for b in (a + 1)..n {
-            if cell.adjacent(crate::ids::WorkspaceId(a), crate::ids::WorkspaceId(b)) {
+            if rules.is_adjacent(schema::WorkspaceId(a), schema::WorkspaceId(b)) {
                 pairs.push((a, b));
             }
         }

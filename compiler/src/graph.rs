@@ -1,17 +1,16 @@
 //! The object-state graph, one per object (the paper's Sec. IV-A).
 //!
-//! Nodes are states S(end-effector, grasp, workspace), one for every grasp an
-//! end-effector can hold and every workspace it reaches. Arcs:
-//! - *move*: S(e, g, wi) -> S(e, g, wj), for a movable e, adjacent wi and wj both reached
-//!   by e;
-//! - *transition*: S(ei, gk, w) -> S(ej, gl, w), for a declared transition gk -> gl and
-//!   every workspace w both ei and ej reach.
-//!
-//! No arc changes grasp and workspace at once. Each arc records which declaration made
-//! it, so any finding about an arc can point at source lines.
+//! Which states and arcs a graph has is decided by the shared rules in
+//! [`cellc_schema::rules`] (the runtime's explanations of unreachable goals use the same
+//! rules to know what a change to the cell would add); this module feeds them the
+//! resolved cell and keeps the result as a petgraph graph of the compiler's typed ids.
+//! Each arc records which declaration made it, so any finding about an arc can point at
+//! source lines.
 
 use std::collections::HashMap;
 
+use cellc_schema::rules::{self, Adjacency, CellRules, EndEffectorFacts, GraspFacts, ObjectRules};
+use cellc_schema::{EndEffectorId as EeIndex, GraspId as GraspIndex, WorkspaceId as WsIndex};
 use petgraph::graph::{DiGraph, NodeIndex};
 
 use crate::ids::*;
@@ -86,155 +85,94 @@ impl ObjectGraph {
     }
 }
 
+/// The cell-level graph rules of a resolved cell: end-effectors with their reach, and the
+/// declared adjacency (or, when the cell declares none, adjacency derived from reach).
+pub fn cell_rules(cell: &Cell) -> CellRules {
+    let end_effectors = cell
+        .end_effectors
+        .iter()
+        .map(|(_, e)| EndEffectorFacts {
+            movable: e.is_movable(),
+            reaches: e.reaches.iter().map(|w| WsIndex(w.0)).collect(),
+        })
+        .collect();
+    let adjacency = if cell.adjacencies.is_empty() {
+        Adjacency::Derived
+    } else {
+        Adjacency::Declared(
+            cell.adjacencies
+                .iter()
+                .map(|adj| (WsIndex(adj.a.0), WsIndex(adj.b.0)))
+                .collect(),
+        )
+    };
+    CellRules::new(cell.workspaces.len(), end_effectors, adjacency)
+}
+
 /// Builds the graph of every object, in object order.
 pub fn build(cell: &Cell) -> Vec<ObjectGraph> {
-    let n_ws = cell.workspaces.len();
-    // adjacency[a * n + b] -> index of the declaring `adjacent` (or usize::MAX when
-    // adjacency is derived from reach).
-    let mut adjacency: Vec<Option<Option<usize>>> = vec![None; n_ws * n_ws];
-    if cell.adjacencies.is_empty() {
-        for (_, e) in cell.end_effectors.iter().filter(|(_, e)| e.is_movable()) {
-            for &a in &e.reaches {
-                for &b in &e.reaches {
-                    if a != b {
-                        adjacency[a.index() * n_ws + b.index()] = Some(None);
-                    }
-                }
-            }
-        }
-    } else {
-        for (i, adj) in cell.adjacencies.iter().enumerate() {
-            for (a, b) in [(adj.a, adj.b), (adj.b, adj.a)] {
-                let slot = &mut adjacency[a.index() * n_ws + b.index()];
-                if slot.is_none() {
-                    *slot = Some(Some(i));
-                }
-            }
-        }
-    }
-    let holders: Vec<Vec<EndEffectorId>> = cell.grasps.ids().map(|g| cell.holders_of(g)).collect();
+    let rules = cell_rules(cell);
     cell.objects
         .iter()
-        .map(|(object, obj)| build_object(cell, object, obj, &holders, &adjacency, n_ws))
+        .map(|(object, obj)| build_object(cell, &rules, object, obj))
         .collect()
 }
 
-fn build_object(
-    cell: &Cell,
-    object: ObjectId,
-    obj: &Object,
-    holders: &[Vec<EndEffectorId>],
-    adjacency: &[Option<Option<usize>>],
-    n_ws: usize,
-) -> ObjectGraph {
+fn build_object(cell: &Cell, rules: &CellRules, object: ObjectId, obj: &Object) -> ObjectGraph {
+    // The rules index an object's own grasps; the cell's transitions are global.
+    let local: HashMap<GraspId, u32> = obj
+        .grasps
+        .iter()
+        .enumerate()
+        .map(|(i, &g)| (g, i as u32))
+        .collect();
+    let grasps = obj
+        .grasps
+        .iter()
+        .map(|&g| GraspFacts {
+            holders: cell.holders_of(g).iter().map(|e| EeIndex(e.0)).collect(),
+            explicit: matches!(cell.grasps[g].holder, Some(Holder::EndEffector(_))),
+        })
+        .collect();
+    let mut declared = Vec::new();
+    let mut transitions = Vec::new();
+    for (t, transition) in cell.transitions.iter().enumerate() {
+        if let (Some(&from), Some(&to)) = (local.get(&transition.from), local.get(&transition.to)) {
+            declared.push(t);
+            transitions.push((GraspIndex(from), GraspIndex(to)));
+        }
+    }
+    let object_rules = ObjectRules::new(cell.end_effectors.len(), grasps, transitions);
     let mut graph = DiGraph::new();
     let mut index = HashMap::new();
-    // first[(e, g)] = node of S(e, g, reaches(e)[0]); the states of one (e, g) are
-    // consecutive, in the order of e's sorted reach, so a state's node is found by a
-    // binary search instead of hashing every arc's endpoints.
-    let mut first: HashMap<(EndEffectorId, GraspId), u32> = HashMap::new();
-    for &g in &obj.grasps {
-        for &e in &holders[g.index()] {
-            first.insert((e, g), graph.node_count() as u32);
-            for &w in &cell.end_effectors[e].reaches {
-                let state = State {
-                    end_effector: e,
-                    grasp: g,
-                    workspace: w,
-                };
-                index.insert(state, graph.add_node(state));
-            }
-        }
+    for s in rules.states(&object_rules) {
+        let state = State {
+            end_effector: EndEffectorId(s.end_effector.0),
+            grasp: obj.grasps[s.grasp.index()],
+            workspace: WorkspaceId(s.workspace.0),
+        };
+        index.insert(state, graph.add_node(state));
     }
-    let node = |e: EndEffectorId, g: GraspId, w: WorkspaceId| -> Option<NodeIndex> {
-        let start = *first.get(&(e, g))?;
-        let position = cell.end_effectors[e].reaches.binary_search(&w).ok()?;
-        Some(NodeIndex::new(start as usize + position))
-    };
     let weights = cell.weights;
-    for &g in &obj.grasps {
-        for &e in &holders[g.index()] {
-            let ee = &cell.end_effectors[e];
-            if !ee.is_movable() {
-                continue;
-            }
-            for &wi in &ee.reaches {
-                for &wj in &ee.reaches {
-                    let Some(adj) = adjacency[wi.index() * n_ws + wj.index()] else {
-                        continue;
-                    };
-                    if let (Some(from), Some(to)) = (node(e, g, wi), node(e, g, wj)) {
-                        graph.add_edge(
-                            from,
-                            to,
-                            StateArc {
-                                weight: weights.move_weight,
-                                source: ArcSource::Move { adjacency: adj },
-                            },
-                        );
-                    }
-                }
-            }
-        }
-    }
-    // Who reaches each workspace: usually two or three end-effectors, so transitions are
-    // expanded per workspace rather than per pair of holders.
-    let mut reachers: Vec<Vec<EndEffectorId>> = vec![Vec::new(); n_ws];
-    for (e, ee) in cell.end_effectors.iter() {
-        for &w in &ee.reaches {
-            reachers[w.index()].push(e);
-        }
-    }
-    for (t, transition) in cell.transitions.iter().enumerate() {
-        if cell.grasps[transition.from].object != object
-            || cell.grasps[transition.to].object != object
-        {
-            continue;
-        }
-        let explicit = matches!(
-            cell.grasps[transition.from].holder,
-            Some(Holder::EndEffector(_))
-        ) && matches!(
-            cell.grasps[transition.to].holder,
-            Some(Holder::EndEffector(_))
+    rules.for_each_arc(&object_rules, |from, to, provenance| {
+        let arc = match provenance {
+            rules::Provenance::Move { adjacency } => StateArc {
+                weight: weights.move_weight,
+                source: ArcSource::Move { adjacency },
+            },
+            rules::Provenance::Transition { transition } => StateArc {
+                weight: weights.transition_weight,
+                source: ArcSource::Transition {
+                    transition: declared[transition],
+                },
+            },
+        };
+        graph.add_edge(
+            NodeIndex::new(from as usize),
+            NodeIndex::new(to as usize),
+            arc,
         );
-        let (from_holders, to_holders) = (
-            &holders[transition.from.index()],
-            &holders[transition.to.index()],
-        );
-        for (w, here) in reachers.iter().enumerate() {
-            let w = WorkspaceId(w as u32);
-            for &ei in here
-                .iter()
-                .filter(|e| from_holders.binary_search(e).is_ok())
-            {
-                for &ej in here.iter().filter(|e| to_holders.binary_search(e).is_ok()) {
-                    // A hand kind's grasps expand to every hand of that kind, but no hand
-                    // passes an object to itself; explicit same-holder rows (imported
-                    // databases) are kept and warned about.
-                    if ei == ej && !explicit {
-                        continue;
-                    }
-                    if !cell.end_effectors[ei].is_movable() && !cell.end_effectors[ej].is_movable()
-                    {
-                        continue;
-                    }
-                    if let (Some(from), Some(to)) =
-                        (node(ei, transition.from, w), node(ej, transition.to, w))
-                    {
-                        graph.add_edge(
-                            from,
-                            to,
-                            StateArc {
-                                weight: weights.transition_weight,
-                                source: ArcSource::Transition { transition: t },
-                            },
-                        );
-                    }
-                }
-            }
-        }
-    }
+    });
     ObjectGraph {
         object,
         graph,

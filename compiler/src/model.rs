@@ -405,21 +405,4 @@ impl Cell {
             .filter(|&e| self.holds(e, g))
             .collect()
     }
-
-    /// True when workspaces `a` and `b` are adjacent: declared so, or (when the cell
-    /// declares no adjacency) both reached by one movable end-effector.
-    pub fn adjacent(&self, a: WorkspaceId, b: WorkspaceId) -> bool {
-        if a == b {
-            return false;
-        }
-        if self.adjacencies.is_empty() {
-            self.end_effectors
-                .iter()
-                .any(|(_, e)| e.is_movable() && e.reaches.contains(&a) && e.reaches.contains(&b))
-        } else {
-            self.adjacencies
-                .iter()
-                .any(|adj| (adj.a == a && adj.b == b) || (adj.a == b && adj.b == a))
-        }
-    }
 }

@@ -9,7 +9,7 @@
 use cellc_schema::{Artifact, Body, EndEffectorId, GraspId, ObjectId, ReadError, WorkspaceId};
 
 use crate::execute::{ExecuteOptions, Execution, ExecutionError, Executor, Simulator};
-use crate::explain::Explanation;
+use crate::explain::{Explanation, NoStates};
 use crate::plan::planner::Planner;
 use crate::plan::search::SearchGraph;
 use crate::plan::{
@@ -174,8 +174,9 @@ impl Cell {
         )
     }
 
-    /// Why a request has no plan: the two sides, the cut, and checked suggestions.
-    pub fn explain(&self, unreachable: &Unreachable) -> Explanation {
+    /// Why a request has no plan: the two sides, the cut, and checked suggestions; an
+    /// error when the request's start or goals are not states of the object's graph.
+    pub fn explain(&self, unreachable: &Unreachable) -> Result<Explanation, NoStates> {
         crate::explain::explain(&self.artifact, unreachable)
     }
 

@@ -41,7 +41,7 @@ pub use cellc_schema::{Artifact, EndEffectorId, GraspId, NodeId, ObjectId, Works
 pub use execute::{
     ExecuteOptions, Execution, ExecutionError, Executor, ObservedObject, Simulator, StepError,
 };
-pub use explain::Explanation;
+pub use explain::{Explanation, NoStates};
 pub use math::Iso;
 pub use plan::{
     Command, Goal, GoalByName, LocateError, Placement, PlacementByName, Plan, PlanError,

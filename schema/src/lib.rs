@@ -27,6 +27,7 @@ pub use encoding::{Encoding, ReadError};
 pub mod math;
 pub use files::{FileError, Files, MemoryFiles};
 pub use hash::sha256_hex;
+pub mod rules;
 pub use ids::{EndEffectorId, GraspId, NodeId, ObjectId, RobotId, SpanId, WorkspaceId};
 
 /// The value of [`Artifact::format`], identifying the file type.

@@ -198,3 +198,102 @@ pub fn simplify(graph: &Graph, path: &Path) -> Vec<u32> {
     }
     kept
 }
+
+/// What a search does with a node an arc leads to (see [`cheapest_exit`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Visit {
+    /// Do not enter it.
+    Skip,
+    /// Search on from it.
+    Enter,
+    /// The rest of the way from it is known and costs this much: a path may end here.
+    Exit(f64),
+}
+
+/// Dijkstra for graphs that exist only as a function: the cheapest path from any of
+/// `sources` (each with the cost already paid to get there) through nodes that `visit`
+/// lets the search [enter](Visit::Enter) to an arc leading to an [exit](Visit::Exit).
+/// `arcs(u, out)` appends the arcs leaving `u` as (head, weight, label). Returns the total
+/// cost and the labels of the arcs taken, in path order.
+///
+/// The explanation of an unreachable goal uses it to search hypothetical arcs on top of an
+/// object's graph without building a graph per hypothesis: it starts on the start's side,
+/// explores only the states between the two sides, and exits on entering the goal's side
+/// (whose distances to the goal are known). Ties go to the node with the smaller id, then
+/// to the arc found first.
+pub fn cheapest_exit<N, L>(
+    sources: impl IntoIterator<Item = (N, f64)>,
+    mut arcs: impl FnMut(N, &mut Vec<(N, f64, L)>),
+    mut visit: impl FnMut(N) -> Visit,
+) -> Option<(f64, Vec<L>)>
+where
+    N: Copy + Ord + std::hash::Hash,
+    L: Copy,
+{
+    use std::cmp::Reverse;
+    use std::collections::{BinaryHeap, HashMap};
+
+    /// A cost ordered totally, for the heap.
+    #[derive(Clone, Copy, PartialEq)]
+    struct Cost(f64);
+    impl Eq for Cost {}
+    impl PartialOrd for Cost {
+        fn partial_cmp(&self, other: &Self) -> Option<std::cmp::Ordering> {
+            Some(self.cmp(other))
+        }
+    }
+    impl Ord for Cost {
+        fn cmp(&self, other: &Self) -> std::cmp::Ordering {
+            self.0.total_cmp(&other.0)
+        }
+    }
+
+    let mut dist: HashMap<N, f64> = HashMap::new();
+    let mut pred: HashMap<N, (N, L)> = HashMap::new();
+    let mut heap = BinaryHeap::new();
+    for (node, cost) in sources {
+        if let std::collections::hash_map::Entry::Vacant(slot) = dist.entry(node) {
+            slot.insert(cost);
+            heap.push(Reverse((Cost(cost), node)));
+        }
+    }
+    let mut best: Option<(f64, N, L)> = None;
+    let mut out = Vec::new();
+    while let Some(Reverse((Cost(d), u))) = heap.pop() {
+        if dist.get(&u).is_some_and(|&x| d > x) {
+            continue;
+        }
+        if best.as_ref().is_some_and(|b| d >= b.0) {
+            break;
+        }
+        out.clear();
+        arcs(u, &mut out);
+        for &(v, weight, label) in &out {
+            let nd = d + weight;
+            match visit(v) {
+                Visit::Skip => {}
+                Visit::Exit(rest) => {
+                    let through = nd + rest;
+                    if best.as_ref().is_none_or(|b| through < b.0) {
+                        best = Some((through, u, label));
+                    }
+                }
+                Visit::Enter => {
+                    if dist.get(&v).is_none_or(|&x| nd < x) {
+                        dist.insert(v, nd);
+                        pred.insert(v, (u, label));
+                        heap.push(Reverse((Cost(nd), v)));
+                    }
+                }
+            }
+        }
+    }
+    let (cost, mut u, last) = best?;
+    let mut labels = vec![last];
+    while let Some(&(p, label)) = pred.get(&u) {
+        labels.push(label);
+        u = p;
+    }
+    labels.reverse();
+    Some((cost, labels))
+}

@@ -1,0 +1,348 @@
+//! Names and phrases: the artifact's ids in words (names in backticks), lists, counts,
+//! distances, states, arcs and the reasons arcs are infeasible.
+
+use std::collections::BTreeSet;
+
+use cellc_runtime::explain::{Exchange, HeldWith, Side};
+use cellc_schema::rules::{Adjacency, CellRules, ObjectRules};
+use cellc_schema::{
+    ArcKind, Artifact, EndEffectorId, GraspId, Infeasibility, Node, NodeId, Object, WorkspaceId,
+};
+
+/// Names listed in one sentence before "and N more".
+const MAX_LISTED: usize = 4;
+
+/// What wording an explanation needs of the artifact: names, and who reaches and holds
+/// what (the graph rules' reading of it, so the words agree with the analysis).
+pub struct Words<'a> {
+    pub art: &'a Artifact,
+    pub obj: &'a Object,
+    rules: CellRules,
+    object_rules: ObjectRules,
+}
+
+impl<'a> Words<'a> {
+    pub fn new(art: &'a Artifact, obj: &'a Object) -> Words<'a> {
+        Words {
+            art,
+            obj,
+            rules: CellRules::new(
+                art.workspaces.len(),
+                CellRules::end_effectors_of(art),
+                Adjacency::Derived,
+            ),
+            object_rules: ObjectRules::from_artifact(art, obj),
+        }
+    }
+
+    pub fn ee(&self, e: EndEffectorId) -> String {
+        self.art
+            .end_effectors
+            .get(e.index())
+            .map_or_else(|| format!("`end-effector #{}`", e.0), |x| q(&x.name))
+    }
+
+    pub fn ws(&self, w: WorkspaceId) -> String {
+        self.art
+            .workspaces
+            .get(w.index())
+            .map_or_else(|| format!("`workspace #{}`", w.0), |x| q(&x.name))
+    }
+
+    pub fn grasp(&self, g: GraspId) -> String {
+        self.obj
+            .grasps
+            .get(g.index())
+            .map_or_else(|| format!("`grasp #{}`", g.0), |x| q(&x.name))
+    }
+
+    /// A grasp's name without backticks, for quoting inside a declaration.
+    pub fn grasp_name(&self, g: GraspId) -> String {
+        self.obj
+            .grasps
+            .get(g.index())
+            .map_or_else(|| format!("#{}", g.0), |x| x.name.clone())
+    }
+
+    /// A workspace's name without backticks.
+    pub fn ws_name(&self, w: WorkspaceId) -> String {
+        self.art
+            .workspaces
+            .get(w.index())
+            .map_or_else(|| format!("#{}", w.0), |x| x.name.clone())
+    }
+
+    pub fn object_name(&self) -> String {
+        q(&self.obj.name)
+    }
+
+    /// A state of the object's graph (the explanation's node ids are valid).
+    pub fn node(&self, i: NodeId) -> Node {
+        self.obj.graph.nodes[i.index()]
+    }
+
+    pub fn is_movable(&self, e: EndEffectorId) -> bool {
+        self.rules.is_movable(e)
+    }
+
+    pub fn reach(&self, e: EndEffectorId) -> &[WorkspaceId] {
+        self.rules.reach(e)
+    }
+
+    pub fn ee_list(&self, set: &[EndEffectorId], conj: &str) -> String {
+        list(set.iter().map(|&e| self.ee(e)).collect(), conj)
+    }
+
+    pub fn ws_list(&self, set: &[WorkspaceId], conj: &str) -> String {
+        list(set.iter().map(|&w| self.ws(w)).collect(), conj)
+    }
+
+    /// "`table` with `g1` in `w1`".
+    pub fn state_text(&self, n: Node) -> String {
+        format!(
+            "{} with {} in {}",
+            self.ee(EndEffectorId(n.end_effector)),
+            self.grasp(GraspId(n.grasp)),
+            self.ws(WorkspaceId(n.workspace))
+        )
+    }
+
+    /// The goal states: "`table` with `g1` in `w3`", or by holder and workspace when they
+    /// have more than three grasps.
+    pub fn goals_text(&self, goals: &[NodeId]) -> String {
+        let mut holders = BTreeSet::new();
+        let mut grasps = BTreeSet::new();
+        let mut wss = BTreeSet::new();
+        for &g in goals {
+            let n = self.node(g);
+            holders.insert(EndEffectorId(n.end_effector));
+            grasps.insert(GraspId(n.grasp));
+            wss.insert(WorkspaceId(n.workspace));
+        }
+        let holders = list(holders.iter().map(|&e| self.ee(e)).collect(), "or");
+        let wss = list(wss.iter().map(|&w| self.ws(w)).collect(), "or");
+        if grasps.len() <= 3 {
+            let grasps = list(grasps.iter().map(|&g| self.grasp(g)).collect(), "or");
+            format!("{holders} with {grasps} in {wss}")
+        } else {
+            format!("{holders} in {wss}")
+        }
+    }
+
+    /// "41 states: `arm4` with ... in `w4` and `w5`; ... and 6 more end-effectors", the
+    /// end-effectors in `first` (those the cut names) before the others.
+    pub fn side_text(&self, side: &Side, first: &BTreeSet<EndEffectorId>) -> String {
+        let mut holdings: Vec<_> = side.holdings.iter().collect();
+        holdings.sort_by_key(|h| (!first.contains(&h.end_effector), h.end_effector));
+        let mut parts: Vec<String> = holdings
+            .iter()
+            .take(MAX_LISTED)
+            .map(|h| {
+                format!(
+                    "{} with {} in {}",
+                    self.ee(h.end_effector),
+                    list(h.grasps.iter().map(|&g| self.grasp(g)).collect(), "and"),
+                    self.ws_list(&h.workspaces, "and")
+                )
+            })
+            .collect();
+        if holdings.len() > MAX_LISTED {
+            let more = holdings.len() - MAX_LISTED;
+            let noun = if more == 1 {
+                "end-effector"
+            } else {
+                "end-effectors"
+            };
+            parts.push(format!("and {more} more {noun}"));
+        }
+        format!(
+            "{}: {}",
+            count(side.states.len(), "state"),
+            parts.join("; ")
+        )
+    }
+
+    /// "any grasp of `left_arm`", "grasp `g4` of `left_arm`", "grasps `g4`, `g5` of ...".
+    fn grasps_phrase(&self, held: &HeldWith) -> String {
+        let all = self.object_rules.grasps_of(held.end_effector);
+        let e = self.ee(held.end_effector);
+        match held.grasps.as_slice() {
+            [one] => format!("grasp {} of {e}", self.grasp(*one)),
+            grasps if grasps.len() > 1 && grasps == all => format!("any grasp of {e}"),
+            grasps => format!(
+                "grasps {} of {e}",
+                list(grasps.iter().map(|&g| self.grasp(g)).collect(), "and")
+            ),
+        }
+    }
+
+    /// The grasps of several end-effectors: "any grasp of `left_arm` or `table`".
+    pub fn holders_phrase(&self, side: &[HeldWith]) -> String {
+        let all_any = side.len() > 1
+            && side.iter().all(|h| {
+                h.grasps.len() > 1
+                    && self.object_rules.grasps_of(h.end_effector).len() == h.grasps.len()
+            });
+        if all_any {
+            let ees: Vec<EndEffectorId> = side.iter().map(|h| h.end_effector).collect();
+            format!("any grasp of {}", self.ee_list(&ees, "or"))
+        } else {
+            list(side.iter().map(|h| self.grasps_phrase(h)).collect(), "or")
+        }
+    }
+
+    /// "the transition `g1 -> g8` from `table` to `right_arm` in `w2`" or "the move of
+    /// `right_arm` with `g7` from `w2` to `w3`".
+    pub fn arc_text(&self, from: Node, to: Node, kind: ArcKind) -> String {
+        let ee = |n: Node| self.ee(EndEffectorId(n.end_effector));
+        let ws = |n: Node| self.ws(WorkspaceId(n.workspace));
+        match kind {
+            ArcKind::Move => format!(
+                "the move of {} with {} from {} to {}",
+                ee(from),
+                self.grasp(GraspId(from.grasp)),
+                ws(from),
+                ws(to)
+            ),
+            ArcKind::Transition => format!(
+                "the transition {} from {} to {} in {}",
+                self.grasp_line(from, to),
+                ee(from),
+                ee(to),
+                ws(from)
+            ),
+        }
+    }
+
+    /// "`g1 -> g8`": the grasps of a transition arc.
+    pub fn grasp_line(&self, from: Node, to: Node) -> String {
+        q(&format!(
+            "{} -> {}",
+            self.grasp_name(GraspId(from.grasp)),
+            self.grasp_name(GraspId(to.grasp))
+        ))
+    }
+
+    /// Why an arc is infeasible, in words.
+    pub fn reason_text(&self, reason: &Infeasibility) -> String {
+        match reason {
+            Infeasibility::NoIkSolution {
+                end_effector,
+                tries,
+                position_error,
+                rotation_error,
+            } => format!(
+                "{} cannot reach the pose, closest {} and {:.2} rad off over {} tries",
+                self.ee(EndEffectorId(*end_effector)),
+                metres(*position_error),
+                rotation_error,
+                tries
+            ),
+            Infeasibility::NoClosedChain {
+                a,
+                b,
+                tries,
+                position_error,
+                rotation_error,
+            } => format!(
+                "{} and {} cannot hold it at once, the closed chain staying {} and {:.2} rad \
+                 open over {} tries",
+                self.ee(EndEffectorId(*a)),
+                self.ee(EndEffectorId(*b)),
+                metres(*position_error),
+                rotation_error,
+                tries
+            ),
+            Infeasibility::Collision { a, b } => {
+                format!("{} collides with {}", q(a), q(b))
+            }
+            Infeasibility::NoPlacement { detail } => format!("no placement: {detail}"),
+            _ => "it was found infeasible".to_string(),
+        }
+    }
+
+    /// What would make an infeasible arc feasible.
+    pub fn reason_hint(&self, reason: &Infeasibility, workspace: WorkspaceId) -> String {
+        match reason {
+            Infeasibility::NoIkSolution { end_effector, .. } => format!(
+                "move {}'s base or {} closer together, or choose a grasp it can reach",
+                self.ee(EndEffectorId(*end_effector)),
+                self.ws(workspace)
+            ),
+            Infeasibility::NoClosedChain { .. } => "move the arms closer together, or choose \
+                 grasps that leave room for both hands"
+                .to_string(),
+            // Collision bodies are named `arm/link`; the cell language writes `arm.link`.
+            Infeasibility::Collision { a, b } => format!(
+                "move one of them, or declare `allow contact {} {}` if the contact is harmless",
+                a.replace('/', "."),
+                b.replace('/', ".")
+            ),
+            Infeasibility::NoPlacement { .. } => format!(
+                "extend the surface into {}, or choose another resting pose",
+                self.ws(workspace)
+            ),
+            _ => "change the geometry so it becomes feasible".to_string(),
+        }
+    }
+
+    /// "`left_arm` can hand it to `right_arm` in `w2`", "... put it on `table` ...".
+    pub fn exchange(&self, x: &Exchange) -> String {
+        let (a, b, w) = (self.ee(x.giver), self.ee(x.taker), self.ws(x.workspace));
+        match (self.is_movable(x.giver), self.is_movable(x.taker)) {
+            (true, true) => format!("{a} can hand it to {b} in {w}"),
+            (true, false) => format!("{a} can put it on {b} in {w}"),
+            _ => format!("{b} can take it from {a} in {w}"),
+        }
+    }
+}
+
+/// A name in backticks.
+pub fn q(name: &str) -> String {
+    format!("`{name}`")
+}
+
+/// "0.21 m", or millimetres below a centimetre.
+pub fn metres(x: f64) -> String {
+    if x.abs() < 0.01 {
+        format!("{:.1} mm", x * 1000.0)
+    } else {
+        format!("{x:.2} m")
+    }
+}
+
+/// "1 state", "10 states".
+pub fn count(n: usize, noun: &str) -> String {
+    if n == 1 {
+        format!("1 {noun}")
+    } else {
+        format!("{n} {noun}s")
+    }
+}
+
+/// "`a`", "`a` or `b`", "`a`, `b` or `c`", "`a`, `b`, `c`, `d` or 3 more".
+pub fn list(items: Vec<String>, conj: &str) -> String {
+    let n = items.len();
+    if n > MAX_LISTED + 1 {
+        return format!(
+            "{} {conj} {} more",
+            items[..MAX_LISTED].join(", "),
+            n - MAX_LISTED
+        );
+    }
+    match n {
+        0 => String::new(),
+        1 => items[0].clone(),
+        _ => format!("{} {conj} {}", items[..n - 1].join(", "), items[n - 1]),
+    }
+}
+
+/// The first clause of a text, for a label.
+pub fn short(text: &str) -> String {
+    let cut = [", so ", ", where ", ":", " ("]
+        .iter()
+        .filter_map(|m| text.find(m))
+        .min()
+        .unwrap_or(text.len());
+    text[..cut].to_string()
+}
