@@ -17,8 +17,8 @@
 use rand::Rng;
 use rand_chacha::ChaCha8Rng;
 
-use crate::math::{Iso, Point, Quat, Vec3};
 use crate::math::Aabb;
+use crate::math::{Iso, Point, Quat, Vec3};
 
 /// How far (metres) the object's centre may lie above or below a workspace box's height
 /// range and still count as inside it: the slack of [`Aabb::contains`], with which a
@@ -128,7 +128,9 @@ mod tests {
             let pose = regions.sample(&mut rng).expect("a region");
             let centre = Point::from(pose.translation.vector);
             assert!((centre.z - 0.8).abs() < 1e-12);
-            assert!(workspace[..2].iter().any(|b| crate::math::contains_point(&b, &centre)));
+            assert!(workspace[..2]
+                .iter()
+                .any(|b| crate::math::contains_point(&b, &centre)));
             assert!((0.0..=1.0).contains(&centre.x) && (0.0..=1.0).contains(&centre.y));
             // Upright: only turned about the vertical.
             let up = pose.rotation * Vec3::z();

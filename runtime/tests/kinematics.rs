@@ -11,8 +11,8 @@ use cellc_runtime::kinematics::{
 };
 use cellc_runtime::math::{Iso, Point, Vec3};
 use cellc_runtime::robot::{ChainError, JointError, JointKind, Robot, RobotError};
-use cellc_runtime::MemoryFiles;
 use cellc_runtime::termination::Termination;
+use cellc_runtime::MemoryFiles;
 use nalgebra as na;
 use proptest::prelude::*;
 use rand::SeedableRng;

@@ -8,9 +8,9 @@ use rand_chacha::ChaCha8Rng;
 
 use super::VerifyOptions;
 use crate::kinematics::{solve_ik, IkError, IkTarget};
+use crate::math::Aabb;
 use crate::math::{iso_from_schema, iso_to_schema, Iso, Point};
 use crate::robot::Robot;
-use crate::math::Aabb;
 use crate::scene::{Holder, ObjectPlacement, Scene, SceneScratch};
 use crate::termination::Termination;
 use crate::validity::{SceneValidity, StateFault, StateValidity};

@@ -205,7 +205,10 @@ impl Answer<'_> {
             match solve_handoff(&problem, home_a, home_b, rng, &options.handoff, &never) {
                 Ok(solution) => {
                     let center = Point::from(solution.object.translation.vector);
-                    if !boxes.iter().any(|bx| crate::math::contains_point(bx, &center)) {
+                    if !boxes
+                        .iter()
+                        .any(|bx| crate::math::contains_point(bx, &center))
+                    {
                         continue;
                     }
                     let placement = ObjectPlacement::Handoff {

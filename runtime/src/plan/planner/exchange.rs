@@ -1,0 +1,262 @@
+//! How an exchange of the object is carried out: from the build-time witness, or solved
+//! for this request where the object lies or must be placed, and the resting pose a
+//! put-down shares with the next pick.
+
+use cellc_schema::{Infeasibility, Node};
+use rand_chacha::ChaCha8Rng;
+
+use super::{Exchange, Failure, Planner, SCREENING};
+use crate::kinematics::{solve_ik, IkError, IkTarget};
+use crate::math::{iso_from_schema, Iso};
+use crate::plan::{ArcRef, ArmConfigurations};
+use crate::rest::RestRegions;
+use crate::scene::{Holder, ObjectPlacement, SceneScratch};
+use crate::termination::Termination;
+use crate::validity::{SceneValidity, StateFault, StateValidity};
+
+impl Planner<'_> {
+    /// A resting pose on the surface between a put-down (`giver`, arc `put`) and a pick
+    /// (`picker`, arc `pick`) that both arms reach collision-free with their grasps.
+    pub(super) fn shared_rest_pose(
+        &self,
+        object: u32,
+        giver: (Node, usize),
+        picker: (Node, usize),
+        rng: &mut ChaCha8Rng,
+        stop: &Termination,
+    ) -> Option<Iso> {
+        let scene = self.scene.filter(|s| s.has_kinematics())?;
+        let graph = &self.artifact.objects[object as usize].graph;
+        let (giver, put) = giver;
+        let (picker, pick) = picker;
+        let rest_node = graph.nodes[graph.arcs[put].to as usize];
+        let Holder::Surface { slab, .. } = &scene.holders[rest_node.end_effector as usize] else {
+            return None;
+        };
+        let obj = &self.artifact.objects[object as usize];
+        let pose_of = |g: u32| {
+            obj.grasps[g as usize]
+                .pose
+                .as_ref()
+                .map(iso_from_schema)
+                .unwrap_or_else(Iso::identity)
+        };
+        let rest = pose_of(rest_node.grasp);
+        let turns = crate::symmetry::candidates(&obj.symmetries);
+        let works = |pose: &Iso, rng: &mut ChaCha8Rng| -> bool {
+            [giver, picker].iter().all(|arm| {
+                let Holder::Arm { robot, base, home } = &scene.holders[arm.end_effector as usize]
+                else {
+                    return false;
+                };
+                // Either arm may hold a symmetric object with its grasp turned.
+                // Many candidates are screened, so each gets a few restarts only.
+                let found = turns.iter().find_map(|turn| {
+                    let tip = pose * (pose_of(arm.grasp) * turn).inverse();
+                    solve_ik(
+                        &scene.robots[*robot],
+                        base,
+                        &IkTarget::Pose(tip),
+                        home,
+                        rng,
+                        &SCREENING,
+                        stop,
+                    )
+                    .ok()
+                });
+                let Some(q) = found else {
+                    return false;
+                };
+                let placement = ObjectPlacement::Resting {
+                    on: rest_node.end_effector,
+                    pose: *pose,
+                    by: Some(arm.end_effector),
+                };
+                SceneValidity::new(scene, &[arm.end_effector], &[], object, placement)
+                    .is_ok_and(|v| matches!(v.is_valid(&q, &mut SceneScratch::default()), Ok(true)))
+            })
+        };
+        let witnessed = [
+            self.witness_of(object, pick).0,
+            self.witness_of(object, put).0,
+        ];
+        for pose in witnessed.into_iter().flatten() {
+            if works(&pose, rng) {
+                return Some(pose);
+            }
+        }
+        // Sampled resting poses: anywhere on the top face with the centre in the workspace.
+        let workspace = &scene.workspaces[rest_node.workspace as usize];
+        let regions = RestRegions::new(slab, workspace, &rest);
+        for _ in 0..100 {
+            if stop.should_stop() {
+                return None;
+            }
+            let pose = regions.sample(rng)?;
+            if works(&pose, rng) {
+                return Some(pose);
+            }
+        }
+        None
+    }
+
+    /// The object pose and arm configurations of a witnessed arc.
+    pub(super) fn witness_of(&self, object: u32, arc: usize) -> (Option<Iso>, ArmConfigurations) {
+        let graph = &self.artifact.objects[object as usize].graph;
+        match graph.arcs[arc]
+            .witness
+            .and_then(|w| graph.witnesses.get(w as usize))
+        {
+            Some(w) => (
+                Some(iso_from_schema(&w.object)),
+                w.configurations
+                    .iter()
+                    .map(|c| (c.end_effector, c.joints.clone()))
+                    .collect(),
+            ),
+            None => (None, Vec::new()),
+        }
+    }
+
+    /// How a transition arc is carried out: from its witness, except a first pick (the
+    /// object is where the request says) and a last place (where the goal says), which are
+    /// solved for this request.
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn exchange(
+        &self,
+        object: u32,
+        arc: usize,
+        from: Node,
+        to: Node,
+        lying_at: Option<Iso>,
+        place_at: Option<Iso>,
+        rng: &mut ChaCha8Rng,
+        stop: &Termination,
+    ) -> Result<Exchange, Failure> {
+        let graph = &self.artifact.objects[object as usize].graph;
+        let arc_ref = ArcRef {
+            from: graph.arcs[arc].from,
+            to: graph.arcs[arc].to,
+        };
+        let Some(scene) = self.scene.filter(|s| s.has_kinematics()) else {
+            return Ok(Exchange::default());
+        };
+        let surface_and_arm = match (
+            &scene.holders[from.end_effector as usize],
+            &scene.holders[to.end_effector as usize],
+        ) {
+            (Holder::Surface { .. }, Holder::Arm { .. }) => Some((from, to)),
+            (Holder::Arm { .. }, Holder::Surface { .. }) => Some((to, from)),
+            _ => None,
+        };
+        let specific_pose = match (surface_and_arm, lying_at, place_at) {
+            (Some((surface, _)), Some(pose), _) if surface == from => Some(pose),
+            (Some((surface, _)), _, Some(goal)) if surface == to => Some(goal),
+            _ => None,
+        };
+        if let (Some((surface, arm)), Some(pose)) = (surface_and_arm, specific_pose) {
+            let obj = &self.artifact.objects[object as usize];
+            let grasp = obj.grasps[arm.grasp as usize]
+                .pose
+                .as_ref()
+                .map(iso_from_schema)
+                .unwrap_or_else(Iso::identity);
+            let Holder::Arm { robot, base, home } = &scene.holders[arm.end_effector as usize]
+            else {
+                return Err(Failure {
+                    arc: arc_ref,
+                    reason: Infeasibility::NoPlacement {
+                        detail: "not an arm".into(),
+                    },
+                });
+            };
+            let robot = &scene.robots[*robot];
+            // A symmetric object may be taken with the grasp turned by a symmetry.
+            let turns = crate::symmetry::candidates(&obj.symmetries);
+            let mut last_collision = None;
+            let mut best: Option<IkError> = None;
+            let mut scratch = SceneScratch::default();
+            for attempt in 0..8 {
+                if stop.should_stop() {
+                    break;
+                }
+                let tip = pose * (grasp * turns[attempt % turns.len()]).inverse();
+                match solve_ik(
+                    robot,
+                    base,
+                    &IkTarget::Pose(tip),
+                    home,
+                    rng,
+                    &SCREENING,
+                    stop,
+                ) {
+                    Ok(q) => {
+                        let placement = ObjectPlacement::Resting {
+                            on: surface.end_effector,
+                            pose,
+                            by: Some(arm.end_effector),
+                        };
+                        let checked =
+                            SceneValidity::new(scene, &[arm.end_effector], &[], object, placement)
+                                .map_err(|e| format!("{e:?}"))
+                                .and_then(|v| {
+                                    v.check(&q, &mut scratch).map_err(|e| format!("{e:?}"))
+                                });
+                        match checked {
+                            Ok(None) => {
+                                return Ok(Exchange {
+                                    object: Some(pose),
+                                    configurations: vec![(arm.end_effector, q)],
+                                })
+                            }
+                            Ok(Some(StateFault::Collision { a, b })) => {
+                                last_collision = Some((a, b))
+                            }
+                            Ok(Some(fault)) => {
+                                last_collision = Some(("joint limits".into(), fault.to_string()))
+                            }
+                            Err(e) => last_collision = Some(("collision query".into(), e)),
+                        }
+                    }
+                    Err(e) => best = Some(e),
+                }
+            }
+            let reason = match (last_collision, best) {
+                (Some((a, b)), _) => Infeasibility::Collision { a, b },
+                (
+                    None,
+                    Some(IkError::NotConverged {
+                        tries,
+                        position_error,
+                        rotation_error,
+                    }),
+                ) => Infeasibility::NoIkSolution {
+                    end_effector: arm.end_effector,
+                    tries: tries as u32,
+                    position_error,
+                    rotation_error,
+                },
+                _ => Infeasibility::NoPlacement {
+                    detail: "no configuration".into(),
+                },
+            };
+            return Err(Failure {
+                arc: arc_ref,
+                reason,
+            });
+        }
+        let (object_pose, configurations) = self.witness_of(object, arc);
+        if object_pose.is_none() {
+            return Err(Failure {
+                arc: arc_ref,
+                reason: Infeasibility::NoPlacement {
+                    detail: "the arc has no witness (build with verification)".into(),
+                },
+            });
+        }
+        Ok(Exchange {
+            object: object_pose,
+            configurations,
+        })
+    }
+}

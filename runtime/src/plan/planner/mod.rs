@@ -1,0 +1,285 @@
+//! The planner: Algorithm 1 on an artifact.
+//!
+//! Search, simplify, realise the commands, and on a failed step remove that arc and search
+//! again. Realising reuses the build-time witnesses (an exchange in a workspace is the
+//! same whatever the request), and solves specifically only what depends on the request:
+//! picking the object where it actually is, and placing it where the goal says.
+
+mod exchange;
+mod motions;
+mod realise;
+
+use std::collections::HashSet;
+
+use cellc_schema::{Artifact, Infeasibility, Node};
+
+use super::locate::{goal_states, locate, locate_abstract};
+use super::search::{simplify, SearchGraph};
+use super::strategy::classify;
+use super::{
+    ArcRef, ArmConfigurations, Plan, PlanError, PlanGoal, PlanOptions, Request, Step, Unreachable,
+};
+use crate::kinematics::IkOptions;
+use crate::math::Iso;
+use crate::motion::{MotionPlanner, RrtConnect};
+use crate::scene::{Holder, Scene};
+use crate::termination::Termination;
+
+/// IK settings for request-specific solves: each call is one of several attempts (other
+/// symmetric grasps, other candidate poses), so a few restarts per call find reachable
+/// poses while keeping unreachable ones cheap.
+const SCREENING: IkOptions = IkOptions {
+    max_iterations: 100,
+    restarts: 6,
+    position_tolerance: 1e-4,
+    rotation_tolerance: 1e-3,
+    damping: 0.1,
+    max_step: 1.0,
+};
+
+/// Plans requests on one artifact. Cheap to keep: it holds the search graphs.
+pub struct Planner<'a> {
+    artifact: &'a Artifact,
+    scene: Option<&'a Scene>,
+    search: std::borrow::Cow<'a, [SearchGraph]>,
+    /// Plans the joint motion of each command ([`RrtConnect`] unless replaced).
+    motion_planner: Box<dyn MotionPlanner + Send + Sync + 'a>,
+}
+
+/// Where the plan stands while commands are realised.
+#[derive(Clone, Debug)]
+pub struct WorldState {
+    /// Current joint values of every arm (index = end-effector).
+    pub arms: Vec<Option<Vec<f64>>>,
+    /// Current object pose, when known.
+    pub object: Option<Iso>,
+}
+
+impl WorldState {
+    /// Every arm at home, the object where given.
+    pub fn at_home(
+        scene: Option<&Scene>,
+        n_end_effectors: usize,
+        object: Option<Iso>,
+    ) -> WorldState {
+        let arms = (0..n_end_effectors)
+            .map(|e| match scene.map(|s| &s.holders[e]) {
+                Some(Holder::Arm { home, .. }) => Some(home.clone()),
+                _ => None,
+            })
+            .collect();
+        WorldState { arms, object }
+    }
+}
+
+/// A step that could not be realised: the arc to remove and why.
+struct Failure {
+    arc: ArcRef,
+    reason: Infeasibility,
+}
+
+impl<'a> Planner<'a> {
+    /// A planner over an artifact; `scene` gives geometry (None: abstract cells, high level
+    /// only).
+    pub fn new(artifact: &'a Artifact, scene: Option<&'a Scene>) -> Planner<'a> {
+        Planner {
+            artifact,
+            scene,
+            search: std::borrow::Cow::Owned(SearchGraph::for_artifact(artifact)),
+            motion_planner: Box::new(RrtConnect::default()),
+        }
+    }
+
+    /// A planner that borrows search graphs built earlier (one per object, from
+    /// [`SearchGraph::for_artifact`] on the same artifact), so a long-lived cell does not
+    /// index its graphs again for every request.
+    pub fn with_search(
+        artifact: &'a Artifact,
+        scene: Option<&'a Scene>,
+        search: &'a [SearchGraph],
+    ) -> Planner<'a> {
+        Planner {
+            artifact,
+            scene,
+            search: std::borrow::Cow::Borrowed(search),
+            motion_planner: Box::new(RrtConnect::default()),
+        }
+    }
+
+    /// The same planner with joint motions planned by `motion_planner`.
+    pub fn with_motion_planner(
+        mut self,
+        motion_planner: impl MotionPlanner + Send + Sync + 'a,
+    ) -> Planner<'a> {
+        self.motion_planner = Box::new(motion_planner);
+        self
+    }
+
+    /// The artifact planned on.
+    pub fn artifact(&self) -> &'a Artifact {
+        self.artifact
+    }
+
+    /// Plans a request from scratch (arms at home).
+    pub fn plan(&self, request: &Request) -> Result<Plan, PlanError> {
+        super::names::check_request(self.artifact, request).map_err(PlanError::Locate)?;
+        let object = request.object.0;
+        let scene = self.scene.filter(|s| s.has_kinematics());
+        let start = match scene {
+            Some(scene) => locate(
+                self.artifact,
+                scene,
+                object,
+                &request.start,
+                &request.options,
+            ),
+            None => locate_abstract(self.artifact, object, &request.start),
+        }
+        .map_err(PlanError::Locate)?;
+        let goals = goal_states(
+            self.artifact,
+            scene,
+            object,
+            &request.goal,
+            &request.options,
+        )
+        .map_err(PlanError::Locate)?;
+        let goal = PlanGoal {
+            states: goals,
+            pose: match &request.goal {
+                super::Goal::Placement(p) => p.pose,
+                super::Goal::Workspace { .. } => None,
+            },
+        };
+        let state = WorldState::at_home(
+            self.scene,
+            self.artifact.end_effectors.len(),
+            request.start.pose,
+        );
+        self.plan_from(object, start, &goal, state, &request.options)
+    }
+
+    /// Plans from a given state towards `goal` (used again when execution fails part way).
+    pub fn plan_from(
+        &self,
+        object: u32,
+        start: Node,
+        goal: &PlanGoal,
+        state: WorldState,
+        options: &PlanOptions,
+    ) -> Result<Plan, PlanError> {
+        let goals = goal.states.as_slice();
+        let goal_pose = goal.pose;
+        let start_pose = state.object;
+        let graph = &self.artifact.objects[object as usize].graph;
+        let index_of = |n: &Node| graph.nodes.iter().position(|m| m == n).map(|i| i as u32);
+        let start_index = index_of(&start);
+        let goal_indices: Vec<u32> = goals.iter().filter_map(index_of).collect();
+        let mut removed: HashSet<ArcRef> = HashSet::new();
+        let mut failed: Vec<(ArcRef, Infeasibility)> = Vec::new();
+        let unreachable = |removed: &HashSet<ArcRef>, failed: Vec<(ArcRef, Infeasibility)>| {
+            PlanError::Unreachable(Box::new(Unreachable {
+                object,
+                start,
+                goals: goals.to_vec(),
+                reachable: start_index
+                    .map(|s| self.search[object as usize].reachable(s, removed))
+                    .unwrap_or_default(),
+                failed,
+            }))
+        };
+        let Some(start_index) = start_index else {
+            return Err(unreachable(&removed, failed));
+        };
+        // When the goal is the start state but another pose (a pick-and-place within one
+        // workspace), the object must leave the state and come back: at least one arc.
+        let must_move = match (state.object, goal_pose) {
+            (Some(a), Some(b)) => {
+                let d = a.inverse() * b;
+                d.translation.vector.norm() > options.position_tolerance
+                    || d.rotation.angle() > options.rotation_tolerance
+            }
+            _ => false,
+        };
+        let mut backtracks = 0;
+        // Checked between searches and inside every IK and motion search of this request.
+        let mut stop = Termination::after(options.time_budget);
+        if let Some(flag) = &options.cancel {
+            stop = stop.with_cancel(flag.clone());
+        }
+        let reweighted = options
+            .weights
+            .map(|w| self.search[object as usize].reweighted(w));
+        loop {
+            if stop.should_stop() {
+                return Err(PlanError::TimeBudget {
+                    searches: backtracks,
+                });
+            }
+            let search = reweighted.as_ref().unwrap_or(&self.search[object as usize]);
+            let found = if must_move && goal_indices.contains(&start_index) {
+                search.shortest_leaving(start_index, &goal_indices, &removed)
+            } else {
+                search.shortest(start_index, &goal_indices, &removed)
+            };
+            let Some(path) = found else {
+                return Err(unreachable(&removed, failed));
+            };
+            let realised = self.realise(object, &path, goal_pose, &state, options, &stop);
+            // A step decided by a search that was cut short is not the plan an unhurried
+            // search would give: out of time, whatever came of it.
+            if stop.fired() {
+                return Err(PlanError::TimeBudget {
+                    searches: backtracks + 1,
+                });
+            }
+            match realised {
+                Ok(steps) => {
+                    let kept = simplify(graph, &path);
+                    let states: Vec<Node> = kept.iter().map(|&i| graph.nodes[i as usize]).collect();
+                    return Ok(Plan {
+                        object,
+                        start_pose,
+                        goal: goal.clone(),
+                        strategy: classify(self.artifact, &states),
+                        states,
+                        steps,
+                        cost: path.cost,
+                        backtracks,
+                    });
+                }
+                Err(failure) => {
+                    removed.insert(failure.arc);
+                    failed.push((failure.arc, failure.reason));
+                    backtracks += 1;
+                    if backtracks > options.max_backtracks {
+                        return Err(unreachable(&removed, failed));
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// The arc a step realises, recorded when the step was made (for failing it).
+fn step_arc(step: &Step) -> Option<ArcRef> {
+    step.arc
+}
+
+/// The object pose and arm configurations at an exchange.
+#[derive(Clone, Debug, Default)]
+struct Exchange {
+    object: Option<Iso>,
+    configurations: ArmConfigurations,
+}
+
+fn apply(state: &mut WorldState, configurations: &ArmConfigurations, object: Option<Iso>) {
+    for (e, q) in configurations {
+        if let Some(slot) = state.arms.get_mut(*e as usize) {
+            *slot = Some(q.clone());
+        }
+    }
+    if object.is_some() {
+        state.object = object;
+    }
+}

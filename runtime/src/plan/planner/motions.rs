@@ -1,0 +1,227 @@
+//! The joint motion that leads to each command of a realised path.
+
+use cellc_schema::{Infeasibility, Node};
+use rand_chacha::ChaCha8Rng;
+
+use super::{step_arc, Failure, Planner, WorldState};
+use crate::math::{iso_from_schema, Iso};
+use crate::motion::{MotionError, MotionProblem};
+use crate::plan::{Command, Step};
+use crate::scene::{Holder, ObjectPlacement, SceneScratch};
+use crate::termination::Termination;
+use crate::validity::SceneValidity;
+
+impl Planner<'_> {
+    /// Plans the joint motion that leads to each command: the arms whose configuration
+    /// changes move together in their combined space, every other arm stands where it is,
+    /// a held object travels with its hand, and an arm that lets go returns home. A motion
+    /// that cannot be found fails the arc of its command, so the search tries another way.
+    pub(super) fn add_motions(
+        &self,
+        object: u32,
+        start_state: Node,
+        steps: &mut [Step],
+        start: &WorldState,
+        rng: &mut ChaCha8Rng,
+        stop: &Termination,
+    ) -> Result<(), Failure> {
+        let Some(scene) = self.scene.filter(|s| s.has_kinematics()) else {
+            return Ok(());
+        };
+        let obj = &self.artifact.objects[object as usize];
+        let grasp_pose = |g: u32| {
+            obj.grasps
+                .get(g as usize)
+                .and_then(|g| g.pose.as_ref())
+                .map(iso_from_schema)
+                .unwrap_or_else(Iso::identity)
+        };
+        let is_arm = |e: u32| matches!(scene.holders.get(e as usize), Some(Holder::Arm { .. }));
+        let mut arms = start.arms.clone();
+        let mut object_pose = start.object;
+        // Who holds the object now, and with which grasp.
+        let mut holder: Option<(u32, u32)> = Some((start_state.end_effector, start_state.grasp));
+        let mut scratch = SceneScratch::default();
+        // A carry begins where a pick left the object (still touching that surface) and
+        // may end where a put-down needs it (touching the next one): at those ends the
+        // object touches a surface, which the carry's checks must allow.
+        let put_down_after: Vec<Option<u32>> = (0..steps.len())
+            .map(|i| match steps.get(i + 1).map(|s| &s.command) {
+                Some(Command::Grasp { holder, .. }) if !is_arm(*holder) => Some(*holder),
+                _ => None,
+            })
+            .collect();
+        // An arm that let go but could not retreat still has its hand on the object: the
+        // next carry may touch it while it moves the object away.
+        let mut lingering: Option<u32> = None;
+        let mut lifted_from: Option<u32> =
+            (!is_arm(start_state.end_effector)).then_some(start_state.end_effector);
+        for (index, step) in steps.iter_mut().enumerate() {
+            let (targets, placement, fail_arc) = match &step.command {
+                Command::Move {
+                    holder: e,
+                    configurations,
+                    object: pose,
+                    ..
+                } => {
+                    let touching = lifted_from.take().or(put_down_after[index]);
+                    let placement = match (holder, touching) {
+                        (Some((_, g)), Some(surface)) if is_arm(*e) => ObjectPlacement::Placing {
+                            by: *e,
+                            grasp: grasp_pose(g),
+                            on: surface,
+                            also: lingering.filter(|l| l != e),
+                        },
+                        (Some((_, g)), None) if is_arm(*e) => match lingering.filter(|l| l != e) {
+                            Some(l) => ObjectPlacement::Handoff {
+                                a: *e,
+                                grasp_a: grasp_pose(g),
+                                b: l,
+                            },
+                            None => ObjectPlacement::Held {
+                                by: *e,
+                                grasp: grasp_pose(g),
+                            },
+                        },
+                        _ => ObjectPlacement::Absent,
+                    };
+                    if pose.is_some() {
+                        object_pose = *pose;
+                    }
+                    (configurations.clone(), placement, step_arc(step))
+                }
+                Command::Grasp {
+                    holder: receiver,
+                    grasp,
+                    configurations,
+                    object: pose,
+                    ..
+                } => {
+                    // Before the exchange the object is where the giver has it; the
+                    // receiver's hand reaches it at the end.
+                    let placement = match (holder, pose.or(object_pose)) {
+                        (Some((giver, g)), _) if is_arm(giver) && is_arm(*receiver) => {
+                            ObjectPlacement::Handoff {
+                                a: giver,
+                                grasp_a: grasp_pose(g),
+                                b: *receiver,
+                            }
+                        }
+                        (Some((giver, g)), _) if is_arm(giver) => ObjectPlacement::Placing {
+                            by: giver,
+                            grasp: grasp_pose(g),
+                            on: *receiver,
+                            also: lingering.filter(|l| *l != giver),
+                        },
+                        (Some((giver, _)), Some(p)) => ObjectPlacement::Resting {
+                            on: giver,
+                            pose: p,
+                            by: is_arm(*receiver).then_some(*receiver),
+                        },
+                        _ => ObjectPlacement::Absent,
+                    };
+                    if pose.is_some() {
+                        object_pose = *pose;
+                    }
+                    let targets = configurations.clone();
+                    // Taken from a surface: the next carry starts touching it.
+                    lifted_from = match holder {
+                        Some((giver, _)) if !is_arm(giver) && is_arm(*receiver) => Some(giver),
+                        _ => None,
+                    };
+                    holder = Some((*receiver, *grasp));
+                    (targets, placement, step_arc(step))
+                }
+                Command::Ungrasp { holder: giver, .. } => {
+                    // The arm that let go returns home, around the object's new holder.
+                    if !is_arm(*giver) {
+                        continue;
+                    }
+                    let Holder::Arm { home, .. } = &scene.holders[*giver as usize] else {
+                        continue;
+                    };
+                    // It starts with its hand on the object it just let go of: that contact
+                    // is allowed while it leaves.
+                    let placement = match (holder, object_pose) {
+                        (Some((now, g)), _) if is_arm(now) => ObjectPlacement::Handoff {
+                            a: now,
+                            grasp_a: grasp_pose(g),
+                            b: *giver,
+                        },
+                        (Some((now, _)), Some(p)) => ObjectPlacement::Resting {
+                            on: now,
+                            pose: p,
+                            by: Some(*giver),
+                        },
+                        _ => ObjectPlacement::Absent,
+                    };
+                    (vec![(*giver, home.clone())], placement, None)
+                }
+            };
+            let moving: Vec<(u32, Vec<f64>, Vec<f64>)> = targets
+                .iter()
+                .filter(|(e, _)| is_arm(*e))
+                .filter_map(|(e, goal)| {
+                    let now = arms.get(*e as usize)?.clone()?;
+                    let changes = now.iter().zip(goal).any(|(a, b)| (a - b).abs() > 1e-9);
+                    changes.then(|| (*e, now, goal.clone()))
+                })
+                .collect();
+            if moving.is_empty() {
+                continue;
+            }
+            let stationary: Vec<(u32, Vec<f64>)> = arms
+                .iter()
+                .enumerate()
+                .filter_map(|(e, q)| Some((e as u32, q.clone()?)))
+                .filter(|(e, _)| !moving.iter().any(|m| m.0 == *e))
+                .collect();
+            let moving_arms: Vec<u32> = moving.iter().map(|m| m.0).collect();
+            let from: Vec<f64> = moving.iter().flat_map(|m| m.1.iter().copied()).collect();
+            let to: Vec<f64> = moving.iter().flat_map(|m| m.2.iter().copied()).collect();
+            let motion = SceneValidity::new(scene, &moving_arms, &stationary, object, placement)
+                .map_err(MotionError::from)
+                .and_then(|validity| {
+                    let problem = MotionProblem {
+                        scene,
+                        arms: &moving_arms,
+                        start: &from,
+                        goal: &to,
+                        validity: &validity,
+                    };
+                    self.motion_planner.solve(&problem, rng, stop, &mut scratch)
+                });
+            match motion {
+                Ok(trajectory) => {
+                    for (e, _, goal) in &moving {
+                        arms[*e as usize] = Some(goal.clone());
+                    }
+                    if !matches!(step.command, Command::Ungrasp { .. }) {
+                        lingering = None;
+                    }
+                    step.motion = Some(trajectory);
+                    step.motion_context = Some(crate::plan::MotionContext {
+                        stationary,
+                        placement,
+                    });
+                }
+                Err(error) => {
+                    // A retreat that cannot be planned leaves the arm where it is.
+                    let Some(arc) = fail_arc else {
+                        if let Command::Ungrasp { holder: giver, .. } = &step.command {
+                            lingering = Some(*giver);
+                        }
+                        continue;
+                    };
+                    return Err(Failure {
+                        arc,
+                        reason: Infeasibility::NoPlacement {
+                            detail: format!("no collision-free motion: {error}"),
+                        },
+                    });
+                }
+            }
+        }
+        Ok(())
+    }
+}
