@@ -55,7 +55,8 @@ pub fn escape(text: &str) -> Cow<'_, str> {
 /// Source text for snippets: each hostile character replaced by as many `?` as it has
 /// bytes, so every span still points at the same bytes (a `\r` before `\n` is kept).
 fn neutralize(text: &str) -> Cow<'_, str> {
-    let hostile = |(i, c): (usize, char)| is_hostile(c) && !(c == '\r' && text[i + 1..].starts_with('\n'));
+    let hostile =
+        |(i, c): (usize, char)| is_hostile(c) && !(c == '\r' && text[i + 1..].starts_with('\n'));
     if !text.char_indices().any(hostile) {
         return Cow::Borrowed(text);
     }
@@ -283,7 +284,10 @@ impl<'a> Report<'a> {
         let file = diagnostic.primary_label().map(|l| l.file);
         let named = |f: FileId| {
             let s = sources.get(f);
-            NamedSource::new(escape(&s.path).into_owned(), neutralize(&s.text).into_owned())
+            NamedSource::new(
+                escape(&s.path).into_owned(),
+                neutralize(&s.text).into_owned(),
+            )
         };
         let source = file.map(named);
         let mut labels = Vec::new();

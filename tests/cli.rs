@@ -169,7 +169,13 @@ fn a_source_changed_since_the_build_is_reported_not_misquoted() {
     let source = std::fs::read_to_string("tests/ui/plan/R0004_no_way_across.cell").expect("ui");
     let cell = temp_file("stale.cell", &source);
     let artifact = cell.with_extension("json");
-    let built = cellc(&["build", cell.to_str().unwrap(), "-o", artifact.to_str().unwrap(), "--no-verify"]);
+    let built = cellc(&[
+        "build",
+        cell.to_str().unwrap(),
+        "-o",
+        artifact.to_str().unwrap(),
+        "--no-verify",
+    ]);
     assert!(built.status.success());
     let before = cellc(&["plan", artifact.to_str().unwrap()]);
     let before = String::from_utf8_lossy(&before.stderr).to_string();
@@ -179,7 +185,10 @@ fn a_source_changed_since_the_build_is_reported_not_misquoted() {
     let after = String::from_utf8_lossy(&after.stderr).to_string();
     assert!(after.contains("error[R0004]"), "{after}");
     assert!(!after.contains("movable left reaches w1"), "{after}");
-    assert!(after.contains("changed since the artifact was built"), "{after}");
+    assert!(
+        after.contains("changed since the artifact was built"),
+        "{after}"
+    );
 }
 
 /// A closed standard output ends `cellc` quietly (SIGPIPE), not with a panic message.
@@ -200,7 +209,10 @@ fn a_closed_pipe_ends_quietly() {
         env!("CARGO_BIN_EXE_cellc"),
         cell.display()
     );
-    let out = Command::new("bash").args(["-c", &script]).output().expect("bash runs");
+    let out = Command::new("bash")
+        .args(["-c", &script])
+        .output()
+        .expect("bash runs");
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(!stderr.contains("panicked"), "{stderr}");
     let status = String::from_utf8_lossy(&out.stdout).trim().to_string();
@@ -214,12 +226,51 @@ fn a_closed_pipe_ends_quietly() {
 fn plan_json_output_is_json_on_every_path() {
     let cases: &[&[&str]] = &[
         &["plan", "cells/fig3.cell", "--format", "json"],
-        &["plan", "cells/fig3.cell", "--format", "json", "--request", "nope"],
+        &[
+            "plan",
+            "cells/fig3.cell",
+            "--format",
+            "json",
+            "--request",
+            "nope",
+        ],
         &["plan", "no/such/file.json", "--format", "json"],
-        &["plan", "tests/ui/artifact/E0503_truncated.json", "--format", "json"],
-        &["plan", "tests/ui/plan/R0004_no_way_across.cell", "--format", "json"],
-        &["plan", "cells/fig3.cell", "--format", "json", "--object", "cylinder", "--from", "tabel in w1", "--to", "table in w3"],
-        &["plan", "cells/fig3.cell", "--format", "json", "--object", "cylinder", "--from", "table at (", "--to", "table in w3"],
+        &[
+            "plan",
+            "tests/ui/artifact/E0503_truncated.json",
+            "--format",
+            "json",
+        ],
+        &[
+            "plan",
+            "tests/ui/plan/R0004_no_way_across.cell",
+            "--format",
+            "json",
+        ],
+        &[
+            "plan",
+            "cells/fig3.cell",
+            "--format",
+            "json",
+            "--object",
+            "cylinder",
+            "--from",
+            "tabel in w1",
+            "--to",
+            "table in w3",
+        ],
+        &[
+            "plan",
+            "cells/fig3.cell",
+            "--format",
+            "json",
+            "--object",
+            "cylinder",
+            "--from",
+            "table at (",
+            "--to",
+            "table in w3",
+        ],
     ];
     for args in cases {
         let out = cellc(args);

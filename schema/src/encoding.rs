@@ -54,9 +54,9 @@ impl std::fmt::Display for ReadError {
             ReadError::Corrupt { detail } => {
                 write!(f, "the artifact is truncated or corrupted: {detail}")
             }
-            ReadError::Damaged => f.write_str(
-                "the artifact is damaged: its content does not match its checksum",
-            ),
+            ReadError::Damaged => {
+                f.write_str("the artifact is damaged: its content does not match its checksum")
+            }
             ReadError::Invalid(invalid) => write!(f, "the artifact is inconsistent: {invalid}"),
         }
     }

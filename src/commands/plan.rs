@@ -169,14 +169,19 @@ pub fn load(input: &str, seed: u64, format: PlanFormat) -> Result<Loaded, ExitCo
     let mut cell = match Cell::from_artifact(artifact, &FsFiles) {
         Ok(cell) => cell,
         Err(LoadError::Scene(e)) => {
-            emit(format, 
+            emit(
+                format,
                 &[crate::verify_report::scene_error_at(&e, &robots, &spans)],
                 &sources,
             );
             return Err(ExitCode::from(1));
         }
         Err(LoadError::Artifact(e)) => {
-            emit(format, &[crate::artifact_io::diagnostic(input, &e)], &sources);
+            emit(
+                format,
+                &[crate::artifact_io::diagnostic(input, &e)],
+                &sources,
+            );
             return Err(ExitCode::from(1));
         }
         Err(e) => {
