@@ -284,10 +284,7 @@ impl<'a> Report<'a> {
         let file = diagnostic.primary_label().map(|l| l.file);
         let named = |f: FileId| {
             let s = sources.get(f);
-            NamedSource::new(
-                escape(&s.path).into_owned(),
-                neutralize(&s.text).into_owned(),
-            )
+            NamedSource::new(&*escape(&s.path), neutralize(&s.text).into_owned())
         };
         let source = file.map(named);
         let mut labels = Vec::new();

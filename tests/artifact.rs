@@ -91,7 +91,8 @@ fn every_bit_flip_is_refused() {
 #[test]
 fn inconsistent_artifacts_with_valid_checksums_are_refused() {
     let base = build("cells/vito.cell");
-    let cases: Vec<(&str, Box<dyn Fn(&mut Artifact)>)> = vec![
+    type Damage = Box<dyn Fn(&mut Artifact)>;
+    let cases: Vec<(&str, Damage)> = vec![
         (
             "arc to a node that does not exist",
             Box::new(|a| a.objects[0].graph.arcs[0].to = 10_000),

@@ -130,7 +130,7 @@ mod tests {
             assert!((centre.z - 0.8).abs() < 1e-12);
             assert!(workspace[..2]
                 .iter()
-                .any(|b| crate::math::contains_point(&b, &centre)));
+                .any(|b| crate::math::contains_point(b, &centre)));
             assert!((0.0..=1.0).contains(&centre.x) && (0.0..=1.0).contains(&centre.y));
             // Upright: only turned about the vertical.
             let up = pose.rotation * Vec3::z();

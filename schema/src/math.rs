@@ -81,6 +81,12 @@ pub fn overlap(a: &Aabb, b: &Aabb) -> Option<Aabb> {
         .then(|| Aabb::new(mins.into(), maxs.into()))
 }
 
+/// True when every coordinate of the pose is a finite number.
+pub fn is_finite(p: &Iso) -> bool {
+    p.translation.vector.iter().all(|x| x.is_finite())
+        && p.rotation.coords.iter().all(|x| x.is_finite())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -113,10 +119,4 @@ mod tests {
         assert_eq!(overlap(&b, &inner), Some(inner));
         assert!(contains_box(&b, &inner) && !contains_box(&inner, &b));
     }
-}
-
-/// True when every coordinate of the pose is a finite number.
-pub fn is_finite(p: &Iso) -> bool {
-    p.translation.vector.iter().all(|x| x.is_finite())
-        && p.rotation.coords.iter().all(|x| x.is_finite())
 }
