@@ -1,7 +1,8 @@
-//! The pruned and failed arcs that matter: those that would have joined the sides.
+//! The pruned and failed arcs that matter: those that would have joined the sides, or,
+//! when the graph connects anyway, those that failed during the request.
 
 use super::context::Ctx;
-use super::{LostArc, MAX_PRUNED};
+use super::{GaveUp, LostArc, MAX_PRUNED};
 
 impl Ctx<'_> {
     /// Pruned and failed arcs on some start-to-goal path once they are all restored, those
@@ -37,5 +38,24 @@ impl Ctx<'_> {
             .map(|(_, i)| self.lost_arc(i))
             .collect();
         (arcs, omitted)
+    }
+
+    /// Why the planner gave up on a graph that connects: the arcs that failed during the
+    /// request, in the order they failed.
+    pub fn gave_up(&self) -> GaveUp {
+        let failed: Vec<usize> = (0..self.lost.len())
+            .filter(|&i| self.lost[i].failed)
+            .collect();
+        if failed.is_empty() {
+            return GaveUp::NothingFailed;
+        }
+        GaveUp::Backtracks {
+            omitted: failed.len().saturating_sub(MAX_PRUNED),
+            failed: failed
+                .into_iter()
+                .take(MAX_PRUNED)
+                .map(|i| self.lost_arc(i))
+                .collect(),
+        }
     }
 }

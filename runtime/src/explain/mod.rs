@@ -27,24 +27,38 @@
 //!   sides reach no common workspace; else only fixed surfaces hold it (they never
 //!   exchange it); else where each side lies.
 //! - Suggestions (`suggest.rs`): the fewest changes to the cell that connect the start to
-//!   the goal. A single change is tried first: declaring a transition (both ways, as the
-//!   cell normally writes it) between two grasps held by different end-effectors that
-//!   share a workspace, never two fixed ones; declaring an adjacency (cells that declare
-//!   theirs); making a pruned or failed arc feasible; extending a movable end-effector's
-//!   reach to one more workspace. Only when none connects, sets of changes along a path
-//!   that needs the fewest of them (a 0-1 breadth-first search where existing arcs cost
-//!   nothing and each hypothetical arc costs one), also after each of the nearest reach
-//!   extensions. Every suggestion is checked (`overlay.rs`) by adding every arc it would
-//!   create, as the shared graph rules ([`cellc_schema::rules`], the compiler's) say, and
-//!   searching again; only those that really connect are kept. They are ranked by number
-//!   of changes, then by whether they repeat something that already failed kinematically
-//!   (a new transition between two hands in a workspace where every declared one between
-//!   them was infeasible), then by kind (a transition is the cheapest edit, a reach
-//!   extension the dearest), then by how far a reach must grow, then by the cost of the
-//!   plan they give. Doubtful ones are dropped when others exist, and so are reach
-//!   extensions (a robot moved or replaced) when a declaration or a geometric fix
-//!   connects; one suggestion per idea (per root cause of pruned arcs, per pair of hands
-//!   and workspace of a new transition); at most three.
+//!   the goal, each an edit of something the cell's author wrote, so that it can be made
+//!   as a text edit of the source (and never names a derived workspace, whose name
+//!   changes with the reach it comes from). A single change is tried first: declaring a
+//!   transition (both ways, as the cell normally writes it) between two grasps held by
+//!   different end-effectors that share a workspace, never two fixed ones; declaring an
+//!   adjacency between two declared workspaces (cells that declare theirs); declaring
+//!   `allow contact` for two bodies whose collision is all that removed some arcs;
+//!   extending a movable end-effector's reach to one more workspace (a declared workspace
+//!   added to the `reaches` list of an end-effector without geometry, or an arm's reach
+//!   box grown over the workspace's boxes, given as boxes in metres). Arcs infeasible for
+//!   other reasons (no IK solution, no closed chain, no placement) are explained, not
+//!   suggested away: which base to move and by how much is not known here. Only when no
+//!   single change connects, sets of changes along a path that needs the fewest of them (a
+//!   0-1 breadth-first search where existing arcs cost nothing and each hypothetical arc
+//!   costs one), also after each of the nearest reach extensions. Every suggestion is
+//!   checked (`overlay.rs`) by adding every arc it would create, as the shared graph rules
+//!   ([`cellc_schema::rules`], the compiler's) say, and searching again; only those that
+//!   really connect are kept. They are ranked by number of changes, then by whether they
+//!   repeat something that already failed kinematically (a new transition between two
+//!   hands in a workspace where every declared one between them was infeasible), then by
+//!   kind (a transition is the cheapest edit, a reach extension the dearest), then by how
+//!   far a reach must grow, then by the cost of the plan they give. Doubtful ones are
+//!   dropped when others exist, and so are reach extensions (a robot moved or replaced)
+//!   when a declaration connects; one suggestion per idea (per pair of hands and workspace
+//!   of a new transition); at most three.
+//! - A goal that is the start's own state at another pose (a pick-and-place within one
+//!   state): the object must leave the start and come back, so R is what the start
+//!   reaches and G what leads back, and a path must take at least one arc
+//!   ([`Explanation::must_leave`]).
+//! - When the graph does connect the start to a goal, the planner gave up for a reason
+//!   the graph does not show: the arcs that failed during the request, with why
+//!   ([`GaveUp`]).
 //! - Pruned arcs (`lost.rs`): the pruned or failed arcs that lie on some start-to-goal
 //!   path of the graph with every pruned and failed arc restored, those on the border of R
 //!   or G first.
@@ -56,7 +70,8 @@ mod overlay;
 mod suggest;
 
 use cellc_schema::{
-    ArcKind, Artifact, EndEffectorId, GraspId, Infeasibility, NodeId, ObjectId, SpanId, WorkspaceId,
+    Aabb, ArcKind, Artifact, EndEffectorId, GraspId, Infeasibility, NodeId, ObjectId, SpanId,
+    WorkspaceId,
 };
 
 use crate::plan::Unreachable;
@@ -95,6 +110,28 @@ pub struct Explanation {
     pub pruned: Vec<LostArc>,
     /// Arcs left out of [`Explanation::pruned`].
     pub pruned_omitted: usize,
+    /// The goal is the start's own state at another pose: a plan must leave the start and
+    /// come back, so the start is on both sides and every path takes at least one arc.
+    pub must_leave: bool,
+    /// When the graph connects the start to a goal ([`Cause::Connected`]): why the
+    /// planner found no plan anyway.
+    pub gave_up: Option<GaveUp>,
+}
+
+/// Why the planner found no plan although the graph connects the start to a goal.
+#[derive(Clone, Debug, PartialEq)]
+pub enum GaveUp {
+    /// Steps failed during the request (each removed its arc and the search ran again),
+    /// and the planner stopped at its limit of backtracks while other paths remained.
+    Backtracks {
+        /// The arcs that failed, in the order they failed, with why.
+        failed: Vec<LostArc>,
+        /// Failed arcs left out of `failed`.
+        omitted: usize,
+    },
+    /// No step failed: the answer does not fit the artifact (a caller's inconsistent
+    /// data; the planner never gives such an answer).
+    NothingFailed,
 }
 
 /// What kind of problem separates the start from the goal.
@@ -107,9 +144,9 @@ pub enum Cause {
     Pruned,
     /// Arcs that failed during this request are needed (possibly with pruned ones).
     Failed,
-    /// The graph does connect the start to a goal: nothing to explain (the request failed
-    /// for another reason, or the caller's data is inconsistent). Such an explanation has
-    /// its sides, and no cut, suggestions or pruned arcs.
+    /// The graph does connect the start to a goal: the planner gave up for the reason in
+    /// [`Explanation::gave_up`] (steps that failed, with why). Such an explanation has its
+    /// sides, and no cut, suggestions or pruned arcs.
     Connected,
 }
 
@@ -371,10 +408,14 @@ pub struct LostArc {
     pub source: Option<SpanId>,
 }
 
-/// One change to the cell, with how the plan would use it.
+/// One change to the cell, with how the plan would use it. Each is an edit of a named item
+/// of the cell's source (the object's transitions, an `adjacent` line, an end-effector's
+/// `reaches` list, an arm's `reach` box, an `allow contact` line), never of a derived
+/// workspace's name.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Change {
-    /// Declare `transition from_grasp <-> to_grasp` in the object.
+    /// Declare `transition from_grasp <-> to_grasp` in the object, or, when `reverse_of`
+    /// is given, the missing direction `from_grasp -> to_grasp` of that declaration.
     AddTransition {
         /// Grasp given up on the way to the goal.
         from_grasp: GraspId,
@@ -387,7 +428,7 @@ pub enum Change {
         /// two-way declaration may serve twice).
         exchanges: Vec<Exchange>,
     },
-    /// Declare `adjacent a b`.
+    /// Declare `adjacent a b` (two declared workspaces).
     AddAdjacency {
         /// A workspace.
         a: WorkspaceId,
@@ -396,20 +437,79 @@ pub enum Change {
         /// The hand the plan would carry the object with between them.
         carrier: Option<EndEffectorId>,
     },
-    /// Extend a movable end-effector's reach to cover one more workspace.
-    ExtendReach {
+    /// Add a declared workspace to the `reaches` list of a movable end-effector without
+    /// geometry.
+    ExtendReaches {
         /// The end-effector.
         end_effector: EndEffectorId,
+        /// The workspace to add.
+        workspace: WorkspaceId,
+        /// The end-effectors it would exchange the object with there.
+        meets: Vec<EndEffectorId>,
+    },
+    /// Grow one of an arm's reach boxes (a `reach` line) so that it covers the boxes of a
+    /// workspace the arm does not reach. The workspace is given for the graph; when it is
+    /// derived from reach its name changes with the edit, so what to cover is `region`.
+    GrowReach {
+        /// The arm.
+        end_effector: EndEffectorId,
+        /// The reach box to grow (index into the end-effector's `reach_boxes`, the one
+        /// nearest the workspace); `None` when the arm has none (then a `reach` line with
+        /// `grown` is added).
+        reach_box: Option<u32>,
+        /// The box it becomes: the smallest one holding the old box and `region`, metres.
+        grown: Aabb,
+        /// The workspace's boxes, which the reach must cover, metres.
+        region: Vec<Aabb>,
         /// The workspace.
         workspace: WorkspaceId,
-        /// How far the reach boxes are from the workspace's boxes, metres (when both have
-        /// geometry).
+        /// How far the reach boxes are from the workspace's boxes, metres (None: the arm
+        /// has no reach box).
         distance: Option<f64>,
         /// The end-effectors it would exchange the object with there.
         meets: Vec<EndEffectorId>,
     },
-    /// Make an arc that was pruned (or failed) feasible, e.g. by moving an arm.
-    RelaxPruned(LostArc),
+    /// Declare `allow contact a b`: arcs were lost because these two bodies collide, and
+    /// verification and planning would ignore that contact.
+    AllowContact {
+        /// A body.
+        a: BodyName,
+        /// The other.
+        b: BodyName,
+        /// The arcs lost for that collision, which the plan would use again.
+        arcs: Vec<LostArc>,
+    },
+}
+
+/// A collision body as `allow contact` names it: an end-effector (an arm with its hand, a
+/// surface's slab), an obstacle, an object, or a part of an arm (`left.lwr_link_7`,
+/// `left.softhand`).
+#[derive(Clone, Debug, PartialEq, Eq, PartialOrd, Ord)]
+pub struct BodyName {
+    /// The end-effector, obstacle or object.
+    pub owner: String,
+    /// The arm's link or hand kind.
+    pub part: Option<String>,
+}
+
+impl BodyName {
+    /// The body the collision world calls `name` (`arm/link` for a part of an arm), when
+    /// the cell has something of that name to write.
+    pub fn of(artifact: &Artifact, name: &str) -> Option<BodyName> {
+        let (owner, part) = match name.split_once('/') {
+            Some((owner, part)) if !part.is_empty() => (owner, Some(part)),
+            Some(_) => return None,
+            None => (name, None),
+        };
+        let end_effector = artifact.end_effectors.iter().any(|e| e.name == owner);
+        let other = artifact.obstacles.iter().any(|(o, _)| o == owner)
+            || artifact.objects.iter().any(|o| o.name == owner);
+        let known = end_effector || (part.is_none() && other);
+        known.then(|| BodyName {
+            owner: owner.to_string(),
+            part: part.map(str::to_string),
+        })
+    }
 }
 
 /// An exchange of the object between two end-effectors.
@@ -424,12 +524,15 @@ pub struct Exchange {
 }
 
 impl Change {
-    /// The source places to edit: the one-way transition to make two-way or the two
-    /// grasps to join, the two workspaces, the end-effector, or the arc's declaration.
+    /// The source places the change edits or concerns: the one-way transition to make
+    /// two-way or the two grasps to join, the two workspaces, the end-effector, or the
+    /// declarations of the arcs a contact removed.
     pub fn places(&self, artifact: &Artifact, object: ObjectId) -> Vec<SpanId> {
         let obj = artifact.objects.get(object.index());
         let grasp = |g: GraspId| obj.and_then(|o| o.grasps.get(g.index())).map(|x| x.span);
         let workspace = |w: WorkspaceId| artifact.workspaces.get(w.index()).map(|x| x.span);
+        let end_effector =
+            |e: EndEffectorId| artifact.end_effectors.get(e.index()).map(|x| x.span);
         let spans: Vec<Option<u32>> = match self {
             Change::AddTransition {
                 reverse_of: Some(s),
@@ -441,15 +544,15 @@ impl Change {
                 ..
             } => vec![grasp(*from_grasp), grasp(*to_grasp)],
             Change::AddAdjacency { a, b, .. } => vec![workspace(*a), workspace(*b)],
-            Change::ExtendReach { end_effector, .. } => {
-                vec![artifact
-                    .end_effectors
-                    .get(end_effector.index())
-                    .map(|x| x.span)]
+            Change::ExtendReaches { end_effector: e, .. }
+            | Change::GrowReach { end_effector: e, .. } => vec![end_effector(*e)],
+            Change::AllowContact { arcs, .. } => {
+                arcs.iter().map(|a| a.source.map(|s| s.0)).collect()
             }
-            Change::RelaxPruned(arc) => vec![arc.source.map(|s| s.0)],
         };
-        spans.into_iter().flatten().map(SpanId).collect()
+        let mut out: Vec<SpanId> = spans.into_iter().flatten().map(SpanId).collect();
+        out.dedup();
+        out
     }
 }
 
@@ -492,8 +595,11 @@ impl Ctx<'_> {
             suggestions: Vec::new(),
             pruned: Vec::new(),
             pruned_omitted: 0,
+            must_leave: self.must_leave,
+            gave_up: None,
         };
-        if self.goals.iter().any(|&g| self.in_r[g as usize]) {
+        if self.connected() {
+            out.gave_up = Some(self.gave_up());
             return out;
         }
         out.cause = self.cause();
