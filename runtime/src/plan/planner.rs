@@ -619,7 +619,7 @@ impl<'a> Planner<'a> {
                     return Err(Failure {
                         arc,
                         reason: Infeasibility::NoPlacement {
-                            detail: format!("no collision-free motion: {error}"),
+                            detail: format!("{}: {error}", super::NO_MOTION),
                         },
                     });
                 }
