@@ -229,12 +229,13 @@ impl<'a> Places<'a> {
         let text = self.text(file)?;
         let close = text.rfind('}')?;
         let line_start = text[..close].rfind('\n').map_or(0, |i| i + 1);
-        let at = if text[line_start..close].trim().is_empty() {
-            line_start
+        // Alone on its line: the new line goes before it; after other text: before the
+        // brace, on a line of its own.
+        let (at, newline) = if text[line_start..close].trim().is_empty() {
+            (line_start, "")
         } else {
-            close
+            (close, "\n")
         };
-        let newline = if at == close { "\n" } else { "" };
         Some(SourceEdit {
             file,
             span: Span::new(at, at),

@@ -16,7 +16,7 @@ use explain_cells::*;
 /// The diagnostic of an unreachable request, checked as every one must be.
 fn render((d, req): &(Desc, Req)) -> Diagnostic {
     let art = d.build();
-    let diagnostic = cellc::explain_report::unreachable(&art, &unreachable(d, &art, req));
+    let diagnostic = cellc::explain_report::unreachable(&art, &unreachable(d, &art, req), None);
     println!("{diagnostic:#?}");
     let message = &diagnostic.message;
     assert!(message.starts_with(|c: char| c.is_lowercase()), "{message}");
@@ -268,7 +268,7 @@ fn a_request_outside_the_graph_says_what_does_not_fit() {
     let (d, _) = fig3_connected();
     let art = d.build();
     let mut un = unreachable(&d, &art, &Req::new(st("table", "g1", "w1"), vec![]));
-    let message = |un: &_| cellc::explain_report::unreachable(&art, un).message;
+    let message = |un: &_| cellc::explain_report::unreachable(&art, un, None).message;
     assert_eq!(
         message(&un),
         "no goal state of the request is a state of `cylinder`'s graph"

@@ -93,40 +93,41 @@ impl Words<'_> {
                 });
                 let mut text = match old {
                     Some(old) => format!(
-                        "grow the reach box of {e} ({}) to {}",
+                        "grow the reach box of {e} from {} to {}",
                         box_text(old),
                         box_text(grown)
                     ),
                     None => format!("give {e} the reach box {}", box_text(grown)),
                 };
                 // A derived workspace is named by its region: its name goes with the edit.
-                let derived = self
+                let declared = self
                     .art
                     .workspaces
                     .get(workspace.index())
-                    .is_none_or(|w| w.derived);
+                    .filter(|w| !w.derived);
                 let cover = list(region.iter().map(box_text).collect(), "and");
-                if derived {
-                    let reachers: Vec<EndEffectorId> = self
-                        .art
-                        .end_effectors
-                        .iter()
-                        .enumerate()
-                        .filter(|(_, x)| x.reaches.contains(&workspace.0))
-                        .map(|(i, _)| EndEffectorId(i as u32))
-                        .collect();
-                    text.push_str(&format!(
-                        ", so that it covers {cover}, where {} reach",
-                        self.ee_list(&reachers, "and")
-                    ));
-                } else {
-                    text.push_str(&format!(
-                        ", so that it covers {} ({cover})",
+                let away = distance
+                    .filter(|d| *d > 0.0)
+                    .map_or_else(String::new, |d| format!(", {} away", metres(d)));
+                match declared {
+                    Some(_) => text.push_str(&format!(
+                        ", so that it covers {} ({cover}{away})",
                         self.ws(*workspace)
-                    ));
-                }
-                if let Some(d) = distance.filter(|d| *d > 0.0) {
-                    text.push_str(&format!(", {} beyond it now", metres(d)));
+                    )),
+                    None => {
+                        let reachers: Vec<EndEffectorId> = self
+                            .art
+                            .end_effectors
+                            .iter()
+                            .enumerate()
+                            .filter(|(_, x)| x.reaches.contains(&workspace.0))
+                            .map(|(i, _)| EndEffectorId(i as u32))
+                            .collect();
+                        text.push_str(&format!(
+                            ", so that it covers {cover} (where {} reach{away})",
+                            self.ee_list(&reachers, "and")
+                        ));
+                    }
                 }
                 text.push_str(&self.meets(meets));
                 text
@@ -142,12 +143,7 @@ impl Words<'_> {
                     ),
                     [] => "arcs".to_string(),
                 };
-                format!(
-                    "declare {line} if that contact is harmless: the collision of {} with {} \
-                     removed {what}",
-                    q(&body(a)),
-                    q(&body(b))
-                )
+                format!("declare {line} if they may touch (their collision removed {what})")
             }
         }
     }

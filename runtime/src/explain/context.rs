@@ -61,6 +61,9 @@ pub(super) struct Ctx<'a> {
     /// Pairs of bodies whose collision removed arcs and that `allow contact` could name,
     /// each once.
     pub contacts: Vec<(BodyName, BodyName)>,
+    /// Per pair, the group of pairs that must be allowed together (see
+    /// [`contact_pairs`]).
+    pub contact_group: Vec<u32>,
     /// Per lost arc, its pair in [`Ctx::contacts`] (None: lost for another reason).
     pub contact_of: Vec<Option<u32>>,
     /// The cell's graph rules (the compiler's), for what changes would add.
@@ -174,7 +177,7 @@ impl<'a> Ctx<'a> {
         if goals.is_empty() {
             return Err(NoStates::Goals);
         }
-        let (contacts, contact_of) = contact_pairs(art, &lost);
+        let (contacts, contact_group, contact_of) = contact_pairs(art, nodes, &lost);
         let mut is_goal = vec![false; n];
         for &g in &goals {
             is_goal[g as usize] = true;
@@ -195,6 +198,7 @@ impl<'a> Ctx<'a> {
             lost,
             lost_from,
             contacts,
+            contact_group,
             contact_of,
             rules,
             object_rules: ObjectRules::from_artifact(art, obj),
@@ -318,6 +322,12 @@ impl<'a> Ctx<'a> {
                 .is_some_and(|x| !x.derived)
         };
         declared(a) && declared(b)
+    }
+
+    /// The group of pairs that must be allowed together for the lost arc `i`, if any.
+    pub fn contact_key(&self, i: usize) -> Option<u32> {
+        let pair = self.contact_of.get(i).copied().flatten()?;
+        self.contact_group.get(pair as usize).copied()
     }
 
     pub fn node(&self, i: u32) -> Node {
@@ -468,14 +478,30 @@ fn lost_arcs(art: &Artifact, obj: &Object, un: &Unreachable) -> Vec<Lost> {
 
 /// The pairs of bodies whose collision removed some lost arcs, when `allow contact` can
 /// name both (an end-effector, a part of one (`arm/link`, `arm/hand kind`), an obstacle
-/// or an object) and the cell does not allow that contact already; and each lost arc's
-/// pair.
-fn contact_pairs(art: &Artifact, lost: &[Lost]) -> (Vec<(BodyName, BodyName)>, Vec<Option<u32>>) {
+/// or an object) and the cell does not allow that contact already; their groups; and each
+/// lost arc's pair.
+///
+/// Verification records one colliding pair per arc, the first it met. A pair where an
+/// arm that holds nothing in the arc collides (standing at home, e.g. its base in the
+/// torso it is bolted onto) spoils every check that arm stands by in, so any arc it was
+/// reported for may well collide in another such pair too: all of those pairs form one
+/// group, allowed together. Every other pair is a group of its own.
+fn contact_pairs(
+    art: &Artifact,
+    nodes: &[Node],
+    lost: &[Lost],
+) -> (Vec<(BodyName, BodyName)>, Vec<u32>, Vec<Option<u32>>) {
     let mut pairs: Vec<(BodyName, BodyName)> = Vec::new();
+    let mut standing = Vec::new();
     let allowed = |a: &str, b: &str| {
         art.allowed_contacts
             .iter()
             .any(|(x, y)| (x == a && y == b) || (x == b && y == a))
+    };
+    let arm = |owner: &str| {
+        art.end_effectors
+            .iter()
+            .position(|e| e.name == owner && matches!(e.body, Body::Arm { .. }))
     };
     let of = lost
         .iter()
@@ -487,15 +513,29 @@ fn contact_pairs(art: &Artifact, lost: &[Lost]) -> (Vec<(BodyName, BodyName)>, V
             if x == y || allowed(a, b) {
                 return None;
             }
+            let holders = [l.from, l.to].map(|i| nodes[i as usize].end_effector as usize);
+            let stands_by = [&x, &y]
+                .iter()
+                .any(|body| arm(&body.owner).is_some_and(|e| !holders.contains(&e)));
             let pair = if x <= y { (x, y) } else { (y, x) };
             let i = pairs.iter().position(|p| *p == pair).unwrap_or_else(|| {
                 pairs.push(pair);
+                standing.push(false);
                 pairs.len() - 1
             });
+            standing[i] |= stands_by;
             Some(i as u32)
         })
         .collect();
-    (pairs, of)
+    // The standing pairs share the first one's group; the others are their own.
+    let first_standing = standing.iter().position(|&s| s);
+    let groups = (0..pairs.len())
+        .map(|i| match first_standing {
+            Some(f) if standing[i] => f as u32,
+            _ => i as u32,
+        })
+        .collect();
+    (pairs, groups, of)
 }
 
 /// The adjacency of an artifact that does not record it, read off the move arcs. A move

@@ -21,8 +21,8 @@ pub(super) enum Key {
     Adjacency(u32, u32),
     /// (end-effector, workspace).
     Reach(u32, u32),
-    /// `allow contact` for a pair of bodies (index into [`Ctx::contacts`]): every arc lost
-    /// for their collision comes back.
+    /// `allow contact` for a group of pairs of bodies (see [`Ctx::contact_group`]): every
+    /// arc lost for their collisions comes back.
     Contact(u32),
 }
 
@@ -120,9 +120,9 @@ impl Ctx<'_> {
                 Key::Transition(a, _) => vec![Edit::Transition(GraspId(a), GraspId(a))],
                 Key::Adjacency(a, b) => vec![Edit::Adjacency(WorkspaceId(a), WorkspaceId(b))],
                 Key::Reach(e, w) => vec![Edit::Reach(EndEffectorId(e), WorkspaceId(w))],
-                Key::Contact(p) => {
+                Key::Contact(g) => {
                     for (i, l) in self.lost.iter().enumerate() {
-                        if self.contact_of[i] == Some(p) {
+                        if self.contact_key(i) == Some(g) {
                             ov.arcs.push(NewArc {
                                 from: l.from,
                                 to: l.to,

@@ -185,12 +185,12 @@ impl Ctx<'_> {
         // An allowed contact helps if one of the arcs its collision removed leaves R.
         let mut contacts = BTreeSet::new();
         for (i, l) in self.lost.iter().enumerate() {
-            if let (Some(p), true) = (self.contact_of[i], self.in_r[l.from as usize]) {
-                contacts.insert(p);
+            if let (Some(g), true) = (self.contact_key(i), self.in_r[l.from as usize]) {
+                contacts.insert(g);
             }
         }
-        for p in contacts.into_iter().take(MAX_TRIES) {
-            found.extend(self.try_keys(vec![Key::Contact(p)]));
+        for g in contacts.into_iter().take(MAX_TRIES) {
+            found.extend(self.try_keys(vec![Key::Contact(g)]));
         }
         // The new states of a reach extension join R by a move of the hand or a
         // transition in the new workspace, and G likewise.
@@ -337,8 +337,8 @@ impl Ctx<'_> {
             if ui < n {
                 next.extend(self.fwd[ui].iter().map(|&(v, _)| (v, None)));
                 next.extend(self.lost_from[ui].iter().filter_map(|&i| {
-                    let pair = self.contact_of[i]?;
-                    Some((self.lost[i].to, Some(Key::Contact(pair))))
+                    let group = self.contact_key(i)?;
+                    Some((self.lost[i].to, Some(Key::Contact(group))))
                 }));
             }
             next.extend(extra_from.get(&u).into_iter().flatten().map(|&v| (v, None)));
@@ -420,7 +420,7 @@ impl Ctx<'_> {
             .keys
             .iter()
             .enumerate()
-            .map(|(ci, &key)| {
+            .flat_map(|(ci, &key)| {
                 let used: Vec<(Node, Node)> = c
                     .route
                     .arcs
@@ -431,7 +431,7 @@ impl Ctx<'_> {
                         Some((x, self.overlay_node(&c.overlay, a.to)?))
                     })
                     .collect();
-                self.change(key, &used)
+                self.changes(key, &used)
             })
             .collect();
         Suggestion {
@@ -440,8 +440,9 @@ impl Ctx<'_> {
         }
     }
 
-    /// A change, with the arcs it makes that the plan would use.
-    fn change(&self, key: Key, used: &[(Node, Node)]) -> Change {
+    /// The changes a key stands for (one, or one `allow contact` per pair of its group),
+    /// with the arcs they make that the plan would use.
+    fn changes(&self, key: Key, used: &[(Node, Node)]) -> Vec<Change> {
         // The exchanges the plan would make: between two end-effectors in one workspace.
         let exchanges = || {
             let mut out: Vec<Exchange> = Vec::new();
@@ -470,18 +471,18 @@ impl Ctx<'_> {
                     .declared
                     .get(&(to, from))
                     .and_then(|s| s.first().copied());
-                Change::AddTransition {
+                vec![Change::AddTransition {
                     from_grasp: GraspId(from),
                     to_grasp: GraspId(to),
                     reverse_of: reverse_of.map(SpanId),
                     exchanges: exchanges(),
-                }
+                }]
             }
-            Key::Adjacency(a, b) => Change::AddAdjacency {
+            Key::Adjacency(a, b) => vec![Change::AddAdjacency {
                 a: WorkspaceId(a),
                 b: WorkspaceId(b),
                 carrier: used.first().map(|(x, _)| EndEffectorId(x.end_effector)),
-            },
+            }],
             Key::Reach(e, w) => {
                 let meets: BTreeSet<u32> = exchanges()
                     .iter()
@@ -495,14 +496,14 @@ impl Ctx<'_> {
                     .get(e as usize)
                     .is_some_and(|x| matches!(x.body, Body::Arm { .. }));
                 if !arm {
-                    return Change::ExtendReaches {
+                    return vec![Change::ExtendReaches {
                         end_effector: EndEffectorId(e),
                         workspace: WorkspaceId(w),
                         meets,
-                    };
+                    }];
                 }
                 let (reach_box, grown) = self.grown_reach(e, w);
-                Change::GrowReach {
+                vec![Change::GrowReach {
                     end_effector: EndEffectorId(e),
                     reach_box,
                     grown,
@@ -515,16 +516,19 @@ impl Ctx<'_> {
                     workspace: WorkspaceId(w),
                     distance: self.reach_distance(e, w),
                     meets,
-                }
+                }]
             }
-            Key::Contact(p) => {
-                let (a, b) = self.contacts[p as usize].clone();
-                let arcs = (0..self.lost.len())
-                    .filter(|&i| self.contact_of[i] == Some(p))
-                    .map(|i| self.lost_arc(i))
-                    .collect();
-                Change::AllowContact { a, b, arcs }
-            }
+            Key::Contact(g) => (0..self.contacts.len())
+                .filter(|&p| self.contact_group[p] == g)
+                .map(|p| {
+                    let (a, b) = self.contacts[p].clone();
+                    let arcs = (0..self.lost.len())
+                        .filter(|&i| self.contact_of[i] == Some(p as u32))
+                        .map(|i| self.lost_arc(i))
+                        .collect();
+                    Change::AllowContact { a, b, arcs }
+                })
+                .collect(),
         }
     }
 }
