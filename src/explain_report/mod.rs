@@ -231,8 +231,8 @@ impl Words<'_> {
         };
         match (ex.cause, lost) {
             (Cause::Connected, Some(arc)) => format!(
-                "each failed step removed its arc and the search ran again until the planner \
-                 stopped; for the first one: {}",
+                "the planner removes the arc of each step that fails and searches again, up to \
+                 its limit of backtracks; to make the first one feasible: {}",
                 self.reason_hint(&arc.reason, WorkspaceId(self.node(arc.to).workspace))
             ),
             (Cause::Connected, None) => {
@@ -240,7 +240,7 @@ impl Words<'_> {
             }
             (_, Some(arc)) => format!(
                 "no edit of the cell's declarations joins the two sides, and the arcs that would \
-                 are infeasible; for the first one: {}",
+                 are infeasible; to make the first one feasible: {}",
                 self.reason_hint(&arc.reason, WorkspaceId(self.node(arc.to).workspace))
             ),
             (_, None) => {

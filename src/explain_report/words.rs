@@ -257,9 +257,14 @@ impl<'a> Words<'a> {
             Infeasibility::Collision { a, b } => {
                 format!("{} collides with {}", q(a), q(b))
             }
-            // A blocked motion says so itself (`no collision-free motion: ...`).
+            // A blocked motion says so itself (`no collision-free motion: ...`), once.
             Infeasibility::NoPlacement { detail } if detail.starts_with(NO_MOTION) => {
-                detail.clone()
+                let error = detail[NO_MOTION.len()..].trim_start_matches(": ");
+                if error.starts_with(NO_MOTION) {
+                    error.to_string()
+                } else {
+                    detail.clone()
+                }
             }
             Infeasibility::NoPlacement { detail } => format!("no placement: {detail}"),
             _ => "it was found infeasible".to_string(),
