@@ -94,7 +94,12 @@ pub fn edit(
             let declared = artifact
                 .objects
                 .iter()
-                .flat_map(|o| o.graph.arcs.iter().chain(o.graph.pruned.iter().map(|p| &p.arc)))
+                .flat_map(|o| {
+                    o.graph
+                        .arcs
+                        .iter()
+                        .chain(o.graph.pruned.iter().map(|p| &p.arc))
+                })
                 .filter_map(|arc| arc.via)
                 .filter_map(|s| at.span(s))
                 .max_by_key(|(f, place, _)| (*f, place.end));
@@ -173,7 +178,9 @@ pub fn apply(text: &str, edits: &[&SourceEdit]) -> Option<String> {
     let mut out = text.to_string();
     for e in sorted.into_iter().rev() {
         let range = e.span.start as usize..e.span.end as usize;
-        if range.end > out.len() || !out.is_char_boundary(range.start) || !out.is_char_boundary(range.end)
+        if range.end > out.len()
+            || !out.is_char_boundary(range.start)
+            || !out.is_char_boundary(range.end)
         {
             return None;
         }

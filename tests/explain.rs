@@ -321,8 +321,10 @@ fn a_pick_and_place_on_one_table_must_leave_it_and_come_back() {
     );
     assert_eq!(
         suggestions(&d),
-        ["make `transition standing -> top` two-way (`transition top <-> standing`), so `arm` \
-          can put it on `table` in `w1`"]
+        [
+            "make `transition standing -> top` two-way (`transition top <-> standing`), so `arm` \
+          can put it on `table` in `w1`"
+        ]
     );
 }
 
@@ -377,7 +379,11 @@ fn vito_with_every_motion_blocked_says_what_failed_never_another_reason() {
     let failed: Vec<&String> = d
         .notes
         .iter()
-        .filter(|n| n.ends_with(" failed during this request: no collision-free motion found in 0 iterations"))
+        .filter(|n| {
+            n.ends_with(
+                " failed during this request: no collision-free motion found in 0 iterations",
+            )
+        })
         .collect();
     assert_eq!(failed.len(), 1, "{:?}", d.notes);
     assert!(d.labels.iter().any(|l| l.message.starts_with("failed: ")));

@@ -189,7 +189,10 @@ fn every_suggestion_of_the_ui_cases_is_an_edit_that_makes_the_request_plan() {
         .expect("the UI cases are there")
         .filter_map(Result::ok)
         .map(|e| e.path())
-        .filter(|p| p.file_name().is_some_and(|n| n.to_string_lossy().starts_with("R0004_")))
+        .filter(|p| {
+            p.file_name()
+                .is_some_and(|n| n.to_string_lossy().starts_with("R0004_"))
+        })
         .collect();
     dir.sort();
     for path in dir {
@@ -233,5 +236,8 @@ fn every_suggestion_of_the_explain_cells_is_an_edit_that_makes_the_request_plan(
         random += check_described(&random_cell(seed)).unwrap_or(0);
     }
     println!("{random} suggestions on random cells");
-    assert!(random >= 50, "only {random} suggestions checked on random cells");
+    assert!(
+        random >= 50,
+        "only {random} suggestions checked on random cells"
+    );
 }

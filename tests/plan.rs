@@ -8,10 +8,10 @@ use std::collections::HashSet;
 use cellc::fs_files::FsFiles;
 use cellc_runtime::execute::{execute, ExecuteOptions, ExecutionError, Executor, Simulator};
 use cellc_runtime::plan::planner::Planner;
-use cellc_runtime::{Cell, VerifyOptions};
 use cellc_runtime::plan::{
     names, Command, Goal, LocateError, PlacementByName, Plan, PlanError, PlanOptions, Request,
 };
+use cellc_runtime::{Cell, VerifyOptions};
 use cellc_schema::{ArcKind, Artifact, Node};
 use proptest::prelude::*;
 
@@ -273,7 +273,7 @@ fn plan_ui() {
         let compilation = cellc_compiler::compile(&FsFiles, &relative);
         // Warnings may be what the case is about (a transition declared one way only);
         // only the planner's diagnostic is snapshotted.
-        assert!(!compilation.has_errors(), "{name} must check without errors");
+        assert!(!compilation.has_errors(), "{name} must check");
         let a = cellc_compiler::artifact::lower(
             compilation.cell.as_ref().unwrap(),
             &compilation.graphs,

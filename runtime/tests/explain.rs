@@ -11,7 +11,7 @@
 mod explain_cells;
 
 use cellc_runtime::explain::{
-    explain, BodyName, Cause, Change, CutKind, Exchange, Explanation, GaveUp, Gap, NoStates,
+    explain, BodyName, Cause, Change, CutKind, Exchange, Explanation, Gap, GaveUp, NoStates,
 };
 use cellc_schema::{EndEffectorId, GraspId, NodeId, ObjectId, WorkspaceId};
 use explain_cells::*;

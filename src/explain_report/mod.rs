@@ -35,7 +35,11 @@ fn place(artifact: &Artifact, span: u32) -> Option<(FileId, Span)> {
 
 /// The diagnostic of an unreachable goal; with the cell's sources, each suggestion's edits
 /// as fix notes.
-pub fn unreachable(artifact: &Artifact, u: &Unreachable, sources: Option<&SourceMap>) -> Diagnostic {
+pub fn unreachable(
+    artifact: &Artifact,
+    u: &Unreachable,
+    sources: Option<&SourceMap>,
+) -> Diagnostic {
     let object = artifact.objects.get(u.object as usize);
     let explained = cellc_runtime::explain::explain(artifact, u);
     let (mut d, labels) = match (&explained, object) {

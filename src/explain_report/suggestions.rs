@@ -192,7 +192,12 @@ pub fn fix_text(edit: &SourceEdit, sources: &SourceMap) -> Option<String> {
     let line_start = text.get(..start)?.rfind('\n').map_or(0, |i| i + 1);
     let line_end = text.get(end..)?.find('\n').map_or(text.len(), |i| end + i);
     let old = &text[line_start..line_end];
-    let new = format!("{}{}{}", &text[line_start..start], edit.text, &text[end..line_end]);
+    let new = format!(
+        "{}{}{}",
+        &text[line_start..start],
+        edit.text,
+        &text[end..line_end]
+    );
     let line = text[..line_start].matches('\n').count() + 1;
     let path = q(&file.path);
     let lines: Vec<&str> = new.split('\n').collect();

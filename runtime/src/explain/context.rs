@@ -6,8 +6,7 @@ use std::collections::{BTreeMap, BTreeSet, HashMap, HashSet};
 
 use cellc_schema::rules::{Adjacency, CellRules, ObjectRules};
 use cellc_schema::{
-    Aabb, ArcKind, Artifact, Body, EndEffectorId, GraspId, Infeasibility, Node, Object,
-    WorkspaceId,
+    Aabb, ArcKind, Artifact, Body, EndEffectorId, GraspId, Infeasibility, Node, Object, WorkspaceId,
 };
 use petgraph::graph::{DiGraph, NodeIndex};
 use petgraph::visit::{EdgeFiltered, EdgeRef, Reversed};

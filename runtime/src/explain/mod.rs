@@ -531,8 +531,7 @@ impl Change {
         let obj = artifact.objects.get(object.index());
         let grasp = |g: GraspId| obj.and_then(|o| o.grasps.get(g.index())).map(|x| x.span);
         let workspace = |w: WorkspaceId| artifact.workspaces.get(w.index()).map(|x| x.span);
-        let end_effector =
-            |e: EndEffectorId| artifact.end_effectors.get(e.index()).map(|x| x.span);
+        let end_effector = |e: EndEffectorId| artifact.end_effectors.get(e.index()).map(|x| x.span);
         let spans: Vec<Option<u32>> = match self {
             Change::AddTransition {
                 reverse_of: Some(s),
@@ -544,8 +543,12 @@ impl Change {
                 ..
             } => vec![grasp(*from_grasp), grasp(*to_grasp)],
             Change::AddAdjacency { a, b, .. } => vec![workspace(*a), workspace(*b)],
-            Change::ExtendReaches { end_effector: e, .. }
-            | Change::GrowReach { end_effector: e, .. } => vec![end_effector(*e)],
+            Change::ExtendReaches {
+                end_effector: e, ..
+            }
+            | Change::GrowReach {
+                end_effector: e, ..
+            } => vec![end_effector(*e)],
             Change::AllowContact { arcs, .. } => {
                 arcs.iter().map(|a| a.source.map(|s| s.0)).collect()
             }

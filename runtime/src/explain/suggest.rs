@@ -234,7 +234,8 @@ impl Ctx<'_> {
             if !self.is_hand(e) {
                 continue;
             }
-            let candidates = (0..n_ws).filter(|&w| !self.reaches(e, w) && self.reach_editable(e, w));
+            let candidates =
+                (0..n_ws).filter(|&w| !self.reaches(e, w) && self.reach_editable(e, w));
             for w in candidates {
                 let d = self.reach_distance(e, w).unwrap_or(0.0);
                 out.push((d, e, w));
@@ -328,8 +329,7 @@ impl Ctx<'_> {
             if d > dist[ui] {
                 continue;
             }
-            if u == sink || (ui < n && self.is_goal[ui] && !(self.must_leave && u == self.start))
-            {
+            if u == sink || (ui < n && self.is_goal[ui] && !(self.must_leave && u == self.start)) {
                 reached = Some(u);
                 break;
             }

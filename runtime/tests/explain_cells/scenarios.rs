@@ -422,7 +422,9 @@ pub fn fig3_gave_up() -> (Desc, Req) {
         st("left_arm", "g5", "w2"),
         st("right_arm", "g7", "w2"),
         Infeasibility::NoPlacement {
-            detail: s("no collision-free motion: no collision-free motion found in 5000 iterations"),
+            detail: s(
+                "no collision-free motion: no collision-free motion found in 5000 iterations",
+            ),
         },
     ));
     (d, req)
