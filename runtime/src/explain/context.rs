@@ -176,7 +176,11 @@ impl<'a> Ctx<'a> {
         if goals.is_empty() {
             return Err(NoStates::Goals);
         }
-        let (contacts, contact_group, contact_of) = contact_pairs(art, nodes, &lost);
+        let ContactPairs {
+            pairs: contacts,
+            groups: contact_group,
+            of: contact_of,
+        } = contact_pairs(art, nodes, &lost);
         let mut is_goal = vec![false; n];
         for &g in &goals {
             is_goal[g as usize] = true;
@@ -485,11 +489,7 @@ fn lost_arcs(art: &Artifact, obj: &Object, un: &Unreachable) -> Vec<Lost> {
 /// torso it is bolted onto) spoils every check that arm stands by in, so any arc it was
 /// reported for may well collide in another such pair too: all of those pairs form one
 /// group, allowed together. Every other pair is a group of its own.
-fn contact_pairs(
-    art: &Artifact,
-    nodes: &[Node],
-    lost: &[Lost],
-) -> (Vec<(BodyName, BodyName)>, Vec<u32>, Vec<Option<u32>>) {
+fn contact_pairs(art: &Artifact, nodes: &[Node], lost: &[Lost]) -> ContactPairs {
     let mut pairs: Vec<(BodyName, BodyName)> = Vec::new();
     let mut standing = Vec::new();
     let allowed = |a: &str, b: &str| {
@@ -534,7 +534,17 @@ fn contact_pairs(
             _ => i as u32,
         })
         .collect();
-    (pairs, groups, of)
+    ContactPairs { pairs, groups, of }
+}
+
+/// What [`contact_pairs`] finds.
+struct ContactPairs {
+    /// The pairs, each once.
+    pairs: Vec<(BodyName, BodyName)>,
+    /// Per pair, its group.
+    groups: Vec<u32>,
+    /// Per lost arc, its pair.
+    of: Vec<Option<u32>>,
 }
 
 /// The adjacency of an artifact that does not record it, read off the move arcs. A move
