@@ -526,7 +526,7 @@ pub struct Exchange {
 impl Change {
     /// The source places the change edits or concerns: the one-way transition to make
     /// two-way or the two grasps to join, the two workspaces, the end-effector, or the
-    /// declarations of the arcs a contact removed.
+    /// end-effectors whose bodies collide.
     pub fn places(&self, artifact: &Artifact, object: ObjectId) -> Vec<SpanId> {
         let obj = artifact.objects.get(object.index());
         let grasp = |g: GraspId| obj.and_then(|o| o.grasps.get(g.index())).map(|x| x.span);
@@ -549,9 +549,14 @@ impl Change {
             | Change::GrowReach {
                 end_effector: e, ..
             } => vec![end_effector(*e)],
-            Change::AllowContact { arcs, .. } => {
-                arcs.iter().map(|a| a.source.map(|s| s.0)).collect()
-            }
+            // The end-effectors whose bodies collide (obstacles and objects have no line).
+            Change::AllowContact { a, b, .. } => [a, b]
+                .iter()
+                .map(|body| {
+                    let e = artifact.end_effectors.iter().find(|e| e.name == body.owner);
+                    e.map(|e| e.span)
+                })
+                .collect(),
         };
         let mut out: Vec<SpanId> = spans.into_iter().flatten().map(SpanId).collect();
         out.dedup();
