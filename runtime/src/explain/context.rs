@@ -11,6 +11,7 @@ use cellc_schema::{
 use petgraph::graph::{DiGraph, NodeIndex};
 use petgraph::visit::{EdgeFiltered, EdgeRef, Reversed};
 
+use super::lost::{contact_pairs, ContactPairs};
 use super::{BodyName, Cause, NoStates};
 use crate::plan::Unreachable;
 
@@ -477,74 +478,6 @@ fn lost_arcs(art: &Artifact, obj: &Object, un: &Unreachable) -> Vec<Lost> {
         });
     }
     lost
-}
-
-/// The pairs of bodies whose collision removed some lost arcs, when `allow contact` can
-/// name both (an end-effector, a part of one (`arm/link`, `arm/hand kind`), an obstacle
-/// or an object) and the cell does not allow that contact already; their groups; and each
-/// lost arc's pair.
-///
-/// Verification records one colliding pair per arc, the first it met. A pair where an
-/// arm that holds nothing in the arc collides (standing at home, e.g. its base in the
-/// torso it is bolted onto) spoils every check that arm stands by in, so any arc it was
-/// reported for may well collide in another such pair too: all of those pairs form one
-/// group, allowed together. Every other pair is a group of its own.
-fn contact_pairs(art: &Artifact, nodes: &[Node], lost: &[Lost]) -> ContactPairs {
-    let mut pairs: Vec<(BodyName, BodyName)> = Vec::new();
-    let mut standing = Vec::new();
-    let allowed = |a: &str, b: &str| {
-        art.allowed_contacts
-            .iter()
-            .any(|(x, y)| (x == a && y == b) || (x == b && y == a))
-    };
-    let arm = |owner: &str| {
-        art.end_effectors
-            .iter()
-            .position(|e| e.name == owner && matches!(e.body, Body::Arm { .. }))
-    };
-    let of = lost
-        .iter()
-        .map(|l| {
-            let Infeasibility::Collision { a, b } = &l.reason else {
-                return None;
-            };
-            let (x, y) = (BodyName::of(art, a)?, BodyName::of(art, b)?);
-            if x == y || allowed(a, b) {
-                return None;
-            }
-            let holders = [l.from, l.to].map(|i| nodes[i as usize].end_effector as usize);
-            let stands_by = [&x, &y]
-                .iter()
-                .any(|body| arm(&body.owner).is_some_and(|e| !holders.contains(&e)));
-            let pair = if x <= y { (x, y) } else { (y, x) };
-            let i = pairs.iter().position(|p| *p == pair).unwrap_or_else(|| {
-                pairs.push(pair);
-                standing.push(false);
-                pairs.len() - 1
-            });
-            standing[i] |= stands_by;
-            Some(i as u32)
-        })
-        .collect();
-    // The standing pairs share the first one's group; the others are their own.
-    let first_standing = standing.iter().position(|&s| s);
-    let groups = (0..pairs.len())
-        .map(|i| match first_standing {
-            Some(f) if standing[i] => f as u32,
-            _ => i as u32,
-        })
-        .collect();
-    ContactPairs { pairs, groups, of }
-}
-
-/// What [`contact_pairs`] finds.
-struct ContactPairs {
-    /// The pairs, each once.
-    pairs: Vec<(BodyName, BodyName)>,
-    /// Per pair, its group.
-    groups: Vec<u32>,
-    /// Per lost arc, its pair.
-    of: Vec<Option<u32>>,
 }
 
 /// The adjacency of an artifact that does not record it, read off the move arcs. A move
