@@ -7,6 +7,7 @@ pub mod artifact_io;
 pub mod commands;
 pub mod docs;
 pub mod explain_report;
+pub mod fixes;
 pub mod fs_files;
 pub mod fuzzing;
 pub mod import;

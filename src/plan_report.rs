@@ -3,7 +3,7 @@
 
 use std::fmt::Write as _;
 
-use cellc_lang::{Diagnostic, FileId};
+use cellc_lang::{Diagnostic, FileId, SourceMap};
 use cellc_runtime::math::Iso;
 use cellc_runtime::plan::{Command, LocateError, Plan, PlanError};
 use cellc_schema::Artifact;
@@ -30,8 +30,14 @@ pub fn no_request(artifact: &Artifact, wanted: Option<&str>) -> Diagnostic {
     Diagnostic::error(codes::NO_REQUEST, message).help(help)
 }
 
-/// A planning failure as a diagnostic, labelled at the request when it is a named one.
-pub fn plan_error(artifact: &Artifact, error: &PlanError, span: Option<u32>) -> Diagnostic {
+/// A planning failure as a diagnostic, labelled at the request when it is a named one;
+/// with the cell's sources, an unreachable goal's suggestions come with their edits.
+pub fn plan_error(
+    artifact: &Artifact,
+    error: &PlanError,
+    span: Option<u32>,
+    sources: Option<&SourceMap>,
+) -> Diagnostic {
     let place = span.and_then(|s| artifact.spans.get(s as usize)).map(|s| {
         (
             FileId(s.file),
@@ -45,7 +51,7 @@ pub fn plan_error(artifact: &Artifact, error: &PlanError, span: Option<u32>) -> 
         PlanError::Locate(e) => Diagnostic::error(codes::LOCATE, e.to_string()).help(
             did_you_mean(e).unwrap_or_else(|| "name a holder, grasp and workspace the cell has, or give a pose that lies in a workspace and matches a grasp".into()),
         ),
-        PlanError::Unreachable(u) => crate::explain_report::unreachable(artifact, u),
+        PlanError::Unreachable(u) => crate::explain_report::unreachable(artifact, u, sources),
         PlanError::TimeBudget { searches } => Diagnostic::error(
             codes::TIME_BUDGET,
             format!("planning ran out of its time budget after {searches} backtracks"),

@@ -3,20 +3,29 @@
 //! rendered as the `R0004` diagnostic `cellc plan` prints.
 //!
 //! Every rendering is checked the same way: a lowercase message naming the object, notes
-//! that say something, at most one label per source place and no more than the cap.
+//! that say something, at most one label per source place and no more than the cap. A
+//! request on Vito whose motions all fail shows what a connected graph's explanation says:
+//! the steps that failed, with why.
 
 #[path = "../runtime/tests/explain_cells/mod.rs"]
 mod explain_cells;
 
 use std::collections::BTreeSet;
 
+use cellc::fs_files::FsFiles;
 use cellc_lang::Diagnostic;
+use cellc_runtime::explain::Cause;
+use cellc_runtime::motion::{ChaCha8Rng, MotionError, MotionPlanner, MotionProblem};
+use cellc_runtime::plan::{PlanError, PlanOptions, Trajectory};
+use cellc_runtime::scene::SceneScratch;
+use cellc_runtime::termination::Termination;
+use cellc_runtime::{Cell, VerifyOptions};
 use explain_cells::*;
 
 /// The diagnostic of an unreachable request, checked as every one must be.
 fn render((d, req): &(Desc, Req)) -> Diagnostic {
     let art = d.build();
-    let diagnostic = cellc::explain_report::unreachable(&art, &unreachable(d, &art, req));
+    let diagnostic = cellc::explain_report::unreachable(&art, &unreachable(d, &art, req), None);
     println!("{diagnostic:#?}");
     let message = &diagnostic.message;
     assert!(message.starts_with(|c: char| c.is_lowercase()), "{message}");
@@ -59,7 +68,8 @@ fn cut(d: &Diagnostic) -> &[String] {
             n.contains(" was pruned at build time")
                 || n.contains(" failed during this request:")
                 || n.starts_with("suggestions are checked")
-                || n.starts_with("no single change")
+                || n.starts_with("no single edit")
+                || n.starts_with("to make suggestion")
         })
         .unwrap_or(d.notes.len());
     &d.notes[2..end]
@@ -120,9 +130,10 @@ fn arms_without_a_common_workspace_get_the_nearest_reach_extension() {
     let d = render(&arms_apart_with_boxes());
     assert_eq!(cut(&d).len(), 1);
     assert!(cut(&d)[0].contains("`left` and `right` reach no common workspace"));
+    // Without geometry, the workspace goes into the `reaches` list.
     assert_eq!(
         suggestions(&d)[0],
-        "extend the reach of `left` to cover `w3` (0.10 m beyond it), where it meets `right`"
+        "add `w3` to the `reaches` list of `left`, where it meets `right`"
     );
 }
 
@@ -179,9 +190,14 @@ fn pruned_handoffs_are_explained_with_their_reasons() {
         .notes
         .iter()
         .any(|n| n.contains("was pruned at build time")));
-    assert!(suggestions(&d)
-        .iter()
-        .all(|s| s.starts_with("make the transition")));
+    // The reasons are explained, not suggested away: what is suggested is more reach.
+    assert!(
+        suggestions(&d)
+            .iter()
+            .all(|s| s.starts_with("add `w") && s.contains("to the `reaches` list of")),
+        "{:?}",
+        suggestions(&d)
+    );
 }
 
 #[test]
@@ -198,6 +214,14 @@ fn a_failed_move_of_the_one_hand_is_explained() {
         .notes
         .iter()
         .any(|n| n.contains("failed during this request")));
+    // Nothing to declare: the help says what would make the move feasible.
+    assert!(
+        d.help
+            .as_deref()
+            .is_some_and(|h| h.contains("move `right`'s base or `w3` closer together")),
+        "{:?}",
+        d.help
+    );
 }
 
 #[test]
@@ -235,7 +259,7 @@ fn surfaces_alone_cannot_be_helped_and_say_so() {
     assert!(d
         .notes
         .iter()
-        .any(|n| n.starts_with("no single change, nor a short set")));
+        .any(|n| n.starts_with("no single edit, nor a short set")));
     assert_eq!(
         suggestions(&d),
         ["no single change joins the two sides: see the notes for where they are cut apart"]
@@ -256,11 +280,113 @@ fn workspaces_that_are_not_adjacent_get_an_adjacency() {
 fn a_reachable_goal_is_reported_as_connected() {
     let d = render(&fig3_connected());
     assert!(
-        d.message
-            .starts_with("the graph of `cylinder` does connect"),
+        d.message.starts_with("the graph of `cylinder` connects")
+            && d.message.contains("no step failed"),
         "{}",
         d.message
     );
+}
+
+#[test]
+fn a_connected_graph_says_which_steps_failed_and_why() {
+    let d = render(&fig3_gave_up());
+    assert_eq!(
+        d.message,
+        "the graph of `cylinder` connects `table` with `g1` in `w1` to `table` with `g1` in \
+         `w3`, but the planner gave up after 1 step failed during this request"
+    );
+    assert!(
+        d.notes.iter().any(|n| n
+            == "the transition `g5 -> g7` from `left_arm` to `right_arm` in `w2` failed during \
+                this request: no collision-free motion found in 5000 iterations"),
+        "{:?}",
+        d.notes
+    );
+    assert!(d
+        .help
+        .as_deref()
+        .is_some_and(|h| h.contains("move what blocks the motion")));
+}
+
+#[test]
+fn a_pick_and_place_on_one_table_must_leave_it_and_come_back() {
+    let d = render(&back_to_the_table(true));
+    assert!(
+        d.message.starts_with(
+            "no path takes `cylinder` from `table` with `standing` in `w1` to another pose \
+             there: it must leave that state and come back"
+        ),
+        "{}",
+        d.message
+    );
+    assert_eq!(
+        suggestions(&d),
+        [
+            "make `transition standing -> top` two-way (`transition top <-> standing`), so `arm` \
+          can put it on `table` in `w1`"
+        ]
+    );
+}
+
+/// A motion planner that finds no motion, ever.
+struct Blocked;
+
+impl MotionPlanner for Blocked {
+    fn solve(
+        &self,
+        _: &MotionProblem<'_>,
+        _: &mut ChaCha8Rng,
+        _: &Termination,
+        _: &mut SceneScratch,
+    ) -> Result<Trajectory, MotionError> {
+        Err(MotionError::NoPath { iterations: 0 })
+    }
+}
+
+#[test]
+fn vito_with_every_motion_blocked_says_what_failed_never_another_reason() {
+    let compilation = cellc_compiler::compile(&FsFiles, "cells/vito.cell");
+    let resolved = compilation.cell.as_ref().expect("vito resolves");
+    let artifact =
+        cellc_compiler::artifact::lower(resolved, &compilation.graphs, &compilation.sources);
+    let mut cell = Cell::from_artifact(artifact, &FsFiles).expect("vito loads");
+    cell.verify(&VerifyOptions::default());
+    // No backtrack: the first failed step stops the planner while the graph still has
+    // other paths (the start's other grasp).
+    let options = PlanOptions {
+        max_backtracks: 0,
+        ..PlanOptions::default()
+    };
+    let request = cell
+        .named_request("handoff_cylinder", options)
+        .expect("declared");
+    let planner = cell.planner().with_motion_planner(Blocked);
+    let Err(PlanError::Unreachable(u)) = planner.plan(&request) else {
+        panic!("every motion is blocked");
+    };
+    assert_eq!(u.failed.len(), 1);
+    let explanation = cell.explain(&u).expect("the states exist");
+    assert_eq!(explanation.cause, Cause::Connected);
+    let d = cellc::explain_report::unreachable(cell.artifact(), &u, Some(&compilation.sources));
+    println!("{d:#?}");
+    assert!(!d.message.contains("another reason"), "{}", d.message);
+    assert!(
+        d.message
+            .ends_with("but the planner gave up after 1 step failed during this request"),
+        "{}",
+        d.message
+    );
+    let failed: Vec<&String> = d
+        .notes
+        .iter()
+        .filter(|n| {
+            n.ends_with(
+                " failed during this request: no collision-free motion found in 0 iterations",
+            )
+        })
+        .collect();
+    assert_eq!(failed.len(), 1, "{:?}", d.notes);
+    assert!(d.labels.iter().any(|l| l.message.starts_with("failed: ")));
 }
 
 #[test]
@@ -268,7 +394,7 @@ fn a_request_outside_the_graph_says_what_does_not_fit() {
     let (d, _) = fig3_connected();
     let art = d.build();
     let mut un = unreachable(&d, &art, &Req::new(st("table", "g1", "w1"), vec![]));
-    let message = |un: &_| cellc::explain_report::unreachable(&art, un).message;
+    let message = |un: &_| cellc::explain_report::unreachable(&art, un, None).message;
     assert_eq!(
         message(&un),
         "no goal state of the request is a state of `cylinder`'s graph"

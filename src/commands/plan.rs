@@ -286,7 +286,7 @@ pub fn prepare(args: &PlanArgs, loaded: &Loaded) -> Result<Prepared, ExitCode> {
                     span: None,
                 }),
                 Err(e) => {
-                    let d = plan_report::plan_error(artifact, &PlanError::Locate(e), None);
+                    let d = plan_report::plan_error(artifact, &PlanError::Locate(e), None, None);
                     loaded.report(&[d]);
                     Err(ExitCode::from(1))
                 }
@@ -340,7 +340,7 @@ pub fn run(args: &PlanArgs) -> ExitCode {
             ExitCode::SUCCESS
         }
         Err(error) => {
-            let d = plan_report::plan_error(artifact, &error, span);
+            let d = plan_report::plan_error(artifact, &error, span, Some(&loaded.sources));
             loaded.report(&[d]);
             ExitCode::from(1)
         }

@@ -29,7 +29,7 @@ pub fn run(args: &PlanArgs, fail_at: Option<usize>) -> ExitCode {
     let plan = match cell.plan(&request) {
         Ok(plan) => plan,
         Err(e) => {
-            loaded.report(&[plan_error(artifact, &e, span)]);
+            loaded.report(&[plan_error(artifact, &e, span, Some(&loaded.sources))]);
             return ExitCode::from(1);
         }
     };
@@ -83,7 +83,7 @@ pub fn run(args: &PlanArgs, fail_at: Option<usize>) -> ExitCode {
             ExitCode::SUCCESS
         }
         Err(ExecutionError::Replan(e)) => {
-            loaded.report(&[plan_error(artifact, &e, span)]);
+            loaded.report(&[plan_error(artifact, &e, span, Some(&loaded.sources))]);
             ExitCode::from(1)
         }
         Err(ExecutionError::FailedAtStart { error }) => {

@@ -2,7 +2,8 @@
 //! cut between them and what to change, labelled at the cell's source lines. The analysis
 //! is the runtime's (`cellc_runtime::explain`, a structured value with no sentences); this
 //! module is where it becomes words: `words.rs` names and phrases, `cut.rs` the gaps,
-//! `suggestions.rs` the changes, and here the message, the labels and the notes.
+//! `suggestions.rs` the changes (and, given the sources, the edits that make them, from
+//! [`crate::fixes`]), and here the message, the labels and the notes.
 
 mod cut;
 mod suggestions;
@@ -10,10 +11,10 @@ mod words;
 
 use std::collections::BTreeSet;
 
-use cellc_lang::{Diagnostic, FileId, Span};
-use cellc_runtime::explain::{Cause, Change, CutItem, CutKind, Explanation, NoStates};
+use cellc_lang::{Diagnostic, FileId, SourceMap, Span};
+use cellc_runtime::explain::{Cause, CutItem, CutKind, Explanation, GaveUp, NoStates};
 use cellc_runtime::plan::Unreachable;
-use cellc_schema::{Artifact, EndEffectorId, Object, SpanId};
+use cellc_schema::{Artifact, Body, EndEffectorId, Object, SpanId, WorkspaceId};
 
 use crate::runtime_codes as codes;
 use words::{count, q, short, Words};
@@ -32,8 +33,13 @@ fn place(artifact: &Artifact, span: u32) -> Option<(FileId, Span)> {
     ))
 }
 
-/// The diagnostic of an unreachable goal.
-pub fn unreachable(artifact: &Artifact, u: &Unreachable) -> Diagnostic {
+/// The diagnostic of an unreachable goal; with the cell's sources, each suggestion's edits
+/// as fix notes.
+pub fn unreachable(
+    artifact: &Artifact,
+    u: &Unreachable,
+    sources: Option<&SourceMap>,
+) -> Diagnostic {
     let object = artifact.objects.get(u.object as usize);
     let explained = cellc_runtime::explain::explain(artifact, u);
     let (mut d, labels) = match (&explained, object) {
@@ -96,22 +102,39 @@ pub fn unreachable(artifact: &Artifact, u: &Unreachable) -> Diagnostic {
             explanation.pruned_omitted
         ));
     }
+    if let Some(GaveUp::Backtracks { failed, omitted }) = &explanation.gave_up {
+        for arc in failed {
+            d = d.note(words.lost_text(arc));
+        }
+        if *omitted > 0 {
+            d = d.note(format!("and {omitted} more failed steps"));
+        }
+    }
+    let geometric = artifact
+        .end_effectors
+        .iter()
+        .any(|e| matches!(e.body, Body::Arm { .. }));
     if explanation.cause != Cause::Connected {
         if explanation.suggestions.is_empty() {
             d = d.note(
-                "no single change, nor a short set of transitions, adjacencies or relaxed \
-                 arcs, connects them",
+                "no single edit, nor a short set of transitions, adjacencies, allowed contacts \
+                 or reach extensions, connects them",
             );
-        } else if explanation
-            .suggestions
-            .iter()
-            .flat_map(|s| &s.changes)
-            .any(|c| !matches!(c, Change::RelaxPruned(_)))
-        {
+        } else if geometric {
             d = d.note(
-                "suggestions are checked on the graph, not kinematically: build with \
-                 verification again after the change",
+                "suggestions are checked on the graph, not kinematically: verification checks \
+                 the arcs they add when the cell is built again",
             );
+        }
+    }
+    if let Some(sources) = sources {
+        for (i, suggestion) in explanation.suggestions.iter().enumerate() {
+            for change in &suggestion.changes {
+                let fix = crate::fixes::edit(artifact, explanation.object, change, sources);
+                if let Some(text) = fix.and_then(|f| suggestions::fix_text(&f, sources)) {
+                    d = d.note(format!("to make suggestion {}, {text}", i + 1));
+                }
+            }
         }
     }
     let texts: Vec<String> = explanation
@@ -120,8 +143,7 @@ pub fn unreachable(artifact: &Artifact, u: &Unreachable) -> Diagnostic {
         .map(|s| words.suggestion_text(s))
         .collect();
     let help = match texts.as_slice() {
-        [] => "no single change joins the two sides: see the notes for where they are cut apart"
-            .to_string(),
+        [] => words.no_suggestion_help(explanation),
         [one] => one.clone(),
         many => many
             .iter()
@@ -157,20 +179,34 @@ impl Words<'_> {
     fn summary(&self, ex: &Explanation) -> String {
         let object = self.object_name();
         let from = self.state_text(self.node(ex.start));
-        let to = self.goals_text(&ex.goals);
-        let why = match ex.cause {
-            Cause::Connected => {
+        let to = if ex.must_leave {
+            "another pose there".to_string()
+        } else {
+            self.goals_text(&ex.goals)
+        };
+        let place = if ex.must_leave { "back" } else { "there" };
+        let why = match (ex.cause, &ex.gave_up) {
+            (Cause::Connected, Some(GaveUp::Backtracks { failed, omitted })) => {
                 return format!(
-                    "the graph of {object} does connect {from} to {to}: the request failed \
-                     for another reason"
+                    "the graph of {object} connects {from} to {to}, but the planner gave up \
+                     after {} failed during this request",
+                    count(failed.len() + omitted, "step")
                 );
             }
-            Cause::Pruned => {
+            (Cause::Connected, _) => {
+                return format!(
+                    "the graph of {object} connects {from} to {to} and no step failed: the \
+                     planner's answer does not fit this artifact"
+                );
+            }
+            (Cause::Pruned, _) => {
                 "the arcs that would join them were pruned as kinematically infeasible".to_string()
             }
-            Cause::Failed => "arcs that would join them failed during this request".to_string(),
-            Cause::Missing => format!(
-                "the cell declares no way from the {} it reaches to the {} that {} there",
+            (Cause::Failed, _) => {
+                "arcs that would join them failed during this request".to_string()
+            }
+            (Cause::Missing, _) => format!(
+                "the cell declares no way from the {} it reaches to the {} that {} {place}",
                 count(ex.start_side.states.len(), "state"),
                 count(ex.goal_side.states.len(), "state"),
                 if ex.goal_side.states.len() == 1 {
@@ -180,7 +216,42 @@ impl Words<'_> {
                 },
             ),
         };
-        format!("no path takes {object} from {from} to {to}: {why}")
+        if ex.must_leave {
+            format!(
+                "no path takes {object} from {from} to {to}: it must leave that state and come \
+                 back, and {why}"
+            )
+        } else {
+            format!("no path takes {object} from {from} to {to}: {why}")
+        }
+    }
+
+    /// The help when nothing is suggested: what would make the lost arcs feasible, or where
+    /// to look.
+    fn no_suggestion_help(&self, ex: &Explanation) -> String {
+        let lost = match &ex.gave_up {
+            Some(GaveUp::Backtracks { failed, .. }) => failed.first(),
+            _ => ex.pruned.first(),
+        };
+        match (ex.cause, lost) {
+            (Cause::Connected, Some(arc)) => format!(
+                "the planner removes the arc of each step that fails and searches again, up to \
+                 its limit of backtracks; to make the first one feasible: {}",
+                self.reason_hint(&arc.reason, WorkspaceId(self.node(arc.to).workspace))
+            ),
+            (Cause::Connected, None) => {
+                "plan the request on the artifact it was made for".to_string()
+            }
+            (_, Some(arc)) => format!(
+                "no edit of the cell's declarations joins the two sides, and the arcs that would \
+                 are infeasible; to make the first one feasible: {}",
+                self.reason_hint(&arc.reason, WorkspaceId(self.node(arc.to).workspace))
+            ),
+            (_, None) => {
+                "no single change joins the two sides: see the notes for where they are cut apart"
+                    .to_string()
+            }
+        }
     }
 
     /// Source places to label, one label per span, most important first: the start and
@@ -247,6 +318,14 @@ impl Words<'_> {
                 arc.source.map(|s: SpanId| s.0),
                 format!("infeasible: {}", self.reason_text(&arc.reason)),
             );
+        }
+        if let Some(GaveUp::Backtracks { failed, .. }) = &ex.gave_up {
+            for arc in failed {
+                add(
+                    arc.source.map(|s: SpanId| s.0),
+                    format!("failed: {}", self.reason_text(&arc.reason)),
+                );
+            }
         }
         add(Some(self.obj.span), format!("object {}", q(&self.obj.name)));
         labels.truncate(MAX_SPANS);

@@ -1,9 +1,12 @@
-//! Suggestions in words: each change as the edit to make, with how the plan would use it.
+//! Suggestions in words: each change as the edit to make, with how the plan would use it,
+//! and an edit of the sources ([`crate::fixes`]) as a line to write.
 
-use cellc_runtime::explain::{Change, Suggestion};
-use cellc_schema::WorkspaceId;
+use cellc_lang::SourceMap;
+use cellc_runtime::explain::{BodyName, Change, Suggestion};
+use cellc_schema::{Aabb, EndEffectorId};
 
 use super::words::{list, metres, q, Words};
+use crate::fixes::SourceEdit;
 
 impl Words<'_> {
     /// A suggestion: its changes, "a, b, and c".
@@ -61,37 +64,154 @@ impl Words<'_> {
                 }
                 text
             }
-            Change::ExtendReach {
+            Change::ExtendReaches {
                 end_effector,
+                workspace,
+                meets,
+            } => {
+                let mut text = format!(
+                    "add {} to the `reaches` list of {}",
+                    self.ws(*workspace),
+                    self.ee(*end_effector)
+                );
+                text.push_str(&self.meets(meets));
+                text
+            }
+            Change::GrowReach {
+                end_effector,
+                reach_box,
+                grown,
+                region,
                 workspace,
                 distance,
                 meets,
             } => {
-                let mut text = format!(
-                    "extend the reach of {} to cover {}",
-                    self.ee(*end_effector),
-                    self.ws(*workspace)
-                );
-                if let Some(d) = distance {
-                    text.push_str(&format!(" ({} beyond it)", metres(*d)));
+                let e = self.ee(*end_effector);
+                let old = reach_box.and_then(|i| {
+                    let e = self.art.end_effectors.get(end_effector.index())?;
+                    e.reach_boxes.get(i as usize)
+                });
+                let mut text = match old {
+                    Some(old) => format!(
+                        "grow the reach box of {e} from {} to {}",
+                        box_text(old),
+                        box_text(grown)
+                    ),
+                    None => format!("give {e} the reach box {}", box_text(grown)),
+                };
+                // A derived workspace is named by its region: its name goes with the edit.
+                let declared = self
+                    .art
+                    .workspaces
+                    .get(workspace.index())
+                    .filter(|w| !w.derived);
+                let cover = list(region.iter().map(box_text).collect(), "and");
+                let away = distance
+                    .filter(|d| *d > 0.0)
+                    .map_or_else(String::new, |d| format!(", {} away", metres(d)));
+                match declared {
+                    Some(_) => text.push_str(&format!(
+                        ", so that it covers {} ({cover}{away})",
+                        self.ws(*workspace)
+                    )),
+                    None => {
+                        let reachers: Vec<EndEffectorId> = self
+                            .art
+                            .end_effectors
+                            .iter()
+                            .enumerate()
+                            .filter(|(_, x)| x.reaches.contains(&workspace.0))
+                            .map(|(i, _)| EndEffectorId(i as u32))
+                            .collect();
+                        text.push_str(&format!(
+                            ", so that it covers {cover} (where {} reach{away})",
+                            self.ee_list(&reachers, "and")
+                        ));
+                    }
                 }
-                if !meets.is_empty() {
-                    text.push_str(&format!(
-                        ", where it meets {}",
-                        list(meets.iter().map(|&m| self.ee(m)).collect(), "and")
-                    ));
-                }
+                text.push_str(&self.meets(meets));
                 text
             }
-            Change::RelaxPruned(arc) => {
-                let (x, y) = (self.node(arc.from), self.node(arc.to));
-                format!(
-                    "make {} feasible ({}): {}",
-                    self.arc_text(x, y, arc.kind),
-                    self.reason_text(&arc.reason),
-                    self.reason_hint(&arc.reason, WorkspaceId(y.workspace))
-                )
+            Change::AllowContact { a, b, arcs } => {
+                let line = q(&format!("allow contact {} {}", body(a), body(b)));
+                let what = match arcs.as_slice() {
+                    [one] => self.arc_text(self.node(one.from), self.node(one.to), one.kind),
+                    [one, ..] => format!(
+                        "{} arcs, e.g. {}",
+                        arcs.len(),
+                        self.arc_text(self.node(one.from), self.node(one.to), one.kind)
+                    ),
+                    [] => "arcs".to_string(),
+                };
+                format!("declare {line} if they may touch (their collision removed {what})")
             }
         }
     }
+
+    /// ", where it meets `right`".
+    fn meets(&self, meets: &[EndEffectorId]) -> String {
+        if meets.is_empty() {
+            String::new()
+        } else {
+            format!(", where it meets {}", self.ee_list(meets, "and"))
+        }
+    }
+}
+
+/// A body as `allow contact` writes it.
+fn body(b: &BodyName) -> String {
+    match &b.part {
+        Some(part) => format!("{}.{part}", b.owner),
+        None => b.owner.clone(),
+    }
+}
+
+/// "x 0.25..0.6, y -0.1..0.1, z 0.9..1.5 m", as `cellc info` writes boxes.
+pub fn box_text(b: &Aabb) -> String {
+    let r = |k: usize| format!("{}..{}", round(b.min[k]), round(b.max[k]));
+    format!("x {}, y {}, z {} m", r(0), r(1), r(2))
+}
+
+/// Millimetres at most, without trailing zeros.
+fn round(x: f64) -> String {
+    let text = format!("{x:.3}");
+    let text = text.trim_end_matches('0').trim_end_matches('.');
+    if text == "-0" {
+        "0".to_string()
+    } else {
+        text.to_string()
+    }
+}
+
+/// An edit in words: "write `...` on line 6 of `pick.cell`", "add `...` after line 13 of
+/// `pick.cell`" (`None` when the edit does not fit its file).
+pub fn fix_text(edit: &SourceEdit, sources: &SourceMap) -> Option<String> {
+    let (_, file) = sources.iter().find(|(id, _)| *id == edit.file)?;
+    let text = file.text.as_str();
+    let (start, end) = (edit.span.start as usize, edit.span.end as usize);
+    let line_start = text.get(..start)?.rfind('\n').map_or(0, |i| i + 1);
+    let line_end = text.get(end..)?.find('\n').map_or(text.len(), |i| end + i);
+    let old = &text[line_start..line_end];
+    let new = format!(
+        "{}{}{}",
+        &text[line_start..start],
+        edit.text,
+        &text[end..line_end]
+    );
+    let line = text[..line_start].matches('\n').count() + 1;
+    let path = q(&file.path);
+    let lines: Vec<&str> = new.split('\n').collect();
+    let added = |lines: &[&str]| {
+        let written: Vec<String> = lines.iter().map(|l| q(l.trim())).collect();
+        written.join(", ")
+    };
+    Some(match lines.as_slice() {
+        [first, rest @ ..] if !rest.is_empty() && *first == old => {
+            format!("add {} after line {line} of {path}", added(rest))
+        }
+        [rest @ .., last] if !rest.is_empty() && *last == old => {
+            format!("add {} before line {line} of {path}", added(rest))
+        }
+        _ => format!("write {} on line {line} of {path}", added(&lines)),
+    })
 }

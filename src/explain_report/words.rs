@@ -4,6 +4,7 @@
 use std::collections::BTreeSet;
 
 use cellc_runtime::explain::{Exchange, HeldWith, Side};
+use cellc_runtime::plan::NO_MOTION;
 use cellc_schema::rules::{Adjacency, CellRules, ObjectRules};
 use cellc_schema::{
     ArcKind, Artifact, EndEffectorId, GraspId, Infeasibility, Node, NodeId, Object, WorkspaceId,
@@ -256,6 +257,15 @@ impl<'a> Words<'a> {
             Infeasibility::Collision { a, b } => {
                 format!("{} collides with {}", q(a), q(b))
             }
+            // A blocked motion says so itself (`no collision-free motion: ...`), once.
+            Infeasibility::NoPlacement { detail } if detail.starts_with(NO_MOTION) => {
+                let error = detail[NO_MOTION.len()..].trim_start_matches(": ");
+                if error.starts_with(NO_MOTION) {
+                    error.to_string()
+                } else {
+                    detail.clone()
+                }
+            }
             Infeasibility::NoPlacement { detail } => format!("no placement: {detail}"),
             _ => "it was found infeasible".to_string(),
         }
@@ -278,6 +288,11 @@ impl<'a> Words<'a> {
                 a.replace('/', "."),
                 b.replace('/', ".")
             ),
+            Infeasibility::NoPlacement { detail } if detail.starts_with(NO_MOTION) => {
+                "move what blocks the motion, or the arms' home configurations, or plan again \
+                 with another `--seed`"
+                    .to_string()
+            }
             Infeasibility::NoPlacement { .. } => format!(
                 "extend the surface into {}, or choose another resting pose",
                 self.ws(workspace)

@@ -6,12 +6,13 @@ use std::collections::{BTreeMap, BTreeSet, HashMap, HashSet};
 
 use cellc_schema::rules::{Adjacency, CellRules, ObjectRules};
 use cellc_schema::{
-    Aabb, ArcKind, Artifact, EndEffectorId, GraspId, Infeasibility, Node, Object, WorkspaceId,
+    Aabb, ArcKind, Artifact, Body, EndEffectorId, GraspId, Infeasibility, Node, Object, WorkspaceId,
 };
 use petgraph::graph::{DiGraph, NodeIndex};
 use petgraph::visit::{EdgeFiltered, EdgeRef, Reversed};
 
-use super::{Cause, NoStates};
+use super::lost::{contact_pairs, ContactPairs};
+use super::{BodyName, Cause, NoStates};
 use crate::plan::Unreachable;
 
 /// An arc removed at build time or during the request.
@@ -57,6 +58,14 @@ pub(super) struct Ctx<'a> {
     pub lost: Vec<Lost>,
     pub lost_pairs: HashSet<(u32, u32)>,
     pub lost_from: Vec<Vec<usize>>,
+    /// Pairs of bodies whose collision removed arcs and that `allow contact` could name,
+    /// each once.
+    pub contacts: Vec<(BodyName, BodyName)>,
+    /// Per pair, the group of pairs that must be allowed together (see
+    /// [`contact_pairs`]).
+    pub contact_group: Vec<u32>,
+    /// Per lost arc, its pair in [`Ctx::contacts`] (None: lost for another reason).
+    pub contact_of: Vec<Option<u32>>,
     /// The cell's graph rules (the compiler's), for what changes would add.
     pub rules: CellRules,
     /// The object's grasps and transitions, as the rules read them.
@@ -67,6 +76,9 @@ pub(super) struct Ctx<'a> {
     pub start: u32,
     pub goals: Vec<u32>,
     pub is_goal: Vec<bool>,
+    /// The start is a goal state (the goal is another pose in it): a plan must leave it
+    /// and come back, so the start lies on both sides and paths take at least one arc.
+    pub must_leave: bool,
     pub d_s: Vec<f64>,
     pub d_g: Vec<f64>,
     pub in_r: Vec<bool>,
@@ -165,6 +177,11 @@ impl<'a> Ctx<'a> {
         if goals.is_empty() {
             return Err(NoStates::Goals);
         }
+        let ContactPairs {
+            pairs: contacts,
+            groups: contact_group,
+            of: contact_of,
+        } = contact_pairs(art, nodes, &lost);
         let mut is_goal = vec![false; n];
         for &g in &goals {
             is_goal[g as usize] = true;
@@ -184,10 +201,14 @@ impl<'a> Ctx<'a> {
             lost_pairs: lost.iter().map(|l| (l.from, l.to)).collect(),
             lost,
             lost_from,
+            contacts,
+            contact_group,
+            contact_of,
             rules,
             object_rules: ObjectRules::from_artifact(art, obj),
             at_ws,
             declared,
+            must_leave: goals.contains(&start),
             start,
             goals,
             is_goal,
@@ -232,6 +253,18 @@ impl<'a> Ctx<'a> {
         (from_start, to_goal)
     }
 
+    /// True when the graph (minus the failed arcs) connects the start to a goal, with at
+    /// least one arc when the start must be left.
+    pub fn connected(&self) -> bool {
+        if self.must_leave {
+            self.fwd[self.start as usize]
+                .iter()
+                .any(|&(v, _)| self.in_g[v as usize])
+        } else {
+            self.goals.iter().any(|&g| self.in_r[g as usize])
+        }
+    }
+
     /// Restoring which lost arcs connects the start to a goal.
     pub fn cause(&self) -> Cause {
         if self.reaches_goal_with(|l| !l.failed) {
@@ -244,19 +277,61 @@ impl<'a> Ctx<'a> {
     }
 
     fn reaches_goal_with(&self, restore: impl Fn(&Lost) -> bool) -> bool {
+        let kept = |link: &Link| match *link {
+            Link::Lost(i) => restore(&self.lost[i]),
+            Link::Active(_) | Link::Goal => true,
+        };
         let graph = EdgeFiltered::from_fn(
             &self.graph,
-            |e: petgraph::graph::EdgeReference<'_, Link>| match *e.weight() {
-                Link::Lost(i) => restore(&self.lost[i]),
-                Link::Active(_) | Link::Goal => true,
-            },
+            |e: petgraph::graph::EdgeReference<'_, Link>| kept(e.weight()),
         );
-        petgraph::algo::has_path_connecting(
-            &graph,
-            NodeIndex::new(self.start as usize),
-            NodeIndex::new(self.nodes.len()),
-            None,
-        )
+        let hub = NodeIndex::new(self.nodes.len());
+        let start = NodeIndex::new(self.start as usize);
+        if !self.must_leave {
+            return petgraph::algo::has_path_connecting(&graph, start, hub, None);
+        }
+        // Leaving first: some arc out of the start (not the start's own link to the hub)
+        // to a state that leads to a goal.
+        self.graph.edges(start).any(|e| {
+            !matches!(e.weight(), Link::Goal)
+                && kept(e.weight())
+                && petgraph::algo::has_path_connecting(&graph, e.target(), hub, None)
+        })
+    }
+
+    /// True when a change may make `e` reach `w` as an edit of the source: a declared
+    /// workspace added to the `reaches` list of an end-effector without geometry, or an
+    /// arm's reach box grown over a workspace that has boxes (declared or derived).
+    pub fn reach_editable(&self, e: u32, w: u32) -> bool {
+        let (Some(ee), Some(ws)) = (
+            self.art.end_effectors.get(e as usize),
+            self.art.workspaces.get(w as usize),
+        ) else {
+            return false;
+        };
+        match ee.body {
+            Body::Abstract => !ws.derived,
+            Body::Arm { .. } => !ws.boxes.is_empty(),
+            Body::Surface { .. } => false,
+        }
+    }
+
+    /// True when `adjacent a b` can be written: both workspaces are declared (a derived
+    /// name disappears when the reach it comes from changes).
+    pub fn adjacency_editable(&self, a: u32, b: u32) -> bool {
+        let declared = |w: u32| {
+            self.art
+                .workspaces
+                .get(w as usize)
+                .is_some_and(|x| !x.derived)
+        };
+        declared(a) && declared(b)
+    }
+
+    /// The group of pairs that must be allowed together for the lost arc `i`, if any.
+    pub fn contact_key(&self, i: usize) -> Option<u32> {
+        let pair = self.contact_of.get(i).copied().flatten()?;
+        self.contact_group.get(pair as usize).copied()
     }
 
     pub fn node(&self, i: u32) -> Node {
@@ -306,6 +381,41 @@ impl<'a> Ctx<'a> {
             .iter()
             .flat_map(|a| boxes.iter().map(move |b| box_distance(a, b)))
             .min_by(|a, b| a.total_cmp(b))
+    }
+}
+
+impl Ctx<'_> {
+    /// The reach box of arm `e` nearest to workspace `w` (None: the arm has none), and the
+    /// box it grows into to cover every box of `w`: the smallest one holding both.
+    pub fn grown_reach(&self, e: u32, w: u32) -> (Option<u32>, Aabb) {
+        let reach: &[Aabb] = self
+            .art
+            .end_effectors
+            .get(e as usize)
+            .map_or(&[], |x| x.reach_boxes.as_slice());
+        let boxes: &[Aabb] = self
+            .art
+            .workspaces
+            .get(w as usize)
+            .map_or(&[], |x| x.boxes.as_slice());
+        let gap = |a: &Aabb| {
+            boxes
+                .iter()
+                .map(|b| box_distance(a, b))
+                .fold(f64::INFINITY, f64::min)
+        };
+        let nearest = (0..reach.len()).min_by(|&i, &j| gap(&reach[i]).total_cmp(&gap(&reach[j])));
+        let mut grown = Aabb {
+            min: [f64::INFINITY; 3],
+            max: [f64::NEG_INFINITY; 3],
+        };
+        for b in nearest.map(|i| &reach[i]).into_iter().chain(boxes) {
+            for k in 0..3 {
+                grown.min[k] = grown.min[k].min(b.min[k]);
+                grown.max[k] = grown.max[k].max(b.max[k]);
+            }
+        }
+        (nearest.map(|i| i as u32), grown)
     }
 }
 

@@ -27,28 +27,43 @@
 //!   sides reach no common workspace; else only fixed surfaces hold it (they never
 //!   exchange it); else where each side lies.
 //! - Suggestions (`suggest.rs`): the fewest changes to the cell that connect the start to
-//!   the goal. A single change is tried first: declaring a transition (both ways, as the
-//!   cell normally writes it) between two grasps held by different end-effectors that
-//!   share a workspace, never two fixed ones; declaring an adjacency (cells that declare
-//!   theirs); making a pruned or failed arc feasible; extending a movable end-effector's
-//!   reach to one more workspace. Only when none connects, sets of changes along a path
-//!   that needs the fewest of them (a 0-1 breadth-first search where existing arcs cost
-//!   nothing and each hypothetical arc costs one), also after each of the nearest reach
-//!   extensions. Every suggestion is checked (`overlay.rs`) by adding every arc it would
-//!   create, as the shared graph rules ([`cellc_schema::rules`], the compiler's) say, and
-//!   searching again; only those that really connect are kept. They are ranked by number
-//!   of changes, then by whether they repeat something that already failed kinematically
-//!   (a new transition between two hands in a workspace where every declared one between
-//!   them was infeasible), then by kind (a transition is the cheapest edit, a reach
-//!   extension the dearest), then by how far a reach must grow, then by the cost of the
-//!   plan they give. Doubtful ones are dropped when others exist, and so are reach
-//!   extensions (a robot moved or replaced) when a declaration or a geometric fix
-//!   connects; one suggestion per idea (per root cause of pruned arcs, per pair of hands
-//!   and workspace of a new transition); at most three.
+//!   the goal, each an edit of something the cell's author wrote, so that it can be made
+//!   as a text edit of the source (and never names a derived workspace, whose name
+//!   changes with the reach it comes from). A single change is tried first: declaring a
+//!   transition (both ways, as the cell normally writes it) between two grasps held by
+//!   different end-effectors that share a workspace, never two fixed ones; declaring an
+//!   adjacency between two declared workspaces (cells that declare theirs); declaring
+//!   `allow contact` for two bodies whose collision is all that removed some arcs;
+//!   extending a movable end-effector's reach to one more workspace (a declared workspace
+//!   added to the `reaches` list of an end-effector without geometry, or an arm's reach
+//!   box grown over the workspace's boxes, given as boxes in metres). Arcs infeasible for
+//!   other reasons (no IK solution, no closed chain, no placement) are explained, not
+//!   suggested away: which base to move and by how much is not known here. Only when no
+//!   single change connects, sets of changes along a path that needs the fewest of them (a
+//!   0-1 breadth-first search where existing arcs cost nothing and each hypothetical arc
+//!   costs one), also after each of the nearest reach extensions. Every suggestion is
+//!   checked (`overlay.rs`) by adding every arc it would create, as the shared graph rules
+//!   ([`cellc_schema::rules`], the compiler's) say, and searching again; only those that
+//!   really connect are kept. They are ranked by number of changes, then by whether they
+//!   repeat something that already failed kinematically (a new transition between two
+//!   hands in a workspace where every declared one between them was infeasible), then by
+//!   kind (a transition is the cheapest edit, a reach extension the dearest), then by how
+//!   far a reach must grow, then by the cost of the plan they give. Doubtful ones are
+//!   dropped when others exist, and so are reach extensions (a robot moved or replaced)
+//!   when a declaration connects; one suggestion per idea (per pair of hands and workspace
+//!   of a new transition); at most three.
+//! - A goal that is the start's own state at another pose (a pick-and-place within one
+//!   state): the object must leave the start and come back, so R is what the start
+//!   reaches and G what leads back, and a path must take at least one arc
+//!   ([`Explanation::must_leave`]).
+//! - When the graph does connect the start to a goal, the planner gave up for a reason
+//!   the graph does not show: the arcs that failed during the request, with why
+//!   ([`GaveUp`]).
 //! - Pruned arcs (`lost.rs`): the pruned or failed arcs that lie on some start-to-goal
 //!   path of the graph with every pruned and failed arc restored, those on the border of R
 //!   or G first.
 
+mod change;
 mod context;
 mod cut;
 mod lost;
@@ -61,6 +76,7 @@ use cellc_schema::{
 
 use crate::plan::Unreachable;
 
+pub use change::{BodyName, Change, Exchange, Suggestion};
 use context::Ctx;
 
 /// Suggestions at most: more would bury the good ones.
@@ -95,6 +111,28 @@ pub struct Explanation {
     pub pruned: Vec<LostArc>,
     /// Arcs left out of [`Explanation::pruned`].
     pub pruned_omitted: usize,
+    /// The goal is the start's own state at another pose: a plan must leave the start and
+    /// come back, so the start is on both sides and every path takes at least one arc.
+    pub must_leave: bool,
+    /// When the graph connects the start to a goal ([`Cause::Connected`]): why the
+    /// planner found no plan anyway.
+    pub gave_up: Option<GaveUp>,
+}
+
+/// Why the planner found no plan although the graph connects the start to a goal.
+#[derive(Clone, Debug, PartialEq)]
+pub enum GaveUp {
+    /// Steps failed during the request (each removed its arc and the search ran again),
+    /// and the planner stopped at its limit of backtracks while other paths remained.
+    Backtracks {
+        /// The arcs that failed, in the order they failed, with why.
+        failed: Vec<LostArc>,
+        /// Failed arcs left out of `failed`.
+        omitted: usize,
+    },
+    /// No step failed: the answer does not fit the artifact (a caller's inconsistent
+    /// data; the planner never gives such an answer).
+    NothingFailed,
 }
 
 /// What kind of problem separates the start from the goal.
@@ -107,9 +145,9 @@ pub enum Cause {
     Pruned,
     /// Arcs that failed during this request are needed (possibly with pruned ones).
     Failed,
-    /// The graph does connect the start to a goal: nothing to explain (the request failed
-    /// for another reason, or the caller's data is inconsistent). Such an explanation has
-    /// its sides, and no cut, suggestions or pruned arcs.
+    /// The graph does connect the start to a goal: the planner gave up for the reason in
+    /// [`Explanation::gave_up`] (steps that failed, with why). Such an explanation has its
+    /// sides, and no cut, suggestions or pruned arcs.
     Connected,
 }
 
@@ -371,97 +409,6 @@ pub struct LostArc {
     pub source: Option<SpanId>,
 }
 
-/// One change to the cell, with how the plan would use it.
-#[derive(Clone, Debug, PartialEq)]
-pub enum Change {
-    /// Declare `transition from_grasp <-> to_grasp` in the object.
-    AddTransition {
-        /// Grasp given up on the way to the goal.
-        from_grasp: GraspId,
-        /// Grasp taken.
-        to_grasp: GraspId,
-        /// The existing one-way declaration `to_grasp -> from_grasp` to make two-way, if
-        /// any.
-        reverse_of: Option<SpanId>,
-        /// Every distinct exchange the plan would make with it, in path order (one
-        /// two-way declaration may serve twice).
-        exchanges: Vec<Exchange>,
-    },
-    /// Declare `adjacent a b`.
-    AddAdjacency {
-        /// A workspace.
-        a: WorkspaceId,
-        /// The other.
-        b: WorkspaceId,
-        /// The hand the plan would carry the object with between them.
-        carrier: Option<EndEffectorId>,
-    },
-    /// Extend a movable end-effector's reach to cover one more workspace.
-    ExtendReach {
-        /// The end-effector.
-        end_effector: EndEffectorId,
-        /// The workspace.
-        workspace: WorkspaceId,
-        /// How far the reach boxes are from the workspace's boxes, metres (when both have
-        /// geometry).
-        distance: Option<f64>,
-        /// The end-effectors it would exchange the object with there.
-        meets: Vec<EndEffectorId>,
-    },
-    /// Make an arc that was pruned (or failed) feasible, e.g. by moving an arm.
-    RelaxPruned(LostArc),
-}
-
-/// An exchange of the object between two end-effectors.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct Exchange {
-    /// Who gives it up.
-    pub giver: EndEffectorId,
-    /// Who takes it.
-    pub taker: EndEffectorId,
-    /// Where.
-    pub workspace: WorkspaceId,
-}
-
-impl Change {
-    /// The source places to edit: the one-way transition to make two-way or the two
-    /// grasps to join, the two workspaces, the end-effector, or the arc's declaration.
-    pub fn places(&self, artifact: &Artifact, object: ObjectId) -> Vec<SpanId> {
-        let obj = artifact.objects.get(object.index());
-        let grasp = |g: GraspId| obj.and_then(|o| o.grasps.get(g.index())).map(|x| x.span);
-        let workspace = |w: WorkspaceId| artifact.workspaces.get(w.index()).map(|x| x.span);
-        let spans: Vec<Option<u32>> = match self {
-            Change::AddTransition {
-                reverse_of: Some(s),
-                ..
-            } => vec![Some(s.0)],
-            Change::AddTransition {
-                from_grasp,
-                to_grasp,
-                ..
-            } => vec![grasp(*from_grasp), grasp(*to_grasp)],
-            Change::AddAdjacency { a, b, .. } => vec![workspace(*a), workspace(*b)],
-            Change::ExtendReach { end_effector, .. } => {
-                vec![artifact
-                    .end_effectors
-                    .get(end_effector.index())
-                    .map(|x| x.span)]
-            }
-            Change::RelaxPruned(arc) => vec![arc.source.map(|s| s.0)],
-        };
-        spans.into_iter().flatten().map(SpanId).collect()
-    }
-}
-
-/// A set of changes that, together, connect the start to the goal.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Suggestion {
-    /// The changes, all needed.
-    pub changes: Vec<Change>,
-    /// Cost of the cheapest plan once the changes are made (sum of arc weights).
-    pub cost: f64,
-}
-
 /// Explains why `unreachable.goals` cannot be reached from `unreachable.start`.
 ///
 /// R is recomputed from the graph minus `unreachable.failed` rather than taken from
@@ -492,8 +439,11 @@ impl Ctx<'_> {
             suggestions: Vec::new(),
             pruned: Vec::new(),
             pruned_omitted: 0,
+            must_leave: self.must_leave,
+            gave_up: None,
         };
-        if self.goals.iter().any(|&g| self.in_r[g as usize]) {
+        if self.connected() {
+            out.gave_up = Some(self.gave_up());
             return out;
         }
         out.cause = self.cause();

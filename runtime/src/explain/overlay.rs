@@ -21,19 +21,20 @@ pub(super) enum Key {
     Adjacency(u32, u32),
     /// (end-effector, workspace).
     Reach(u32, u32),
-    /// Index into [`Ctx::lost`].
-    Relax(usize),
+    /// `allow contact` for a group of pairs of bodies (see [`Ctx::contact_group`]): every
+    /// arc lost for their collisions comes back.
+    Contact(u32),
 }
 
 impl Key {
     /// Rank of the kind of edit: a transition is one line in the object, an adjacency one
-    /// line in the cell, a pruned arc needs geometry changed, a reach extension needs a
-    /// robot moved or replaced.
+    /// line in the cell, an allowed contact accepts a collision the geometry has, a reach
+    /// extension needs a robot moved or replaced.
     pub fn class(self) -> u8 {
         match self {
             Key::Transition(..) => 0,
             Key::Adjacency(..) => 1,
-            Key::Relax(_) => 2,
+            Key::Contact(_) => 2,
             Key::Reach(..) => 3,
         }
     }
@@ -81,7 +82,8 @@ impl Ctx<'_> {
     /// edited with every change first (a transition declared together with a reach
     /// extension is also made in the new workspace), then each change contributes the arcs
     /// the rules give for it. A declaration never brings back an arc that was pruned or
-    /// failed (the same check would remove it again); only [`Key::Relax`] does.
+    /// failed (the same check would remove it again); only [`Key::Contact`] does, for the
+    /// arcs its collision removed.
     pub fn apply(&self, changes: &[Key]) -> Overlay {
         let mut ov = Overlay::default();
         // Most hypotheses only declare transitions: the rules are copied only to edit them.
@@ -94,7 +96,7 @@ impl Ctx<'_> {
                 Key::Adjacency(a, b) => rules
                     .to_mut()
                     .declare_adjacency(WorkspaceId(a), WorkspaceId(b)),
-                Key::Transition(..) | Key::Relax(_) => {}
+                Key::Transition(..) | Key::Contact(_) => {}
             }
         }
         let base = self.nodes.len() as u32;
@@ -118,14 +120,16 @@ impl Ctx<'_> {
                 Key::Transition(a, _) => vec![Edit::Transition(GraspId(a), GraspId(a))],
                 Key::Adjacency(a, b) => vec![Edit::Adjacency(WorkspaceId(a), WorkspaceId(b))],
                 Key::Reach(e, w) => vec![Edit::Reach(EndEffectorId(e), WorkspaceId(w))],
-                Key::Relax(i) => {
-                    if let Some(l) = self.lost.get(i) {
-                        ov.arcs.push(NewArc {
-                            from: l.from,
-                            to: l.to,
-                            weight: l.weight,
-                            change: ci,
-                        });
+                Key::Contact(g) => {
+                    for (i, l) in self.lost.iter().enumerate() {
+                        if self.contact_key(i) == Some(g) {
+                            ov.arcs.push(NewArc {
+                                from: l.from,
+                                to: l.to,
+                                weight: l.weight,
+                                change: ci,
+                            });
+                        }
                     }
                     Vec::new()
                 }
@@ -158,7 +162,8 @@ impl Ctx<'_> {
     /// The cheapest start-to-goal path through the overlay, if any. R and G are already
     /// known, so the search starts at the tails of hypothetical arcs inside R (at their
     /// distance from the start) and ends on entering G (adding the distance to the goal);
-    /// only the states in between are explored.
+    /// only the states in between are explored. G is tested first: when the start must be
+    /// left, it lies in both, and coming back to it is reaching the goal.
     pub fn connect(&self, ov: &Overlay) -> Option<Route> {
         let n = self.nodes.len();
         let total = n + ov.nodes.len();
@@ -181,10 +186,10 @@ impl Ctx<'_> {
         };
         let visit = |v: u32| {
             let vi = v as usize;
-            if vi >= total || (vi < n && self.in_r[vi]) {
-                Visit::Skip
-            } else if vi < n && self.in_g[vi] {
+            if vi < n && self.in_g[vi] {
                 Visit::Exit(self.d_g[vi])
+            } else if vi >= total || (vi < n && self.in_r[vi]) {
+                Visit::Skip
             } else {
                 Visit::Enter
             }

@@ -5,9 +5,9 @@
 use std::cmp::Ordering;
 use std::collections::{BTreeMap, BTreeSet, HashMap, VecDeque};
 
-use cellc_schema::{EndEffectorId, GraspId, Infeasibility, Node, SpanId, WorkspaceId};
+use cellc_schema::{Body, EndEffectorId, GraspId, Node, SpanId, WorkspaceId};
 
-use super::context::{ordered, Ctx, Lost};
+use super::context::{ordered, Ctx};
 use super::overlay::{Key, Overlay, Route};
 use super::{Change, Exchange, Suggestion, MAX_SUGGESTIONS};
 
@@ -46,22 +46,11 @@ impl Candidate {
 /// What makes two suggestions the same idea (see [`Ctx::suggest`]).
 #[derive(Clone, Debug, PartialEq, Eq, PartialOrd, Ord)]
 enum Idea {
-    /// Relaxing arcs lost for one cause: (giver, taker, workspace, cause).
-    Relax(u32, u32, u32, Root),
     /// A new exchange between two hands in a workspace: (giver, taker, workspace).
     Exchange(u32, u32, u32),
-    /// Anything else is its own idea.
+    /// Anything else is its own idea (an allowed contact brings back every arc its
+    /// collision removed, so one pair of bodies is one idea already).
     Keys(Vec<Key>),
-}
-
-/// The root cause of an infeasible arc, so suggestions do not repeat it.
-#[derive(Clone, Debug, PartialEq, Eq, PartialOrd, Ord)]
-enum Root {
-    Ik(u32),
-    Chain(u32, u32),
-    Collision(String, String),
-    Placement(String),
-    Other,
 }
 
 impl Ctx<'_> {
@@ -123,14 +112,13 @@ impl Ctx<'_> {
             found.retain(|c| !c.doubtful);
         }
         // Extending a reach means moving or replacing a robot: a last resort, shown only
-        // when no declaration or geometric fix connects.
+        // when no declaration connects.
         let reach = Key::Reach(0, 0).class();
         if found.iter().any(|c| c.class() < reach) {
             found.retain(|c| c.class() < reach);
         }
-        // One suggestion per root cause: eleven arcs pruned because one arm cannot reach
-        // one workspace are one problem, and ten ways for the same two hands to exchange
-        // the object in the same workspace are one idea.
+        // One suggestion per idea: ten ways for the same two hands to exchange the object
+        // in the same workspace are one.
         let mut seen = BTreeSet::new();
         found.retain(|c| seen.insert(self.idea(c)));
         found.truncate(MAX_SUGGESTIONS);
@@ -139,11 +127,6 @@ impl Ctx<'_> {
 
     fn idea(&self, c: &Candidate) -> Idea {
         match c.keys.as_slice() {
-            [Key::Relax(i)] => {
-                let l = &self.lost[*i];
-                let (from, to) = (self.node(l.from), self.node(l.to));
-                Idea::Relax(from.end_effector, to.end_effector, from.workspace, root(l))
-            }
             [Key::Transition(..)] => {
                 let ends = c.route.arcs.first().and_then(|arc| {
                     let x = self.overlay_node(&c.overlay, arc.from)?;
@@ -193,16 +176,21 @@ impl Ctx<'_> {
                 for b in a + 1..n_ws {
                     let spanned = (0..self.art.end_effectors.len() as u32)
                         .any(|e| self.is_hand(e) && self.reaches(e, a) && self.reaches(e, b));
-                    if spanned && !self.is_adjacent(a, b) {
+                    if spanned && !self.is_adjacent(a, b) && self.adjacency_editable(a, b) {
                         found.extend(self.try_keys(vec![Key::Adjacency(a, b)]));
                     }
                 }
             }
         }
+        // An allowed contact helps if one of the arcs its collision removed leaves R.
+        let mut contacts = BTreeSet::new();
         for (i, l) in self.lost.iter().enumerate() {
-            if self.in_r[l.from as usize] && self.in_g[l.to as usize] {
-                found.extend(self.try_keys(vec![Key::Relax(i)]));
+            if let (Some(g), true) = (self.contact_key(i), self.in_r[l.from as usize]) {
+                contacts.insert(g);
             }
+        }
+        for g in contacts.into_iter().take(MAX_TRIES) {
+            found.extend(self.try_keys(vec![Key::Contact(g)]));
         }
         // The new states of a reach extension join R by a move of the hand or a
         // transition in the new workspace, and G likewise.
@@ -237,8 +225,8 @@ impl Ctx<'_> {
             .may_exchange(EndEffectorId(a), EndEffectorId(b), false)
     }
 
-    /// (movable end-effector, workspace it does not reach), nearest first when the cell
-    /// has geometry.
+    /// (movable end-effector, workspace it does not reach and could be made to reach by an
+    /// edit), nearest first when the cell has geometry.
     fn reach_candidates(&self) -> Vec<(u32, u32)> {
         let n_ws = self.art.workspaces.len() as u32;
         let mut out: Vec<(f64, u32, u32)> = Vec::new();
@@ -246,7 +234,9 @@ impl Ctx<'_> {
             if !self.is_hand(e) {
                 continue;
             }
-            for w in (0..n_ws).filter(|&w| !self.reaches(e, w)) {
+            let candidates =
+                (0..n_ws).filter(|&w| !self.reaches(e, w) && self.reach_editable(e, w));
+            for w in candidates {
                 let d = self.reach_distance(e, w).unwrap_or(0.0);
                 out.push((d, e, w));
             }
@@ -301,10 +291,11 @@ impl Ctx<'_> {
 
     /// A 0-1 breadth-first search from the start over the graph with the `base` changes
     /// made: existing arcs cost nothing, hypothetical ones (a transition between two
-    /// grasps held in one workspace, an adjacency, a restored arc) cost one. Returns the
-    /// distinct changes of the path found, `base` included. This is the one 0-1 search of
-    /// the project: its successors are generated per state (every grasp pair that could
-    /// be declared there), so no graph of them is ever built.
+    /// grasps held in one workspace, an adjacency, an arc an allowed contact restores)
+    /// cost one. Returns the distinct changes of the path found, `base` included. This is
+    /// the one 0-1 search of the project: its successors are generated per state (every
+    /// grasp pair that could be declared there), so no graph of them is ever built. When
+    /// the start must be left, an arc back into it reaches `sink`, a goal of its own.
     fn fewest_changes(&self, banned: &BTreeSet<Key>, base: &[Key]) -> Option<Vec<Key>> {
         let ov = self.apply(base);
         let n = self.nodes.len();
@@ -326,8 +317,9 @@ impl Ctx<'_> {
         for a in &ov.arcs {
             extra_from.entry(a.from).or_default().push(a.to);
         }
-        let mut dist = vec![u32::MAX; total];
-        let mut pred: Vec<Option<(u32, Option<Key>)>> = vec![None; total];
+        let sink = total as u32;
+        let mut dist = vec![u32::MAX; total + 1];
+        let mut pred: Vec<Option<(u32, Option<Key>)>> = vec![None; total + 1];
         let mut deque = VecDeque::new();
         dist[self.start as usize] = 0;
         deque.push_back((self.start, 0u32));
@@ -337,18 +329,17 @@ impl Ctx<'_> {
             if d > dist[ui] {
                 continue;
             }
-            if ui < n && self.is_goal[ui] {
+            if u == sink || (ui < n && self.is_goal[ui] && !(self.must_leave && u == self.start)) {
                 reached = Some(u);
                 break;
             }
             let mut next: Vec<(u32, Option<Key>)> = Vec::new();
             if ui < n {
                 next.extend(self.fwd[ui].iter().map(|&(v, _)| (v, None)));
-                next.extend(
-                    self.lost_from[ui]
-                        .iter()
-                        .map(|&i| (self.lost[i].to, Some(Key::Relax(i)))),
-                );
+                next.extend(self.lost_from[ui].iter().filter_map(|&i| {
+                    let group = self.contact_key(i)?;
+                    Some((self.lost[i].to, Some(Key::Contact(group))))
+                }));
             }
             next.extend(extra_from.get(&u).into_iter().flatten().map(|&v| (v, None)));
             let nu = node_of(u);
@@ -377,7 +368,10 @@ impl Ctx<'_> {
                     _ => None,
                 });
                 for x in reach.chain(extended) {
-                    if x == nu.workspace || self.is_adjacent(nu.workspace, x) {
+                    if x == nu.workspace
+                        || self.is_adjacent(nu.workspace, x)
+                        || !self.adjacency_editable(nu.workspace, x)
+                    {
                         continue;
                     }
                     let pair = ordered(nu.workspace, x);
@@ -391,6 +385,11 @@ impl Ctx<'_> {
                 if key.is_some_and(|k| banned.contains(&k)) || v as usize >= total {
                     continue;
                 }
+                let v = if self.must_leave && v == self.start {
+                    sink
+                } else {
+                    v
+                };
                 let step = u32::from(key.is_some());
                 let nd = d + step;
                 if nd < dist[v as usize] {
@@ -421,7 +420,7 @@ impl Ctx<'_> {
             .keys
             .iter()
             .enumerate()
-            .map(|(ci, &key)| {
+            .flat_map(|(ci, &key)| {
                 let used: Vec<(Node, Node)> = c
                     .route
                     .arcs
@@ -432,7 +431,7 @@ impl Ctx<'_> {
                         Some((x, self.overlay_node(&c.overlay, a.to)?))
                     })
                     .collect();
-                self.change(key, &used)
+                self.changes(key, &used)
             })
             .collect();
         Suggestion {
@@ -441,8 +440,9 @@ impl Ctx<'_> {
         }
     }
 
-    /// A change, with the arcs it makes that the plan would use.
-    fn change(&self, key: Key, used: &[(Node, Node)]) -> Change {
+    /// The changes a key stands for (one, or one `allow contact` per pair of its group),
+    /// with the arcs they make that the plan would use.
+    fn changes(&self, key: Key, used: &[(Node, Node)]) -> Vec<Change> {
         // The exchanges the plan would make: between two end-effectors in one workspace.
         let exchanges = || {
             let mut out: Vec<Exchange> = Vec::new();
@@ -471,43 +471,64 @@ impl Ctx<'_> {
                     .declared
                     .get(&(to, from))
                     .and_then(|s| s.first().copied());
-                Change::AddTransition {
+                vec![Change::AddTransition {
                     from_grasp: GraspId(from),
                     to_grasp: GraspId(to),
                     reverse_of: reverse_of.map(SpanId),
                     exchanges: exchanges(),
-                }
+                }]
             }
-            Key::Adjacency(a, b) => Change::AddAdjacency {
+            Key::Adjacency(a, b) => vec![Change::AddAdjacency {
                 a: WorkspaceId(a),
                 b: WorkspaceId(b),
                 carrier: used.first().map(|(x, _)| EndEffectorId(x.end_effector)),
-            },
+            }],
             Key::Reach(e, w) => {
                 let meets: BTreeSet<u32> = exchanges()
                     .iter()
                     .filter(|x| x.workspace.0 == w)
                     .map(|x| if x.giver.0 == e { x.taker.0 } else { x.giver.0 })
                     .collect();
-                Change::ExtendReach {
+                let meets = meets.into_iter().map(EndEffectorId).collect();
+                let arm = self
+                    .art
+                    .end_effectors
+                    .get(e as usize)
+                    .is_some_and(|x| matches!(x.body, Body::Arm { .. }));
+                if !arm {
+                    return vec![Change::ExtendReaches {
+                        end_effector: EndEffectorId(e),
+                        workspace: WorkspaceId(w),
+                        meets,
+                    }];
+                }
+                let (reach_box, grown) = self.grown_reach(e, w);
+                vec![Change::GrowReach {
                     end_effector: EndEffectorId(e),
+                    reach_box,
+                    grown,
+                    region: self
+                        .art
+                        .workspaces
+                        .get(w as usize)
+                        .map(|x| x.boxes.clone())
+                        .unwrap_or_default(),
                     workspace: WorkspaceId(w),
                     distance: self.reach_distance(e, w),
-                    meets: meets.into_iter().map(EndEffectorId).collect(),
-                }
+                    meets,
+                }]
             }
-            Key::Relax(i) => Change::RelaxPruned(self.lost_arc(i)),
+            Key::Contact(g) => (0..self.contacts.len())
+                .filter(|&p| self.contact_group[p] == g)
+                .map(|p| {
+                    let (a, b) = self.contacts[p].clone();
+                    let arcs = (0..self.lost.len())
+                        .filter(|&i| self.contact_of[i] == Some(p as u32))
+                        .map(|i| self.lost_arc(i))
+                        .collect();
+                    Change::AllowContact { a, b, arcs }
+                })
+                .collect(),
         }
-    }
-}
-
-/// The root cause of a lost arc.
-fn root(l: &Lost) -> Root {
-    match &l.reason {
-        Infeasibility::NoIkSolution { end_effector, .. } => Root::Ik(*end_effector),
-        Infeasibility::NoClosedChain { a, b, .. } => Root::Chain(*a, *b),
-        Infeasibility::Collision { a, b } => Root::Collision(a.clone(), b.clone()),
-        Infeasibility::NoPlacement { detail } => Root::Placement(detail.clone()),
-        _ => Root::Other,
     }
 }

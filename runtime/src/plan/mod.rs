@@ -267,6 +267,11 @@ pub struct Plan {
     pub backtracks: u32,
 }
 
+/// How the detail of a step whose joint motion could not be planned begins (the arc fails
+/// with [`Infeasibility::NoPlacement`] and this, then the motion planner's error), so
+/// explanations can tell a blocked motion from a missing placement.
+pub const NO_MOTION: &str = "no collision-free motion";
+
 /// A graph arc identified by its endpoints (node indices of the object's graph).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct ArcRef {

@@ -13,7 +13,7 @@ pub use scenarios::*;
 
 use std::collections::VecDeque;
 
-use cellc_runtime::explain::Change;
+use cellc_runtime::explain::{BodyName, Change};
 use cellc_runtime::plan::{ArcRef, Unreachable};
 use cellc_schema::rules::{
     Adjacency, CellRules, EndEffectorFacts, GraspFacts, ObjectRules, Provenance,
@@ -45,6 +45,8 @@ pub struct Desc {
     pub boxes: Vec<(String, f64, f64)>,
     /// Hand kinds and their members; a grasp declared for a kind is held by each member.
     pub kinds: Vec<(String, Vec<String>)>,
+    /// Obstacles (names only: collisions with them are given, not computed).
+    pub obstacles: Vec<String>,
 }
 
 pub fn s(x: &str) -> String {
@@ -121,6 +123,11 @@ impl Desc {
                 max: [b.2, 1.0, 1.0],
             })
             .collect()
+    }
+
+    pub fn obstacle(mut self, name: &str) -> Desc {
+        self.obstacles.push(s(name));
+        self
     }
 
     pub fn kind(mut self, name: &str, members: &[&str]) -> Desc {
@@ -366,7 +373,17 @@ impl Desc {
             }],
             spans,
             requests: Vec::new(),
-            obstacles: Vec::new(),
+            obstacles: self
+                .obstacles
+                .iter()
+                .map(|o| {
+                    let unit = Aabb {
+                        min: [0.0; 3],
+                        max: [1.0; 3],
+                    };
+                    (o.clone(), unit)
+                })
+                .collect(),
             adjacency: None,
             allowed_contacts: Vec::new(),
             verification,
@@ -439,17 +456,28 @@ pub fn reachable(art: &Artifact, start: u32, failed: &[(ArcRef, Infeasibility)])
 }
 
 /// Whether the request connects on the cell as described (None: a state is missing).
+/// When the start is a goal (another pose in the same state, as the planner reads it),
+/// the object must leave it and come back: a path of at least one arc.
 pub fn connects(d: &Desc, req: &Req) -> Option<bool> {
     let art = d.build();
     let nodes = &art.objects[0].graph.nodes;
     let start = d.node(nodes, &req.start)?;
     let failed = req.failed_refs(d, &art);
-    let reach = reachable(&art, start, &failed);
+    let goals: Vec<u32> = req.goals.iter().filter_map(|g| d.node(nodes, g)).collect();
+    let leads = |from: u32| {
+        let reach = reachable(&art, from, &failed);
+        goals.iter().any(|g| reach.contains(g))
+    };
+    if !goals.contains(&start) {
+        return Some(leads(start));
+    }
+    let gone = |a: &Arc| failed.iter().any(|(f, _)| f.from == a.from && f.to == a.to);
     Some(
-        req.goals
+        art.objects[0]
+            .graph
+            .arcs
             .iter()
-            .filter_map(|g| d.node(nodes, g))
-            .any(|g| reach.contains(&g)),
+            .any(|a| a.from == start && !gone(a) && leads(a.to)),
     )
 }
 
@@ -477,15 +505,6 @@ pub fn unreachable(d: &Desc, art: &Artifact, req: &Req) -> Unreachable {
 /// The description and request with one suggestion's changes made.
 pub fn apply(d: &Desc, art: &Artifact, req: &Req, changes: &[Change]) -> (Desc, Req) {
     let (mut d, mut req) = (d.clone(), req.clone());
-    let nodes = &art.objects[0].graph.nodes;
-    let state = |i: u32| -> St {
-        let n = nodes[i as usize];
-        (
-            art.end_effectors[n.end_effector as usize].name.clone(),
-            art.objects[0].grasps[n.grasp as usize].name.clone(),
-            art.workspaces[n.workspace as usize].name.clone(),
-        )
-    };
     for c in changes {
         match c {
             Change::AddTransition {
@@ -505,7 +524,12 @@ pub fn apply(d: &Desc, art: &Artifact, req: &Req, changes: &[Change]) -> (Desc, 
                 );
                 d.adjacent.push((a, b));
             }
-            Change::ExtendReach {
+            Change::ExtendReaches {
+                end_effector,
+                workspace,
+                ..
+            }
+            | Change::GrowReach {
                 end_effector,
                 workspace,
                 ..
@@ -513,13 +537,18 @@ pub fn apply(d: &Desc, art: &Artifact, req: &Req, changes: &[Change]) -> (Desc, 
                 let w = d.workspaces[workspace.index()].clone();
                 d.end_effectors[end_effector.index()].2.push(w);
             }
-            Change::RelaxPruned(arc) => {
-                let (a, b) = (state(arc.from.0), state(arc.to.0));
-                if arc.failed {
-                    req.failed.retain(|(x, y, _)| !(*x == a && *y == b));
-                } else {
-                    d.pruned.retain(|(x, y, _)| !(*x == a && *y == b));
-                }
+            Change::AllowContact { a, b, .. } => {
+                // Every arc lost for that collision, pruned or failed, is possible again.
+                let pair = |r: &Infeasibility| match r {
+                    Infeasibility::Collision { a: x, b: y } => {
+                        let (x, y) = (BodyName::of(art, x), BodyName::of(art, y));
+                        (x.as_ref(), y.as_ref()) == (Some(a), Some(b))
+                            || (x.as_ref(), y.as_ref()) == (Some(b), Some(a))
+                    }
+                    _ => false,
+                };
+                d.pruned.retain(|(_, _, r)| !pair(r));
+                req.failed.retain(|(_, _, r)| !pair(r));
             }
         }
     }

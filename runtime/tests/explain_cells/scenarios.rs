@@ -342,7 +342,8 @@ pub fn one_hand_move_failed() -> (Desc, Req) {
 
 /// [`one_hand`] whose move was pruned at build time: the arm hits a shelf.
 pub fn one_hand_move_pruned() -> (Desc, Req) {
-    let (mut d, req) = one_hand();
+    let (d, req) = one_hand();
+    let mut d = d.obstacle("shelf");
     d.pruned.push((
         st("right", "g7", "w2"),
         st("right", "g7", "w3"),
@@ -394,5 +395,37 @@ pub fn workspaces_not_adjacent() -> (Desc, Req) {
         .two_way("ta", &["h"])
         .two_way("h", &["tc"]);
     let req = Req::new(st("table_a", "ta", "w1"), vec![st("table_c", "tc", "w3")]);
+    (d, req)
+}
+
+/// A table and an arm in one workspace, asked to move the object to another pose on the
+/// table (the start is the goal state): the arm cannot take it (`one_way: false`), or can
+/// take it but not put it back (`one_way: true`).
+pub fn back_to_the_table(one_way: bool) -> (Desc, Req) {
+    let mut d = Desc::new(&["w1"])
+        .fixed("table", &["w1"])
+        .movable("arm", &["w1"])
+        .grasps("table", &["standing"])
+        .grasps("arm", &["top"]);
+    if one_way {
+        d = d.one_way("standing", &["top"]);
+    }
+    let here = st("table", "standing", "w1");
+    (d, Req::new(here.clone(), vec![here]))
+}
+
+/// Fig. 3 as published, where one handoff failed during the request and the planner gave
+/// up (its limit of backtracks) while other paths remained.
+pub fn fig3_gave_up() -> (Desc, Req) {
+    let (d, mut req) = fig3_connected();
+    req.failed.push((
+        st("left_arm", "g5", "w2"),
+        st("right_arm", "g7", "w2"),
+        Infeasibility::NoPlacement {
+            detail: s(
+                "no collision-free motion: no collision-free motion found in 5000 iterations",
+            ),
+        },
+    ));
     (d, req)
 }

@@ -216,7 +216,7 @@ impl Planner<'_> {
                     return Err(Failure {
                         arc,
                         reason: Infeasibility::NoPlacement {
-                            detail: format!("no collision-free motion: {error}"),
+                            detail: format!("{}: {error}", crate::plan::NO_MOTION),
                         },
                     });
                 }
