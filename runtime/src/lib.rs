@@ -29,6 +29,7 @@ pub mod robot;
 pub mod scene;
 #[doc(hidden)]
 pub mod symmetry;
+mod swept;
 #[doc(hidden)]
 pub mod termination;
 #[doc(hidden)]
