@@ -27,9 +27,9 @@ pub mod rest;
 pub mod robot;
 #[doc(hidden)]
 pub mod scene;
+mod swept;
 #[doc(hidden)]
 pub mod symmetry;
-mod swept;
 #[doc(hidden)]
 pub mod termination;
 #[doc(hidden)]

@@ -35,17 +35,20 @@
 //! An arm with a prismatic joint of unlimited stroke has no finite bound, and the check
 //! falls back to sampling.
 
+use parry3d_f64::shape::SharedShape;
+
 use crate::collision::{Mount, SweepBounds};
-use crate::math::{Point, Vec3};
+use crate::math::{Iso, Point, Vec3};
 use crate::robot::Robot;
 use crate::scene::{ObjectPlacement, Scene};
 use crate::validity::ArmSlice;
 
 /// How far ahead (metres of travel for the fastest body) one swept query looks: the
-/// broad phase grows each body by its travel over the horizon, so a long horizon would
-/// hand the exact distance every pair of the cell. A tenth of a metre keeps the pairs
-/// to the near ones and a segment to a few queries.
-pub(crate) const LOOKAHEAD: f64 = 0.1;
+/// broad phase grows each body by its travel over the horizon, and a pair it cannot
+/// separate gets a lower bound at least, so a long horizon costs pairs (all of a
+/// five-arm line's at once) and a short one costs queries. Half a metre measured best on
+/// the motion benchmarks (two or three queries per tree edge).
+pub(crate) const LOOKAHEAD: f64 = 0.5;
 
 /// The reach radii of the bodies that move with a set of arms (and a held object), from
 /// which [`SweptBodies::fill`] bounds each body's travel along one segment.
@@ -71,12 +74,20 @@ struct Moving {
     offset: usize,
     /// Where its radii start in [`SweptBodies::radii`].
     start: usize,
+    /// How fast turning the joint above its frame moves it as a set (infinite when that
+    /// joint does not turn or the body has no symmetry about its axis).
+    above: f64,
 }
 
 impl SweptBodies {
     /// The moving bodies of the arms `slices` (joints concatenated in that order), with
     /// `object` placed as `placement` (riding the hand that holds it, if that arm moves).
-    pub(crate) fn new(scene: &Scene, slices: &[ArmSlice], object: u32, placement: &ObjectPlacement) -> SweptBodies {
+    pub(crate) fn new(
+        scene: &Scene,
+        slices: &[ArmSlice],
+        object: u32,
+        placement: &ObjectPlacement,
+    ) -> SweptBodies {
         let mut swept = SweptBodies {
             finite: true,
             ..SweptBodies::default()
@@ -98,27 +109,48 @@ impl SweptBodies {
             let carried = carrier
                 .filter(|(by, _)| *by == slice.end_effector)
                 .map(|(_, grasp)| robot.tip_offset() * grasp);
-            for sphere in scene.world.body_spheres() {
-                let (frame, centre) = match sphere.mount {
-                    Mount::Frame { robot: r, frame } if r == world_robot => (frame, sphere.centre),
+            for body in scene.world.body_geometry() {
+                let (frame, local, centre) = match body.mount {
+                    Mount::Frame { robot: r, frame } if r == world_robot => {
+                        (frame, body.local, body.centre)
+                    }
                     Mount::Object { object: o } if o == object as usize => match &carried {
-                        Some(in_hand) => (n, in_hand * sphere.centre),
+                        Some(in_hand) => (n, in_hand * body.local, in_hand * body.centre),
                         None => continue,
                     },
                     _ => continue,
                 };
-                if frame == 0 {
-                    continue;
-                }
                 let start = swept.radii.len();
-                reach_radii(robot, frame, &centre, sphere.radius, &mut swept.radii);
+                reach_radii(robot, frame, &centre, body.radius, &mut swept.radii);
+                // The joint below the body's frame turns it about an axis fixed in that
+                // frame: a body symmetric about it hardly moves as a set.
+                if frame > 0 && robot.joint_kinds()[frame - 1].is_rotational() {
+                    let axis = (Point::origin(), robot.axes()[frame - 1]);
+                    if let Some(spin) = spin_radius(body.shape, &local, &axis) {
+                        let last = &mut swept.radii[start + frame - 1];
+                        *last = last.min(spin);
+                    }
+                }
+                // The joint above it, likewise, for the bodies it carries.
+                let above = (frame < n && robot.joint_kinds()[frame].is_rotational())
+                    .then(|| {
+                        let origin = &robot.origins()[frame];
+                        let axis = (
+                            Point::from(origin.translation.vector),
+                            origin.rotation * robot.axes()[frame],
+                        );
+                        spin_radius(body.shape, &local, &axis)
+                    })
+                    .flatten()
+                    .unwrap_or(f64::INFINITY);
                 swept.finite &= swept.radii[start..].iter().all(|r| r.is_finite());
                 swept.moving.push(Moving {
-                    body: sphere.body,
+                    body: body.body,
                     robot: world_robot,
                     frame,
                     offset: slice.offset,
                     start,
+                    above,
                 });
             }
         }
@@ -129,7 +161,12 @@ impl SweptBodies {
     /// per unit of the parameter of a segment whose joints change by `delta` (the
     /// combined configuration's `b - a`); returns the largest travel, or `None` when the
     /// arms have no finite bound.
-    pub(crate) fn fill(&self, delta: &[f64], bounds: &mut SweepBounds, bodies: usize) -> Option<f64> {
+    pub(crate) fn fill(
+        &self,
+        delta: &[f64],
+        bounds: &mut SweepBounds,
+        bodies: usize,
+    ) -> Option<f64> {
         if !self.finite {
             return None;
         }
@@ -138,7 +175,11 @@ impl SweptBodies {
         for m in &self.moving {
             let radii = &self.radii[m.start..m.start + m.frame];
             let joints = &delta[m.offset..m.offset + m.frame];
-            bounds.set(m.body, m.robot, m.frame, |suffix| {
+            let above = match delta.get(m.offset + m.frame) {
+                Some(d) if m.above.is_finite() => d.abs() * m.above,
+                _ => f64::INFINITY,
+            };
+            bounds.set(m.body, m.robot, m.frame, above, |suffix| {
                 let mut sum = 0.0;
                 for g in (0..m.frame).rev() {
                     sum += joints[g].abs() * radii[g];
@@ -190,6 +231,36 @@ fn reach_radii(robot: &Robot, frame: usize, centre: &Point, radius: f64, out: &m
     }
 }
 
+/// How far points of the set a solid occupies (`shape` at `local`) can move per radian
+/// of a turn about `axis` (a point and a unit direction, in the same frame), when the
+/// solid is a ball, capsule or cylinder: its distance from the axis, plus what its own
+/// axis's tilt from the turning one adds. A solid symmetric about the axis gives 0 (it
+/// occupies the same space however far it turns), one merely close to symmetric (a
+/// URDF's `1.5707963`) almost 0. `None` for other shapes.
+///
+/// A turn by `t` moves a point `x` by at most `|t|` times its distance from the axis, and
+/// the solid's own axis direction `w` by at most `|t| |w x u|`; a cylinder's points are
+/// `c + s w + r v` (`|s| <= h`, `v` a unit vector across `w`), and the turned point is
+/// within `|t| (dist(c) + (h + 2 r) |w x u|)` of such a point of the unturned cylinder
+/// (the turned `v` leaves the plane across `w` by at most `|t| |w x u|`). A capsule is a
+/// segment grown by its radius, so its segment's ends bound it.
+fn spin_radius(shape: &SharedShape, local: &Iso, axis: &(Point, Vec3)) -> Option<f64> {
+    let (on, u) = axis;
+    let from_axis = |p: &Point| (p - on).cross(u).norm();
+    if shape.as_ball().is_some() {
+        return Some(from_axis(&Point::from(local.translation.vector)));
+    }
+    if let Some(capsule) = shape.as_capsule() {
+        let (a, b) = (local * capsule.segment.a, local * capsule.segment.b);
+        return Some(from_axis(&a).max(from_axis(&b)));
+    }
+    let cylinder = shape.as_cylinder()?;
+    let w = local.rotation * Vec3::y();
+    let tilt = w.cross(u).norm();
+    let centre = Point::from(local.translation.vector);
+    Some(from_axis(&centre) + (cylinder.half_height + 2.0 * cylinder.radius) * tilt)
+}
+
 #[cfg(test)]
 mod tests {
     //! The radii bound what forward kinematics shows: points of a robot's solids, moved
@@ -199,7 +270,6 @@ mod tests {
     use rand_chacha::ChaCha8Rng;
 
     use super::*;
-    use crate::math::Iso;
     use crate::MemoryFiles;
 
     fn robot(urdf: &str, base: &str, tip: &str) -> Robot {
@@ -243,7 +313,9 @@ mod tests {
                 let centre = shape.local * sphere.center;
                 radii.clear();
                 reach_radii(robot, shape.frame, &centre, sphere.radius(), &mut radii);
-                let bound: f64 = (0..shape.frame).map(|j| (b[j] - a[j]).abs() * radii[j]).sum();
+                let bound: f64 = (0..shape.frame)
+                    .map(|j| (b[j] - a[j]).abs() * radii[j])
+                    .sum();
                 let points = sphere_points(&centre, sphere.radius());
                 robot.fk_frames(&base, &a, &mut frames);
                 let start: Vec<Point> = points.iter().map(|p| frames[shape.frame] * p).collect();
@@ -288,10 +360,57 @@ mod tests {
         let last = robot.shapes().last().expect("solids");
         let sphere = last.shape.compute_local_bounding_sphere();
         let mut radii = Vec::new();
-        reach_radii(&robot, last.frame, &(last.local * sphere.center), sphere.radius(), &mut radii);
+        reach_radii(
+            &robot,
+            last.frame,
+            &(last.local * sphere.center),
+            sphere.radius(),
+            &mut radii,
+        );
         // A1 sees the flange from up to the whole arm above the shoulder; A7 turns it about
         // its own axis.
         assert!(radii[0] < 1.2, "{radii:?}");
         assert!(radii[last.frame - 1] < 0.1, "{radii:?}");
+    }
+
+    #[test]
+    fn a_turned_solid_stays_within_its_spin_radius() {
+        let mut rng = ChaCha8Rng::seed_from_u64(3);
+        let mut seen_small = false;
+        for k in 0..300 {
+            let shape = match k % 3 {
+                0 => SharedShape::ball(rng.random_range(0.01..0.2)),
+                1 => {
+                    SharedShape::capsule_y(rng.random_range(0.01..0.2), rng.random_range(0.01..0.1))
+                }
+                _ => {
+                    SharedShape::cylinder(rng.random_range(0.01..0.2), rng.random_range(0.01..0.1))
+                }
+            };
+            // Axes from exactly the solid's own to far from it.
+            let off = [0.0, 1e-8, 0.01, 0.3][k % 4];
+            let local = Iso::new(
+                Vec3::from_fn(|_, _| rng.random_range(-off..=off)),
+                Vec3::from_fn(|_, _| rng.random_range(-off..=off)),
+            );
+            let axis = (Point::origin(), Vec3::y());
+            let spin = spin_radius(&shape, &local, &axis).expect("a round solid");
+            seen_small |= spin < 1e-6;
+            for _ in 0..20 {
+                let t: f64 = rng.random_range(-1.0..1.0);
+                let turn = Iso::rotation(Vec3::y() * t);
+                // A point of the solid: its support point in a random direction, pulled
+                // towards the centre by a random fraction.
+                let dir = Vec3::from_fn(|_, _| rng.random_range(-1.0..1.0));
+                let surface = shape
+                    .as_support_map()
+                    .expect("a convex solid")
+                    .support_point(&local, &dir);
+                let x = Point::from(local.translation.vector).lerp(&surface, rng.random());
+                let d = shape.distance_to_point(&local, &(turn * x), true);
+                assert!(d <= t.abs() * spin + 1e-12, "{k}: {d} > {}", t.abs() * spin);
+            }
+        }
+        assert!(seen_small);
     }
 }

@@ -273,7 +273,9 @@ mod tests {
         cutoff: Option<f64>,
     ) -> (Vec<Collision>, Option<(f64, Collision)>) {
         let mut scratch = CollisionScratch::default();
-        world.place(state, &mut scratch, |_| 0.0).expect("well-formed");
+        world
+            .place(state, &mut scratch, |_| 0.0)
+            .expect("well-formed");
         let mut hits = Vec::new();
         let mut best: Option<(f64, Collision)> = None;
         for i in 0..world.bodies.len() {

@@ -78,10 +78,11 @@ use parry3d_f64::shape::SharedShape;
 
 use crate::math::Iso;
 
-pub(crate) use build::Mount;
 pub use build::CollisionWorldBuilder;
+pub(crate) use build::Mount;
 pub use error::{BuildError, CollisionError};
 pub(crate) use swept::SweepBounds;
+
 pub use world::{CollisionScratch, CollisionWorld};
 
 /// One solid of the collision world.

@@ -12,11 +12,14 @@
 //! pairs that may not touch holds for the whole state.
 
 use parry3d_f64::query;
+use parry3d_f64::query::details::closest_points_support_map_support_map_with_params;
+use parry3d_f64::query::gjk::{CSOPoint, GJKResult, VoronoiSimplex};
+use parry3d_f64::shape::{SegmentPointLocation, SharedShape};
 
 use super::build::Mount;
 use super::world::{CollisionScratch, CollisionWorld, Visit};
 use super::{CollisionError, Configuration};
-use crate::math::Point;
+use crate::math::{Iso, Point, Vec3};
 
 /// Distances up to this (metres, a micrometre) count as contact in a swept query: a
 /// certified configuration keeps every pair that may not touch at least this far apart,
@@ -34,12 +37,14 @@ pub(crate) struct SweepBounds {
     suffix: Vec<f64>,
 }
 
-/// A moving body: the robot frame it rides on and where its bounds are.
+/// A body of a moving robot: the frame it rides on, where its bounds are, and how fast
+/// the joint just above its frame can change its distance to the bodies above.
 #[derive(Clone, Copy, Debug)]
 struct Ride {
     robot: usize,
     frame: usize,
     start: usize,
+    above: f64,
 }
 
 impl SweepBounds {
@@ -52,12 +57,16 @@ impl SweepBounds {
 
     /// Body `body` (an index into the world's bodies) rides on frame `frame` of robot
     /// `robot`; `fill` writes its `frame` bounds, the `g`-th bounding how far it travels
-    /// through joints `g..frame` of that robot (so non-increasing in `g`).
+    /// through joints `g..frame` of that robot (so non-increasing in `g`). `above` bounds
+    /// how far joint `frame` (the one just above the body) can change the body's
+    /// distance to anything it carries, when less than those bodies' own travel through
+    /// it (a body symmetric about that joint's axis: infinity when there is none).
     pub(crate) fn set(
         &mut self,
         body: usize,
         robot: usize,
         frame: usize,
+        above: f64,
         fill: impl FnOnce(&mut [f64]),
     ) {
         let Some(slot) = self.rides.get_mut(body) else {
@@ -68,6 +77,7 @@ impl SweepBounds {
             robot,
             frame,
             start,
+            above,
         });
         self.suffix.resize(start + frame, 0.0);
         fill(&mut self.suffix[start..]);
@@ -90,23 +100,40 @@ impl SweepBounds {
     fn pair(&self, i: usize, j: usize) -> f64 {
         match (self.rides[i], self.rides[j]) {
             (Some(a), Some(b)) if a.robot == b.robot => {
-                let g = a.frame.min(b.frame);
-                self.from_joint(i, g) + self.from_joint(j, g)
+                // Seen from the lower body's frame `g`, only joints `g..` move the other;
+                // joint `g` turns it about an axis fixed in that frame, which changes the
+                // distance no faster than it moves the other body, nor than it would
+                // move the lower body turned the opposite way.
+                let (low, high, k) = if a.frame <= b.frame {
+                    (a, b, j)
+                } else {
+                    (b, a, i)
+                };
+                let g = low.frame;
+                if high.frame == g {
+                    return 0.0;
+                }
+                let (through, beyond) = (self.from_joint(k, g), self.from_joint(k, g + 1));
+                beyond + (through - beyond).min(low.above)
             }
             _ => self.own(i) + self.own(j),
         }
     }
 }
 
-/// A body's bounding sphere where it is mounted, for deriving [`SweepBounds`].
-#[derive(Clone, Copy, Debug)]
-pub(crate) struct BodySphere {
+/// A body's shape and bounding sphere where it is mounted, for deriving [`SweepBounds`].
+#[derive(Clone, Copy)]
+pub(crate) struct BodyGeometry<'w> {
     /// Index of the body in the world (what [`SweepBounds::set`] takes).
     pub(crate) body: usize,
     /// What it moves with.
     pub(crate) mount: Mount,
-    /// The sphere's centre in the mount's frame (a robot frame, the object frame, or
-    /// the world for fixed bodies).
+    /// The shape's pose in the mount's frame (a robot frame, the object frame, or the
+    /// world for fixed bodies).
+    pub(crate) local: Iso,
+    /// The shape.
+    pub(crate) shape: &'w SharedShape,
+    /// The bounding sphere's centre in the mount's frame.
     pub(crate) centre: Point,
     /// Its radius.
     pub(crate) radius: f64,
@@ -118,14 +145,19 @@ impl CollisionWorld {
         self.bodies.len()
     }
 
-    /// Every body's bounding sphere in the frame it is mounted on.
-    pub(crate) fn body_spheres(&self) -> impl Iterator<Item = BodySphere> + '_ {
-        self.bodies.iter().enumerate().map(|(body, b)| BodySphere {
-            body,
-            mount: b.mount,
-            centre: b.local * b.sphere_centre,
-            radius: b.sphere_radius,
-        })
+    /// Every body's shape and bounding sphere in the frame it is mounted on.
+    pub(crate) fn body_geometry(&self) -> impl Iterator<Item = BodyGeometry<'_>> + '_ {
+        self.bodies
+            .iter()
+            .enumerate()
+            .map(|(body, b)| BodyGeometry {
+                body,
+                mount: b.mount,
+                local: b.local,
+                shape: &b.shape,
+                centre: b.local * b.sphere_centre,
+                radius: b.sphere_radius,
+            })
     }
 
     /// The largest `t <= horizon` such that no configuration within `t` of `state` along
@@ -146,37 +178,135 @@ impl CollisionWorld {
         scratch: &mut CollisionScratch,
     ) -> Result<f64, CollisionError> {
         self.place(state, scratch, |i| bounds.own(i) * horizon + CONTACT / 2.0)?;
-        let mut radius = horizon;
+        // First every candidate pair with the radius a cheap lower bound on its distance
+        // proves (the gap between bounding spheres, or between AABBs, which is tight for
+        // the boxes of the furniture)...
+        let mut candidates = std::mem::take(&mut scratch.candidates);
+        candidates.clear();
         self.sweep(state, scratch, |i, j, scratch| {
             let p = bounds.pair(i, j);
-            if p <= 0.0 {
-                return Ok(Visit::Continue);
+            if p > 0.0 {
+                let gap = lower_bound(self, scratch, i, j);
+                candidates.push(((gap - CONTACT) / p, i as u32, j as u32));
             }
-            let (bi, bj) = (&self.bodies[i], &self.bodies[j]);
-            let gap = (scratch.centres[i] - scratch.centres[j]).norm()
-                - bi.sphere_radius
-                - bj.sphere_radius;
-            if (gap - CONTACT) / p >= radius {
-                return Ok(Visit::Continue);
-            }
-
-            let d = query::distance(
-                &scratch.poses[i],
-                bi.shape.as_ref(),
-                &scratch.poses[j],
-                bj.shape.as_ref(),
-            )
-            .map_err(|_| self.unsupported(i, j))?;
-            let r = (d - CONTACT) / p;
-            if r <= 0.0 {
-                radius = 0.0;
-                return Ok(Visit::Stop);
-            }
-            radius = radius.min(r);
             Ok(Visit::Continue)
         })?;
-        Ok(radius)
+        // ... then the exact test, nearest first, only while a pair's cheap bound is
+        // below the radius found so far, and only as far as that radius needs: most pairs
+        // never need one, and GJK stops as soon as it proves a pair far enough apart.
+        candidates.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then((a.1, a.2).cmp(&(b.1, b.2))));
+        let mut radius = horizon;
+        let mut result = Ok(());
+        for &(cheap, i, j) in &candidates {
+            if cheap >= radius {
+                break;
+            }
+            let (i, j) = (i as usize, j as usize);
+            let p = bounds.pair(i, j);
+            match self.distance_within(scratch, i, j, CONTACT + p * radius) {
+                Err(e) => {
+                    result = Err(e);
+                    break;
+                }
+                Ok(None) => {}
+                Ok(Some(d)) => {
+                    let r = (d - CONTACT) / p;
+                    if r <= 0.0 {
+                        radius = 0.0;
+                        break;
+                    }
+                    radius = radius.min(r);
+                }
+            }
+        }
+        scratch.candidates = candidates;
+        result.map(|()| radius)
     }
+
+    /// The distance between placed bodies `i` and `j` when it is at most `threshold`
+    /// (about: GJK's answer is within a relative 1e-7), `None` when they are proven
+    /// farther apart.
+    fn distance_within(
+        &self,
+        scratch: &CollisionScratch,
+        i: usize,
+        j: usize,
+        threshold: f64,
+    ) -> Result<Option<f64>, CollisionError> {
+        let (pi, pj) = (&scratch.poses[i], &scratch.poses[j]);
+        let (si, sj) = (self.bodies[i].shape.as_ref(), self.bodies[j].shape.as_ref());
+        let exact = || {
+            query::distance(pi, si, pj, sj)
+                .map(|d| (d <= threshold).then_some(d))
+                .map_err(|_| self.unsupported(i, j))
+        };
+        let (Some(gi), Some(gj)) = (si.as_support_map(), sj.as_support_map()) else {
+            return exact();
+        };
+        let pos12 = pi.inv_mul(pj);
+        let mut simplex = VoronoiSimplex::new();
+        match closest_points_support_map_support_map_with_params(
+            &pos12,
+            gi,
+            gj,
+            threshold,
+            &mut simplex,
+            None,
+        ) {
+            GJKResult::Intersection => Ok(Some(0.0)),
+            GJKResult::ClosestPoints(a, b, _) => Ok(Some((a - b).norm())),
+            GJKResult::NoIntersection(dir) => {
+                // GJK also says this when it gives up: believe it only with a separating
+                // direction that proves the gap.
+                let support = CSOPoint::from_shapes(&pos12, gi, gj, &dir);
+                if -dir.dot(&support.point.coords) > threshold {
+                    Ok(None)
+                } else {
+                    exact()
+                }
+            }
+            GJKResult::Proximity(_) => exact(),
+        }
+    }
+}
+
+/// A lower bound on the distance between placed bodies `i` and `j`: the largest of the
+/// gaps between their bounding spheres, between their AABBs (as placed, without the
+/// margins the broad phase grew them by), and, for two cylinders (every link of the
+/// LWR), between the capsules that contain them (the distance between two segments).
+fn lower_bound(world: &CollisionWorld, scratch: &CollisionScratch, i: usize, j: usize) -> f64 {
+    let (bi, bj) = (&world.bodies[i], &world.bodies[j]);
+    let spheres =
+        (scratch.centres[i] - scratch.centres[j]).norm() - bi.sphere_radius - bj.sphere_radius;
+    let (a, b) = (&scratch.aabbs[i], &scratch.aabbs[j]);
+    let (ma, mb) = (scratch.margins[i], scratch.margins[j]);
+    let mut boxes = 0.0;
+    for k in 0..3 {
+        let apart = (b.mins[k] + mb - (a.maxs[k] - ma)).max(a.mins[k] + ma - (b.maxs[k] - mb));
+        if apart > 0.0 {
+            boxes += apart * apart;
+        }
+    }
+    let mut bound = spheres.max(boxes.sqrt());
+    if let (Some((hi, ri)), Some((hj, rj))) = (bi.cylinder, bj.cylinder) {
+        let axis = |pose: &Iso, h: f64| {
+            let half = pose.rotation * Vec3::y() * h;
+            let c = Point::from(pose.translation.vector);
+            (c - half, c + half)
+        };
+        let (si, sj) = (axis(&scratch.poses[i], hi), axis(&scratch.poses[j], hj));
+        let (li, lj) = query::details::closest_points_segment_segment_with_locations_nD(
+            (&si.0, &si.1),
+            (&sj.0, &sj.1),
+        );
+        let at = |(a, b): (Point, Point), l: SegmentPointLocation| match l {
+            SegmentPointLocation::OnVertex(0) => a,
+            SegmentPointLocation::OnVertex(_) => b,
+            SegmentPointLocation::OnEdge([wa, wb]) => Point::from(a.coords * wa + b.coords * wb),
+        };
+        bound = bound.max((at(si, li) - at(sj, lj)).norm() - ri - rj);
+    }
+    bound
 }
 
 #[cfg(test)]
@@ -186,11 +316,8 @@ mod tests {
 
     use std::f64::consts::FRAC_PI_2;
 
-    use parry3d_f64::shape::SharedShape;
-
     use super::super::{CollisionWorldBuilder, ObjectState};
     use super::*;
-    use crate::math::{Iso, Vec3};
     use crate::robot::LinkShape;
 
     /// A two-frame "robot" whose second frame turns about z by `angle`, with a box at
@@ -203,7 +330,14 @@ mod tests {
             local: Iso::translation(0.5, 0.0, 0.0),
             shape: SharedShape::cuboid(0.05, 0.05, 0.05),
         }];
-        b.add_chain("r", 2, Iso::identity(), shapes, |a, c| a.abs_diff(c) <= 1, None);
+        b.add_chain(
+            "r",
+            2,
+            Iso::identity(),
+            shapes,
+            |a, c| a.abs_diff(c) <= 1,
+            None,
+        );
         b.add_fixed(
             "ball",
             Iso::translation(0.0, 0.5, 0.0),
@@ -234,7 +368,7 @@ mod tests {
         // The box's farthest point is 0.553 m from the axis: 0.6 m per radian bounds it,
         // for a segment of 2 rad.
         let per_unit = 0.6 * 2.0;
-        bounds.set(0, 0, 1, |s| s[0] = per_unit);
+        bounds.set(0, 0, 1, f64::INFINITY, |s| s[0] = per_unit);
         let mut scratch = CollisionScratch::default();
         let mut certified = 0;
         for k in 0..40 {

@@ -19,6 +19,8 @@ pub struct CollisionScratch {
     /// How much each body's AABB and sphere were grown (half a clearance cutoff, or how
     /// far the body may travel in a swept query), by body index.
     pub(super) margins: Vec<f64>,
+    /// Pairs a swept query has yet to measure, with the radius a cheap bound proves.
+    pub(super) candidates: Vec<(f64, u32, u32)>,
 }
 
 /// The collision world of a cell. Immutable after [`CollisionWorldBuilder::build`](super::CollisionWorldBuilder::build);

@@ -81,9 +81,9 @@ impl MotionValidity for CertifiedMotion<'_> {
             queries += 1;
             let (mid, half) = (0.5 * (lo + hi), 0.5 * (hi - lo));
             interpolate(a, b, mid, &mut self.point);
-            let Some(radius) = self
-                .validity
-                .free_radius(&self.point, &self.delta, half, scratch)?
+            let Some(radius) =
+                self.validity
+                    .free_radius(&self.point, &self.delta, half, scratch)?
             else {
                 return self.sampled.check_motion(a, b, scratch);
             };
