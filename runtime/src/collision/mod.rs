@@ -82,7 +82,6 @@ pub use build::CollisionWorldBuilder;
 pub(crate) use build::Mount;
 pub use error::{BuildError, CollisionError};
 pub(crate) use swept::SweepBounds;
-
 pub use world::{CollisionScratch, CollisionWorld};
 
 /// One solid of the collision world.

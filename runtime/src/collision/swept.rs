@@ -7,9 +7,15 @@
 //! at distance `d` can then approach each other by at most `p |t|` over a parameter
 //! change `t`, where `p` is the sum of their bounds, or, for two bodies of one robot, the
 //! sum of what the joints between them contribute (the joints below both move them
-//! rigidly together, which changes no distance). So no configuration within `|t| < d / p`
-//! of the state brings that pair into contact, and the smallest such radius over all
-//! pairs that may not touch holds for the whole state.
+//! rigidly together, which changes no distance), the first of those counting no more than
+//! it would move the lower body turned the other way (little, for a link shaft turning
+//! about its own axis). So no configuration within `|t| < d / p` of the state brings
+//! that pair into contact, and the smallest such radius over all pairs that may not touch
+//! holds for the whole state.
+//!
+//! Most pairs are far enough apart that a cheap lower bound on their distance already
+//! proves more than the radius needs; exact distances (GJK, stopped as soon as it proves
+//! a pair farther than needed) are computed nearest bound first, only for the rest.
 
 use parry3d_f64::query;
 use parry3d_f64::query::details::closest_points_support_map_support_map_with_params;
@@ -84,7 +90,7 @@ impl SweepBounds {
     }
 
     /// How far body `i` travels through the joints of its robot from joint `g` up.
-    fn from_joint(&self, i: usize, g: usize) -> f64 {
+    fn travel_from(&self, i: usize, g: usize) -> f64 {
         match self.rides.get(i).copied().flatten() {
             Some(r) if g < r.frame => self.suffix[r.start + g],
             _ => 0.0,
@@ -93,7 +99,7 @@ impl SweepBounds {
 
     /// How far body `i` travels at most.
     fn own(&self, i: usize) -> f64 {
-        self.from_joint(i, 0)
+        self.travel_from(i, 0)
     }
 
     /// How much the distance between bodies `i` and `j` can shrink at most.
@@ -113,7 +119,7 @@ impl SweepBounds {
                 if high.frame == g {
                     return 0.0;
                 }
-                let (through, beyond) = (self.from_joint(k, g), self.from_joint(k, g + 1));
+                let (through, beyond) = (self.travel_from(k, g), self.travel_from(k, g + 1));
                 beyond + (through - beyond).min(low.above)
             }
             _ => self.own(i) + self.own(j),
@@ -166,10 +172,10 @@ impl CollisionWorld {
     /// must have one entry per body of the world.
     ///
     /// Pairs that are both static keep their distance and are skipped: the caller knows
-    /// the segment's ends to be valid. The broad phase grows every body by how far it can
-    /// travel within `horizon` (plus half of [`CONTACT`]), so a pair it separates stays
-    /// apart for the whole horizon; bounding spheres then spare the exact distance of a
-    /// pair whose spheres alone prove the current radius.
+    /// the segment's start to be valid. The broad phase grows every body by how far it
+    /// can travel within `horizon` (plus half of [`CONTACT`]), so a pair it separates
+    /// stays apart for the whole horizon; the others are measured, lazily (see [the
+    /// module](self) documentation).
     pub(crate) fn free_radius(
         &self,
         state: &Configuration<'_>,
@@ -224,8 +230,8 @@ impl CollisionWorld {
     }
 
     /// The distance between placed bodies `i` and `j` when it is at most `threshold`
-    /// (about: GJK's answer is within a relative 1e-7), `None` when they are proven
-    /// farther apart.
+    /// (GJK's, which is within a relative 5e-8 of the true one), `None` when they are
+    /// proven farther apart.
     fn distance_within(
         &self,
         scratch: &CollisionScratch,
@@ -311,8 +317,8 @@ fn lower_bound(world: &CollisionWorld, scratch: &CollisionScratch, i: usize, j: 
 
 #[cfg(test)]
 mod tests {
-    //! The swept radius against brute force: configurations sampled densely within the
-    //! radius never bring a pair closer than the contact distance.
+    //! The swept radius against dense sampling: configurations within the radius never
+    //! bring a pair closer than the contact distance.
 
     use std::f64::consts::FRAC_PI_2;
 
@@ -320,8 +326,8 @@ mod tests {
     use super::*;
     use crate::robot::LinkShape;
 
-    /// A two-frame "robot" whose second frame turns about z by `angle`, with a box at
-    /// `reach` along x, and a fixed ball in its way.
+    /// A two-frame "robot" whose second frame turns about z, with a box half a metre
+    /// out along its x axis, and a fixed ball in the box's way.
     fn world() -> CollisionWorld {
         let mut b = CollisionWorldBuilder::new();
         let shapes = vec![LinkShape {

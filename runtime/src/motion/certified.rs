@@ -25,7 +25,7 @@ const MAX_QUERIES: usize = 2000;
 /// queued, and intervals are taken in order, so the checks run coarse to fine (the
 /// midpoint, then about the quarters, ...) and a blocked segment is usually refused after
 /// a few. A radius of 0 (contact, or closer than the certificate's tolerance) refuses
-/// the segment, and so does running out of [`MAX_QUERIES`]: refusing what cannot be
+/// the segment, and so do 2000 queries without covering it: refusing what cannot be
 /// proven is what makes the check sound. Joint limits hold on the whole segment because
 /// they hold at its ends (the limits are a box).
 ///
