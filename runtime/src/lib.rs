@@ -27,6 +27,7 @@ pub mod rest;
 pub mod robot;
 #[doc(hidden)]
 pub mod scene;
+mod swept;
 #[doc(hidden)]
 pub mod symmetry;
 #[doc(hidden)]

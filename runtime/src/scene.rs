@@ -7,7 +7,7 @@ use parry3d_f64::shape::SharedShape;
 
 use crate::collision::{
     BuildError, Collision, CollisionError, CollisionScratch, CollisionWorld, CollisionWorldBuilder,
-    Configuration, Hand, Holder as CollisionHolder, ObjectState, Solid,
+    Configuration, Hand, Holder as CollisionHolder, ObjectState, Solid, SweepBounds,
 };
 use crate::math::{aabb_from_schema, iso_from_schema, Aabb, Iso, Vec3};
 use crate::robot::{Robot, RobotError};
@@ -206,6 +206,9 @@ pub struct SceneScratch {
     frames: Vec<Vec<Iso>>,
     objects: Vec<ObjectState>,
     collision: CollisionScratch,
+    /// How far the bodies travel along the segment a sound motion check is certifying
+    /// (`crate::swept`), kept here so that no query allocates.
+    pub(crate) sweep: SweepBounds,
 }
 
 impl Scene {
@@ -409,6 +412,43 @@ impl Scene {
         placement: ObjectPlacement,
         scratch: &mut SceneScratch,
     ) -> Result<Option<Collision>, QueryError> {
+        self.with_configuration(arms, object, placement, scratch, |state, scratch| {
+            self.world.first_collision(state, scratch)
+        })
+    }
+
+    /// How far the state [`Scene::collision`] describes can move along a segment whose
+    /// bodies travel as `bounds` says before two bodies that may not touch could touch:
+    /// [`CollisionWorld::free_radius`] (in the segment's parameter, at most `horizon`).
+    pub(crate) fn free_radius(
+        &self,
+        arms: &[(u32, &[f64])],
+        object: u32,
+        placement: ObjectPlacement,
+        bounds: &SweepBounds,
+        horizon: f64,
+        scratch: &mut SceneScratch,
+    ) -> Result<f64, QueryError> {
+        self.with_configuration(arms, object, placement, scratch, |state, scratch| {
+            self.world.free_radius(state, bounds, horizon, scratch)
+        })
+    }
+
+    /// The world robot of end-effector `e`, for an arm.
+    pub(crate) fn world_robot(&self, e: u32) -> Option<usize> {
+        self.world_robot.get(e as usize).copied().flatten()
+    }
+
+    /// Builds the collision state the queries above describe (every arm's frames, the
+    /// object placed) in `scratch` and asks `query` about it.
+    fn with_configuration<T>(
+        &self,
+        arms: &[(u32, &[f64])],
+        object: u32,
+        placement: ObjectPlacement,
+        scratch: &mut SceneScratch,
+        query: impl FnOnce(&Configuration<'_>, &mut CollisionScratch) -> Result<T, CollisionError>,
+    ) -> Result<T, QueryError> {
         let n = self.robot_holder.len();
         scratch.frames.resize_with(n, Vec::new);
         for (r, &e) in self.robot_holder.iter().enumerate() {
@@ -504,9 +544,7 @@ impl Scene {
             robots: frames,
             objects: &scratch.objects,
         };
-        self.world
-            .first_collision(&configuration, &mut scratch.collision)
-            .map_err(QueryError::Collision)
+        query(&configuration, &mut scratch.collision).map_err(QueryError::Collision)
     }
 
     /// True when the artifact has any arm, i.e. anything to verify kinematically.

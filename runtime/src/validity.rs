@@ -11,8 +11,10 @@
 //! given (a held object following its hand).
 
 use std::fmt;
+use std::sync::OnceLock;
 
 use crate::scene::{Holder, ObjectPlacement, QueryError, Scene, SceneScratch};
+use crate::swept::{SweptBodies, LOOKAHEAD};
 
 /// Decides whether configurations of a fixed set of moving arms (their joints
 /// concatenated, as in a [`crate::motion::MotionProblem`]) are valid.
@@ -33,6 +35,27 @@ pub trait StateValidity {
     /// may answer without building the fault (no names, no allocation).
     fn is_valid(&self, q: &[f64], scratch: &mut SceneScratch) -> Result<bool, QueryError> {
         Ok(self.check(q, scratch)?.is_none())
+    }
+
+    /// A clearance certificate for sound motion checks
+    /// ([`CertifiedMotion`](crate::motion::CertifiedMotion)): a radius `t` in
+    /// `[0, horizon]` such that every configuration `q + s delta` with `|s| <= t` that is
+    /// within the joint limits is valid, where `delta` is the joint change of the
+    /// segment being checked (`b - a`). `Some(0.0)` when `q` is not valid or too close
+    /// to an invalid state to prove anything; `None`, the default, when this checker
+    /// measures no clearance (motion checks then sample at a resolution).
+    ///
+    /// Only what the changing joints move needs measuring: the rest is as it was at the
+    /// segment's start, which a motion check knows to be valid.
+    fn free_radius(
+        &self,
+        q: &[f64],
+        delta: &[f64],
+        horizon: f64,
+        scratch: &mut SceneScratch,
+    ) -> Result<Option<f64>, QueryError> {
+        let _ = (q, delta, horizon, scratch);
+        Ok(None)
     }
 }
 
@@ -165,7 +188,9 @@ const INLINE_ARMS: usize = 16;
 
 /// The default [`StateValidity`]: the moving arms within their limits and the cell free
 /// of collisions, with `stationary` arms at their joints, every other arm at home and the
-/// object placed as given.
+/// object placed as given. Its [`free_radius`](StateValidity::free_radius) is the
+/// collision world's distance to every pair that may not touch, against how far the
+/// moving bodies can travel (`crate::swept`).
 #[derive(Clone)]
 pub struct SceneValidity<'a> {
     scene: &'a Scene,
@@ -174,6 +199,9 @@ pub struct SceneValidity<'a> {
     stationary: &'a [(u32, Vec<f64>)],
     object: u32,
     placement: ObjectPlacement,
+    /// The moving bodies' reach radii, computed on the first clearance query (most
+    /// checkers, in verification, only ever judge single states).
+    swept: OnceLock<SweptBodies>,
 }
 
 impl<'a> SceneValidity<'a> {
@@ -226,6 +254,7 @@ impl<'a> SceneValidity<'a> {
             stationary,
             object,
             placement,
+            swept: OnceLock::new(),
         })
     }
 
@@ -301,5 +330,49 @@ impl StateValidity for SceneValidity<'_> {
                     .scene
                     .is_free(arms, self.object, self.placement, scratch)?)
         })
+    }
+
+    fn free_radius(
+        &self,
+        q: &[f64],
+        delta: &[f64],
+        horizon: f64,
+        scratch: &mut SceneScratch,
+    ) -> Result<Option<f64>, QueryError> {
+        if delta.len() != self.dim {
+            return Err(QueryError::WrongLength {
+                expected: self.dim,
+                found: delta.len(),
+            });
+        }
+        let swept = self.swept.get_or_init(|| {
+            SweptBodies::new(self.scene, &self.slices, self.object, &self.placement)
+        });
+        // The bounds live in the scratch so that no query allocates; taken out while the
+        // scratch's other buffers serve the query.
+        let mut bounds = std::mem::take(&mut scratch.sweep);
+        let result = match swept.fill(delta, &mut bounds, self.scene.world.body_count()) {
+            None => Ok(None),
+            Some(fastest) => {
+                let horizon = if fastest > 0.0 {
+                    horizon.min(LOOKAHEAD / fastest)
+                } else {
+                    horizon
+                };
+                self.with_arms(q, |arms| {
+                    self.scene.free_radius(
+                        arms,
+                        self.object,
+                        self.placement,
+                        &bounds,
+                        horizon,
+                        scratch,
+                    )
+                })
+                .map(Some)
+            }
+        };
+        scratch.sweep = bounds;
+        result
     }
 }

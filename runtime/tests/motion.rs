@@ -11,14 +11,14 @@ use std::time::Instant;
 
 use cellc_runtime::math::Iso;
 use cellc_runtime::motion::{
-    check_trajectory, DiscreteMotion, Joints, MotionError, MotionOptions, MotionPlanner,
+    check_trajectory, CertifiedMotion, Joints, MotionError, MotionOptions, MotionPlanner,
     MotionProblem, MotionValidity, RrtConnect, TrajectoryFault,
 };
 use cellc_runtime::plan::Trajectory;
 use cellc_runtime::scene::{Holder, ObjectPlacement, QueryError, Scene, SceneScratch};
 use cellc_runtime::termination::Termination;
 use cellc_runtime::validity::{SceneValidity, StateFault, StateValidity};
-use rand::SeedableRng;
+use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
 #[path = "support/motion_fixture.rs"]
@@ -582,9 +582,10 @@ fn a_cancelled_search_stops_mid_way_with_its_own_error() {
     assert_eq!(again, Err(MotionError::Terminated { iterations }));
 }
 
-/// Counts the segments it is asked about and lets [`DiscreteMotion`] answer.
+/// Counts the segments it is asked about and lets [`CertifiedMotion`], the default,
+/// answer.
 struct CountingSegments<'v> {
-    inner: DiscreteMotion<'v>,
+    inner: CertifiedMotion<'v>,
     segments: usize,
 }
 
@@ -607,7 +608,7 @@ fn another_motion_validator_plugs_into_rrt_connect() {
     let validity = case.validity().expect("a valid layout");
     let options = MotionOptions::default();
     let mut counting = CountingSegments {
-        inner: DiscreteMotion::new(&validity, options.step, options.collision_resolution),
+        inner: CertifiedMotion::new(&validity, options.step, options.collision_resolution),
         segments: 0,
     };
     let planner = RrtConnect::new(options);
@@ -626,6 +627,63 @@ fn another_motion_validator_plugs_into_rrt_connect() {
         "the straight line and the tree's edges"
     );
     assert_eq!(Ok(through_it), plan(&case, 4));
+}
+
+/// Straight segments between random configurations around the pillar and over a table,
+/// with a can in the hand: every segment the certified check accepts is free when
+/// re-checked fifty times finer than the planner's resolution (the sampled check at that
+/// resolution is not: a contact shallower than one step can lie between its samples).
+#[test]
+fn certified_segments_are_free_at_any_resolution() {
+    let table = ("table", [0.35, -0.3, 0.0], [0.8, 0.3, 0.3]);
+    let scene = scene(&[ARM], &[PILLAR, table]);
+    let Holder::Arm { robot, .. } = &scene.holders[0] else {
+        panic!("end-effector 0 is an arm");
+    };
+    let robot = &scene.robots[*robot];
+    let mut case = problem(&scene, vec![0], Vec::new(), Vec::new());
+    case.placement = ObjectPlacement::Held {
+        by: 0,
+        grasp: Iso::translation(0.0, 0.0, 0.25),
+    };
+    let validity = case.validity().expect("a valid layout");
+    let options = MotionOptions::default();
+    let mut certified = CertifiedMotion::new(&validity, options.step, options.collision_resolution);
+    let mut rng = ChaCha8Rng::seed_from_u64(12);
+    let mut scratch = SceneScratch::default();
+    let (mut accepted, mut refused) = (0, 0);
+    let mut a = vec![0.0; 7];
+    for _ in 0..300 {
+        // A free start, and a goal up to a radian away per joint.
+        loop {
+            robot.sample_configuration(&mut rng, &mut a);
+            if validity.is_valid(&a, &mut scratch).expect("well formed") {
+                break;
+            }
+        }
+        let mut b: Vec<f64> = a.iter().map(|v| v + rng.random_range(-1.0..1.0)).collect();
+        robot.clamp_to_limits(&mut b);
+        if !certified
+            .check_motion(&a, &b, &mut scratch)
+            .expect("well formed")
+        {
+            refused += 1;
+            continue;
+        }
+        accepted += 1;
+        let t = Trajectory {
+            arms: vec![0],
+            points: vec![(0.0, a.clone()), (1.0, b)],
+        };
+        let fine = options.collision_resolution / 50.0;
+        let checked = check_trajectory(&scene, &t, &[], 0, &case.placement, fine, &mut scratch);
+        assert_eq!(checked, Ok(()), "{:?}", t.points);
+    }
+    // Both answers are exercised.
+    assert!(
+        accepted > 100 && refused > 30,
+        "{accepted} accepted, {refused} refused"
+    );
 }
 
 proptest::proptest! {

@@ -11,12 +11,13 @@ use crate::math::{Iso, Point, Vec3};
 
 impl CollisionWorld {
     /// Checks the state's shape, then computes every present body's world pose and AABB
-    /// (loosened by `margin`) into the scratch, and the list of present bodies.
+    /// (loosened by `margin(body index)`, which the sweep's sphere test adds too) into the
+    /// scratch, and the list of present bodies.
     pub(super) fn place(
         &self,
         state: &Configuration<'_>,
         scratch: &mut CollisionScratch,
-        margin: f64,
+        margin: impl Fn(usize) -> f64,
     ) -> Result<(), CollisionError> {
         if state.robots.len() != self.robots.len() {
             return Err(CollisionError::RobotCount {
@@ -58,12 +59,13 @@ impl CollisionWorld {
         scratch.poses.clear();
         scratch.aabbs.clear();
         scratch.centres.clear();
+        scratch.margins.clear();
         scratch.order.clear();
         scratch.poses.reserve(n);
         scratch.aabbs.reserve(n);
         scratch.centres.reserve(n);
+        scratch.margins.reserve(n);
         scratch.order.reserve(n);
-        scratch.margin = margin;
         for (i, b) in self.bodies.iter().enumerate() {
             let pose = match b.mount {
                 Mount::Frame { robot, frame } => state.robots[robot][frame] * b.local,
@@ -76,6 +78,7 @@ impl CollisionWorld {
                         scratch.poses.push(b.local);
                         scratch.aabbs.push(Aabb::new_invalid());
                         scratch.centres.push(Point::origin());
+                        scratch.margins.push(0.0);
                         continue;
                     }
                 },
@@ -90,10 +93,12 @@ impl CollisionWorld {
                     body: b.name.clone(),
                 });
             }
+            let margin = margin(i);
             if margin > 0.0 {
                 aabb.mins -= Vec3::repeat(margin);
                 aabb.maxs += Vec3::repeat(margin);
             }
+            scratch.margins.push(margin.max(0.0));
             scratch.centres.push(pose * b.sphere_centre);
             scratch.poses.push(pose);
             scratch.aabbs.push(aabb);
@@ -144,7 +149,8 @@ impl CollisionWorld {
                 // the price of a distance instead of a GJK run.
                 let reach = self.bodies[i].sphere_radius
                     + self.bodies[j].sphere_radius
-                    + 2.0 * scratch.margin;
+                    + scratch.margins[i]
+                    + scratch.margins[j];
                 if (scratch.centres[i] - scratch.centres[j]).norm_squared() > reach * reach {
                     continue;
                 }
@@ -267,7 +273,9 @@ mod tests {
         cutoff: Option<f64>,
     ) -> (Vec<Collision>, Option<(f64, Collision)>) {
         let mut scratch = CollisionScratch::default();
-        world.place(state, &mut scratch, 0.0).expect("well-formed");
+        world
+            .place(state, &mut scratch, |_| 0.0)
+            .expect("well-formed");
         let mut hits = Vec::new();
         let mut best: Option<(f64, Collision)> = None;
         for i in 0..world.bodies.len() {

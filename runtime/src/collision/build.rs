@@ -13,7 +13,7 @@ use crate::robot::{LinkShape, Robot};
 
 /// Where a body's pose comes from.
 #[derive(Clone, Copy, Debug)]
-pub(super) enum Mount {
+pub(crate) enum Mount {
     /// `frames[frame] * local` of robot `robot`.
     Frame { robot: usize, frame: usize },
     /// `local` is the world pose.

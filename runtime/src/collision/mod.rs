@@ -65,11 +65,13 @@
 //!
 //! The types of a state and of a report are here; `error.rs` has the two error types,
 //! `build.rs` the builder (bodies, names, the static allowed pairs), `world.rs` the
-//! queries, and `broad_phase.rs` the placing of bodies and the sweep.
+//! queries, `broad_phase.rs` the placing of bodies and the sweep, and `swept.rs` the
+//! free radius of a state along a segment, for sound motion checks.
 
 mod broad_phase;
 mod build;
 mod error;
+mod swept;
 mod world;
 
 use parry3d_f64::shape::SharedShape;
@@ -77,7 +79,9 @@ use parry3d_f64::shape::SharedShape;
 use crate::math::Iso;
 
 pub use build::CollisionWorldBuilder;
+pub(crate) use build::Mount;
 pub use error::{BuildError, CollisionError};
+pub(crate) use swept::SweepBounds;
 pub use world::{CollisionScratch, CollisionWorld};
 
 /// One solid of the collision world.

@@ -16,8 +16,11 @@ pub struct CollisionScratch {
     /// World centres of the bodies' bounding spheres.
     pub(super) centres: Vec<Point>,
     pub(super) order: Vec<u32>,
-    /// How much the AABBs and spheres were grown (half a clearance cutoff).
-    pub(super) margin: f64,
+    /// How much each body's AABB and sphere were grown (half a clearance cutoff, or how
+    /// far the body may travel in a swept query), by body index.
+    pub(super) margins: Vec<f64>,
+    /// Pairs a swept query has yet to measure, with the radius a cheap bound proves.
+    pub(super) candidates: Vec<(f64, u32, u32)>,
 }
 
 /// The collision world of a cell. Immutable after [`CollisionWorldBuilder::build`](super::CollisionWorldBuilder::build);
@@ -119,7 +122,7 @@ impl CollisionWorld {
         state: &Configuration<'_>,
         scratch: &mut CollisionScratch,
     ) -> Result<Option<Collision>, CollisionError> {
-        self.place(state, scratch, 0.0)?;
+        self.place(state, scratch, |_| 0.0)?;
         let mut found = None;
         self.sweep(state, scratch, |i, j, scratch| {
             if self.intersect(i, j, scratch)? {
@@ -149,7 +152,7 @@ impl CollisionWorld {
         out: &mut Vec<Collision>,
     ) -> Result<(), CollisionError> {
         out.clear();
-        self.place(state, scratch, 0.0)?;
+        self.place(state, scratch, |_| 0.0)?;
         self.sweep(state, scratch, |i, j, scratch| {
             if self.intersect(i, j, scratch)? {
                 out.push(self.collision(i, j));
@@ -178,7 +181,7 @@ impl CollisionWorld {
         } else {
             0.0
         };
-        self.place(state, scratch, cutoff / 2.0)?;
+        self.place(state, scratch, |_| cutoff / 2.0)?;
         let mut best: Option<(f64, Collision)> = None;
         self.sweep(state, scratch, |i, j, scratch| {
             let (bi, bj) = (&self.bodies[i], &self.bodies[j]);

@@ -113,11 +113,13 @@ impl std::error::Error for TrajectoryFault {}
 /// `stationary` arms at their joints, every other arm at home and the object placed as
 /// `placement` (a held object following its hand). Used by tests and the simulator.
 ///
-/// The states are judged by [`SceneValidity`], the default state validity. Segments are
-/// cut exactly as [`super::DiscreteMotion`] cuts the planner's edges, so a planned
-/// trajectory always passes at the planner's `collision_resolution`; a finer `resolution`
-/// is a stricter, independent test. A `resolution` that is not positive and finite means
-/// the default one.
+/// The states are judged by [`SceneValidity`], the default state validity, and only
+/// sampled: this is the oracle the planner's sound edge checks
+/// ([`super::CertifiedMotion`]) answer to, so it shares nothing with them but the state
+/// validity. A trajectory they accepted passes at every `resolution`; one planned with
+/// the sampled [`super::DiscreteMotion`] passes at the resolution it was planned with,
+/// whose cuts these are. A `resolution` that is not positive and finite means the default
+/// one.
 ///
 /// # Errors
 /// The first fault along the trajectory, with its time.

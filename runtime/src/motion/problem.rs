@@ -14,7 +14,11 @@ pub struct MotionOptions {
     /// Largest joint change of one tree extension, and between two output points (rad, or
     /// m for prismatic joints).
     pub step: f64,
-    /// Largest joint change between two configurations checked along an edge (rad, or m).
+    /// Largest joint change between two configurations checked along an edge by the
+    /// sampled check (rad, or m): the fallback for state validities that measure no
+    /// clearance, and the default resolution of the re-check
+    /// ([`check_trajectory`](super::check_trajectory)). Edges of the default validity are
+    /// certified, not sampled.
     pub collision_resolution: f64,
     /// Random shortcut attempts after a path is found.
     pub shortcut_iterations: usize,

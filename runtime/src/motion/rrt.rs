@@ -5,10 +5,13 @@ use rand::Rng;
 use rand_chacha::ChaCha8Rng;
 
 use super::problem::check_options;
-use super::segment::{interpolate, max_diff, DiscreteMotion};
+use super::segment::{interpolate, max_diff};
 use super::shortcut::{dedup_waypoints, shortcut};
 use super::timing::time_path;
-use super::{Joints, MotionError, MotionOptions, MotionPlanner, MotionProblem, MotionValidity};
+use super::{
+    CertifiedMotion, Joints, MotionError, MotionOptions, MotionPlanner, MotionProblem,
+    MotionValidity,
+};
 use crate::plan::Trajectory;
 use crate::scene::{QueryError, Scene, SceneScratch};
 use crate::termination::Termination;
@@ -29,9 +32,9 @@ impl RrtConnect {
     }
 
     /// [`MotionPlanner::solve`] with segments checked by `motion` instead of the
-    /// [`DiscreteMotion`] the planner would build from its step and resolution (a
-    /// continuous check, a validator that counts or caches). The timed trajectory's
-    /// points are still cut by [`MotionOptions::step`].
+    /// [`CertifiedMotion`] the planner would build (a sampled check such as
+    /// [`DiscreteMotion`](super::DiscreteMotion), a validator that counts or caches). The
+    /// timed trajectory's points are still cut by [`MotionOptions::step`].
     pub fn solve_with(
         &self,
         problem: &MotionProblem<'_>,
@@ -135,7 +138,7 @@ impl MotionPlanner for RrtConnect {
         stop: &Termination,
         scratch: &mut SceneScratch,
     ) -> Result<Trajectory, MotionError> {
-        let mut motion = DiscreteMotion::new(
+        let mut motion = CertifiedMotion::new(
             problem.validity,
             self.options.step,
             self.options.collision_resolution,

@@ -1,13 +1,13 @@
 //! Straight segments in joint space: how they are cut into the configurations that are
-//! checked ([`DiscreteMotion`], the default [`MotionValidity`]) and into the points of a
-//! timed trajectory, which are the same cuts, so that a planned trajectory re-checks
-//! exactly as it was planned.
+//! checked ([`DiscreteMotion`], the sampled [`MotionValidity`]) and into the points of a
+//! timed trajectory, which are the same cuts, so that a trajectory planned with it
+//! re-checks exactly as it was planned.
 
 use super::MotionValidity;
 use crate::scene::{QueryError, SceneScratch};
 use crate::validity::StateValidity;
 
-/// The default [`MotionValidity`]: a segment is valid when the state validity accepts
+/// The sampled [`MotionValidity`]: a segment is valid when the state validity accepts
 /// every configuration at which [`super::check_trajectory`] at `resolution` will look
 /// once the segment is part of a trajectory timed with output step `step`.
 ///
@@ -18,6 +18,11 @@ use crate::validity::StateValidity;
 /// The order is coarse to fine (the pieces' ends in bisection order, then the points
 /// inside each piece in bisection order), so a blocked segment is usually rejected after
 /// a few checks. No allocation once the buffers have grown to the dimension.
+///
+/// Sampling is not sound: a contact shallower than what one step sweeps can lie between
+/// two checked configurations, and a finer re-check finds it. The planner uses
+/// [`CertifiedMotion`](super::CertifiedMotion), which falls back to this only for state
+/// validities that measure no clearance.
 pub struct DiscreteMotion<'v> {
     validity: &'v dyn StateValidity,
     step: f64,

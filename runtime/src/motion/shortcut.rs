@@ -27,11 +27,12 @@ pub(super) fn dedup_waypoints(path: &mut Vec<f64>, dim: usize) {
 
 /// Random shortcuts: two random waypoints are joined directly when the edge between them
 /// is free, dropping those in between. Then every waypoint whose neighbours see each
-/// other is dropped too, since each waypoint costs a stop in the timing. Shortcuts join
-/// waypoints only (never points inside segments), so every segment of the result is an
-/// edge checked as a whole, which keeps the planner's checks and those of
-/// [`check_trajectory`](super::check_trajectory) identical; RRT waypoints are at most
-/// `step` apart, so little is lost. `stop` is checked before every attempt.
+/// other is dropped too, since each waypoint costs a stop in the timing. Every segment of
+/// the result is an edge `motion` accepted as a whole (with the default validity, a
+/// certified one, so the result is as free as the path it shortens). Shortcuts join
+/// waypoints only (never points inside segments), which also keeps the cuts of a sampled
+/// validity those of [`check_trajectory`](super::check_trajectory); RRT waypoints are at
+/// most `step` apart, so little is lost. `stop` is checked before every attempt.
 pub(super) fn shortcut(
     motion: &mut dyn MotionValidity,
     path: &mut Vec<f64>,
