@@ -37,6 +37,7 @@
 //! line right after a `{` or right before a `}`.
 
 mod text;
+pub use text::string_literal;
 
 use crate::ast::*;
 use crate::span::Span;

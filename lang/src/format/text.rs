@@ -29,9 +29,15 @@ fn qualified(q: &Qualified) -> String {
 }
 
 fn string(s: &StringLit) -> String {
-    let mut out = String::with_capacity(s.value.len() + 2);
+    string_literal(&s.value)
+}
+
+/// `text` as a string literal of the language, escaped the one way the formatter writes
+/// it (also used by the importer, so imported cells are already canonical).
+pub fn string_literal(text: &str) -> String {
+    let mut out = String::with_capacity(text.len() + 2);
     out.push('"');
-    for c in s.value.chars() {
+    for c in text.chars() {
         match c {
             '"' => out.push_str("\\\""),
             '\\' => out.push_str("\\\\"),

@@ -60,21 +60,9 @@ pub(super) fn name(text: &str) -> String {
     }
 }
 
-/// A string literal (as the formatter escapes it).
+/// A string literal, escaped as the formatter writes it.
 pub(super) fn string(text: &str) -> String {
-    let mut out = String::with_capacity(text.len() + 2);
-    out.push('"');
-    for c in text.chars() {
-        match c {
-            '"' => out.push_str("\\\""),
-            '\\' => out.push_str("\\\\"),
-            '\n' => out.push_str("\\n"),
-            '\t' => out.push_str("\\t"),
-            c => out.push(c),
-        }
-    }
-    out.push('"');
-    out
+    cellc_lang::format::string_literal(text)
 }
 
 /// Text for a comment: one line, whatever the database holds.
