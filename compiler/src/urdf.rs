@@ -2,17 +2,24 @@
 //! that a chain of joints leads from the base to the tip (the walk itself is
 //! [`cellc_urdf`]'s, shared with the runtime).
 //!
+//! The file is read within [`MAX_URDF_BYTES`] and checked whole by
+//! [`Description::problems`] before anything uses it.
+//!
 //! The compiler only validates and records the chain; kinematics live in the runtime,
 //! which reads the URDF again from the path and hash carried in the artifact.
 
 use cellc_lang::ast::RobotItem;
 use cellc_lang::diagnostic::did_you_mean;
 use cellc_lang::{Diagnostic, FileId};
-use cellc_schema::files::{join, Files};
+use cellc_schema::files::{join, Files, MAX_URDF_BYTES};
 use cellc_urdf::{Description, JointKind};
 
 use crate::diagnostics;
 use crate::model::{Joint, Origin, Robot};
+
+/// At most this many problems of one URDF are reported (a broken file can have thousands);
+/// the last one says how many more there are.
+pub const MAX_URDF_PROBLEMS: usize = 5;
 
 /// Loads the URDF of a `robot` item, reporting every problem; `None` when the model is
 /// unusable.
@@ -25,7 +32,7 @@ pub fn load_robot(
     diagnostics: &mut Vec<Diagnostic>,
 ) -> Option<Robot> {
     let path = join(declaring_path, &item.urdf.value);
-    let text = match files.read_text(&path) {
+    let text = match files.read_text(&path, MAX_URDF_BYTES) {
         Ok(text) => text,
         Err(error) => {
             diagnostics.push(diagnostics::urdf_unreadable(
@@ -49,6 +56,23 @@ pub fn load_robot(
             return None;
         }
     };
+    // A robot description is untrusted input: an unsound one (not a tree, or a value out
+    // of its domain) is refused whole, so nothing downstream computes with it.
+    let problems = description.problems();
+    if !problems.is_empty() {
+        let shown = problems.len().min(MAX_URDF_PROBLEMS);
+        for (i, problem) in problems.iter().take(shown).enumerate() {
+            let more = if i + 1 == shown { problems.len() - shown } else { 0 };
+            diagnostics.push(diagnostics::urdf_problem(
+                &path,
+                problem,
+                file,
+                item.urdf.span,
+                more,
+            ));
+        }
+        return None;
+    }
     // Both links are checked before walking, so that an unknown base and an unknown tip
     // are reported together, each with its own suggestion.
     let mut ok = true;
@@ -86,8 +110,8 @@ pub fn load_robot(
         ));
         return None;
     };
-    // The compiler records the joints the runtime will move; validating their axes and
-    // limits is the runtime's (see `cellc_urdf::ChainJoint::motion`).
+    // The compiler records the joints the runtime will move; their axes and limits are
+    // sound (checked with the whole file above), so the limits are intervals.
     let chain_joints: Vec<Joint> = chain
         .movable()
         .map(|(joint, kind)| {
