@@ -98,10 +98,7 @@ mod tests {
         assert_eq!(FsFiles.read_at_most(&path, 10).map(|b| b.len()), Ok(10));
         assert_eq!(
             FsFiles.read_at_most(&path, 9),
-            Err(FileError::TooLarge {
-                size: 10,
-                limit: 9
-            })
+            Err(FileError::TooLarge { size: 10, limit: 9 })
         );
         assert_eq!(
             FsFiles.read(&folder.to_string_lossy()),

@@ -101,4 +101,3 @@ fn write_whole(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
     }
     result
 }
-

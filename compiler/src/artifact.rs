@@ -11,7 +11,7 @@ use cellc_schema as schema;
 use cellc_schema::math::{aabb_to_schema, iso_to_schema};
 use cellc_schema::sha256_hex;
 
-use crate::graph::{ArcSource, ObjectGraph};
+use crate::graph::{Adjacency, ArcSource, ObjectGraph, MAX_GRAPH_SIZE};
 use crate::model::*;
 
 /// Builds the artifact of a compiled cell.
@@ -270,18 +270,15 @@ fn lower_object(cell: &Cell, g: &ObjectGraph, spans: &mut SpanTable) -> schema::
     }
 }
 
-/// Every adjacent pair of workspaces, each once, in order.
+/// Every adjacent pair of workspaces, each once, in order. Artifacts are lowered from
+/// cells whose graphs were built, so the pairs are within [`MAX_GRAPH_SIZE`].
 fn adjacent_pairs(cell: &Cell) -> Vec<(u32, u32)> {
-    let n = cell.workspaces.len() as u32;
-    let mut pairs = Vec::new();
-    for a in 0..n {
-        for b in (a + 1)..n {
-            if cell.adjacent(crate::ids::WorkspaceId(a), crate::ids::WorkspaceId(b)) {
-                pairs.push((a, b));
-            }
-        }
-    }
-    pairs
+    Adjacency::of(cell)
+        .pairs(cell, MAX_GRAPH_SIZE)
+        .unwrap_or_default()
+        .into_iter()
+        .map(|(a, b)| (a.0, b.0))
+        .collect()
 }
 
 /// Interns spans so that a million arcs made by a few hundred declarations share a few

@@ -86,47 +86,255 @@ impl ObjectGraph {
     }
 }
 
-/// Builds the graph of every object, in object order.
-pub fn build(cell: &Cell) -> Vec<ObjectGraph> {
-    let n_ws = cell.workspaces.len();
-    // adjacency[a * n + b] -> index of the declaring `adjacent` (or usize::MAX when
-    // adjacency is derived from reach).
-    let mut adjacency: Vec<Option<Option<usize>>> = vec![None; n_ws * n_ws];
-    if cell.adjacencies.is_empty() {
-        for (_, e) in cell.end_effectors.iter().filter(|(_, e)| e.is_movable()) {
-            for &a in &e.reaches {
-                for &b in &e.reaches {
-                    if a != b {
-                        adjacency[a.index() * n_ws + b.index()] = Some(None);
+/// The most states, arcs and adjacent workspace pairs the graphs of one cell may have in
+/// all. Memory grows with them (about 60 bytes each, with the artifact), so a cell that
+/// would need more is refused before anything is built.
+pub const MAX_GRAPH_SIZE: u64 = 5_000_000;
+
+/// The most states expanding transitions may visit in all: a transition visits the states
+/// of its two grasps to find those that share a workspace, so a cell with many
+/// transitions between grasps with many states is refused even when few arcs result.
+pub const MAX_TRANSITION_VISITS: u64 = 100_000_000;
+
+/// Why the graphs were not built: they would exceed [`MAX_GRAPH_SIZE`] or
+/// [`MAX_TRANSITION_VISITS`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct TooLarge {
+    /// The object whose graph crossed the limit (`None` when the adjacency of the cell
+    /// alone does).
+    pub object: Option<ObjectId>,
+    /// What was counted when the limit was crossed (at least the limit).
+    pub counted: u64,
+    /// The limit crossed.
+    pub limit: u64,
+    /// The movable end-effector that reaches the most workspaces, with how many (it
+    /// makes the most move arcs).
+    pub biggest_reach: Option<(EndEffectorId, usize)>,
+}
+
+/// Which workspaces are adjacent: the declared pairs, or (when the cell declares none)
+/// every two workspaces one movable end-effector reaches. Kept as lists of neighbours,
+/// never as a matrix: a cell of 10⁵ workspaces has 10¹⁰ pairs, and only the few that are
+/// adjacent are stored.
+#[derive(Clone, Debug)]
+pub enum Adjacency {
+    /// Derived from reach: two workspaces are adjacent when a movable end-effector reaches
+    /// both. Nothing is stored: an end-effector's moves are all pairs of what it reaches.
+    Derived,
+    /// Declared: per workspace, its neighbours in id order, each with the first `adjacent`
+    /// item (index into [`Cell::adjacencies`]) that declares the pair.
+    Declared(Vec<Vec<(WorkspaceId, usize)>>),
+}
+
+impl Adjacency {
+    /// The adjacency of a cell.
+    pub fn of(cell: &Cell) -> Adjacency {
+        if cell.adjacencies.is_empty() {
+            return Adjacency::Derived;
+        }
+        let mut neighbours: Vec<Vec<(WorkspaceId, usize)>> =
+            vec![Vec::new(); cell.workspaces.len()];
+        for (i, adj) in cell.adjacencies.iter().enumerate() {
+            neighbours[adj.a.index()].push((adj.b, i));
+            neighbours[adj.b.index()].push((adj.a, i));
+        }
+        for list in &mut neighbours {
+            // Sorted by neighbour, then declaration: the first of a repeated pair stays.
+            list.sort_unstable();
+            list.dedup_by_key(|(w, _)| *w);
+        }
+        Adjacency::Declared(neighbours)
+    }
+
+    /// The move arcs of a movable end-effector that reaches `reaches` (sorted): every
+    /// ordered pair of adjacent workspaces in it, in order of the first then the second,
+    /// with the declaring `adjacent` (if declared).
+    fn moves<'a>(
+        &'a self,
+        reaches: &'a [WorkspaceId],
+    ) -> impl Iterator<Item = (WorkspaceId, WorkspaceId, Option<usize>)> + 'a {
+        reaches.iter().flat_map(move |&wi| {
+            let pairs: Box<dyn Iterator<Item = (WorkspaceId, WorkspaceId, Option<usize>)>> =
+                match self {
+                    Adjacency::Derived => Box::new(
+                        reaches
+                            .iter()
+                            .filter(move |&&wj| wj != wi)
+                            .map(move |&wj| (wi, wj, None)),
+                    ),
+                    Adjacency::Declared(neighbours) => Box::new(
+                        neighbours[wi.index()]
+                            .iter()
+                            .filter(|(wj, _)| reaches.binary_search(wj).is_ok())
+                            .map(move |&(wj, i)| (wi, wj, Some(i))),
+                    ),
+                };
+            pairs
+        })
+    }
+
+    /// How many move arcs [`Adjacency::moves`] gives for `reaches`, without listing them.
+    fn n_moves(&self, reaches: &[WorkspaceId]) -> u64 {
+        match self {
+            Adjacency::Derived => {
+                let r = reaches.len() as u64;
+                r * r.saturating_sub(1)
+            }
+            Adjacency::Declared(_) => self.moves(reaches).count() as u64,
+        }
+    }
+
+    /// Every adjacent pair `(a, b)` with `a < b`, each once, in order; when deriving them
+    /// would list more than `limit` (before removing repeats), that count instead.
+    pub fn pairs(&self, cell: &Cell, limit: u64) -> Result<Vec<(WorkspaceId, WorkspaceId)>, u64> {
+        let mut pairs = Vec::new();
+        match self {
+            Adjacency::Derived => {
+                let mut listed = 0u64;
+                for (_, e) in cell.end_effectors.iter().filter(|(_, e)| e.is_movable()) {
+                    let r = e.reaches.len() as u64;
+                    listed = listed.saturating_add(r * r.saturating_sub(1) / 2);
+                    if listed > limit {
+                        return Err(listed);
                     }
+                    for (i, &a) in e.reaches.iter().enumerate() {
+                        pairs.extend(e.reaches[i + 1..].iter().map(|&b| (a, b)));
+                    }
+                }
+                pairs.sort_unstable();
+                pairs.dedup();
+            }
+            Adjacency::Declared(neighbours) => {
+                for (a, list) in neighbours.iter().enumerate() {
+                    let a = WorkspaceId(a as u32);
+                    pairs.extend(list.iter().filter(|(b, _)| a < *b).map(|&(b, _)| (a, b)));
                 }
             }
         }
-    } else {
-        for (i, adj) in cell.adjacencies.iter().enumerate() {
-            for (a, b) in [(adj.a, adj.b), (adj.b, adj.a)] {
-                let slot = &mut adjacency[a.index() * n_ws + b.index()];
-                if slot.is_none() {
-                    *slot = Some(Some(i));
-                }
+        Ok(pairs)
+    }
+}
+
+/// Counts toward [`MAX_GRAPH_SIZE`] and [`MAX_TRANSITION_VISITS`].
+struct Budget {
+    size: u64,
+    visits: u64,
+}
+
+impl Budget {
+    fn add_size(&mut self, n: u64) -> Result<(), u64> {
+        self.size = self.size.saturating_add(n);
+        if self.size > MAX_GRAPH_SIZE {
+            return Err(MAX_GRAPH_SIZE);
+        }
+        Ok(())
+    }
+
+    fn add_visits(&mut self, n: u64) -> Result<(), u64> {
+        self.visits = self.visits.saturating_add(n);
+        if self.visits > MAX_TRANSITION_VISITS {
+            return Err(MAX_TRANSITION_VISITS);
+        }
+        Ok(())
+    }
+}
+
+/// Builds the graph of every object, in object order; refuses (before building, as far as
+/// counting allows) graphs beyond [`MAX_GRAPH_SIZE`] or [`MAX_TRANSITION_VISITS`].
+pub fn build(cell: &Cell) -> Result<Vec<ObjectGraph>, TooLarge> {
+    let adjacency = Adjacency::of(cell);
+    let holders = cell.holders();
+    let biggest_reach = cell
+        .end_effectors
+        .iter()
+        .filter(|(_, e)| e.is_movable())
+        .map(|(id, e)| (id, e.reaches.len()))
+        .max_by_key(|&(id, n)| (n, std::cmp::Reverse(id)));
+    let too_large = |object: Option<ObjectId>, budget: &Budget, limit: u64| TooLarge {
+        object,
+        counted: if limit == MAX_GRAPH_SIZE {
+            budget.size
+        } else {
+            budget.visits
+        },
+        limit,
+        biggest_reach,
+    };
+    let mut budget = Budget { size: 0, visits: 0 };
+    // The artifact records the adjacent pairs: they count, and must be few enough to list.
+    match adjacency.pairs(cell, MAX_GRAPH_SIZE) {
+        Ok(pairs) => budget.size = pairs.len() as u64,
+        Err(listed) => budget.size = listed,
+    }
+    if budget.size > MAX_GRAPH_SIZE {
+        return Err(too_large(None, &budget, MAX_GRAPH_SIZE));
+    }
+    // Count states and move arcs of every object first (cheap, exact), so a cell far
+    // beyond the limit is refused before any graph exists.
+    let moves_of: Vec<u64> = cell
+        .end_effectors
+        .iter()
+        .map(|(_, e)| {
+            if e.is_movable() {
+                adjacency.n_moves(&e.reaches)
+            } else {
+                0
+            }
+        })
+        .collect();
+    for (object, obj) in cell.objects.iter() {
+        for &g in &obj.grasps {
+            for &e in holders.of(g) {
+                budget
+                    .add_size(cell.end_effectors[e].reaches.len() as u64 + moves_of[e.index()])
+                    .map_err(|limit| too_large(Some(object), &budget, limit))?;
             }
         }
     }
-    let holders: Vec<Vec<EndEffectorId>> = cell.grasps.ids().map(|g| cell.holders_of(g)).collect();
-    cell.objects
-        .iter()
-        .map(|(object, obj)| build_object(cell, object, obj, &holders, &adjacency, n_ws))
-        .collect()
+    // Each object's transitions, in declaration order.
+    let mut transitions: Vec<Vec<usize>> = vec![Vec::new(); cell.objects.len()];
+    for (t, transition) in cell.transitions.iter().enumerate() {
+        let object = cell.grasps[transition.from].object;
+        if cell.grasps[transition.to].object == object {
+            transitions[object.index()].push(t);
+        }
+    }
+    let mut graphs = Vec::with_capacity(cell.objects.len());
+    for (object, obj) in cell.objects.iter() {
+        let parts = Parts {
+            cell,
+            holders: &holders,
+            adjacency: &adjacency,
+            transitions: &transitions[object.index()],
+        };
+        let graph = build_object(&parts, object, obj, &mut budget)
+            .map_err(|limit| too_large(Some(object), &budget, limit))?;
+        graphs.push(graph);
+    }
+    Ok(graphs)
+}
+
+/// What every object's graph is built from.
+struct Parts<'a> {
+    cell: &'a Cell,
+    holders: &'a Holders,
+    adjacency: &'a Adjacency,
+    /// The object's transitions (indices into [`Cell::transitions`]).
+    transitions: &'a [usize],
 }
 
 fn build_object(
-    cell: &Cell,
+    parts: &Parts<'_>,
     object: ObjectId,
     obj: &Object,
-    holders: &[Vec<EndEffectorId>],
-    adjacency: &[Option<Option<usize>>],
-    n_ws: usize,
-) -> ObjectGraph {
+    budget: &mut Budget,
+) -> Result<ObjectGraph, u64> {
+    let Parts {
+        cell,
+        holders,
+        adjacency,
+        ..
+    } = *parts;
     let mut graph = DiGraph::new();
     let mut index = HashMap::new();
     // first[(e, g)] = node of S(e, g, reaches(e)[0]); the states of one (e, g) are
@@ -134,7 +342,7 @@ fn build_object(
     // binary search instead of hashing every arc's endpoints.
     let mut first: HashMap<(EndEffectorId, GraspId), u32> = HashMap::new();
     for &g in &obj.grasps {
-        for &e in &holders[g.index()] {
+        for &e in holders.of(g) {
             first.insert((e, g), graph.node_count() as u32);
             for &w in &cell.end_effectors[e].reaches {
                 let state = State {
@@ -153,44 +361,40 @@ fn build_object(
     };
     let weights = cell.weights;
     for &g in &obj.grasps {
-        for &e in &holders[g.index()] {
+        for &e in holders.of(g) {
             let ee = &cell.end_effectors[e];
             if !ee.is_movable() {
                 continue;
             }
-            for &wi in &ee.reaches {
-                for &wj in &ee.reaches {
-                    let Some(adj) = adjacency[wi.index() * n_ws + wj.index()] else {
-                        continue;
-                    };
-                    if let (Some(from), Some(to)) = (node(e, g, wi), node(e, g, wj)) {
-                        graph.add_edge(
-                            from,
-                            to,
-                            StateArc {
-                                weight: weights.move_weight,
-                                source: ArcSource::Move { adjacency: adj },
-                            },
-                        );
-                    }
+            for (wi, wj, adj) in adjacency.moves(&ee.reaches) {
+                if let (Some(from), Some(to)) = (node(e, g, wi), node(e, g, wj)) {
+                    graph.add_edge(
+                        from,
+                        to,
+                        StateArc {
+                            weight: weights.move_weight,
+                            source: ArcSource::Move { adjacency: adj },
+                        },
+                    );
                 }
             }
         }
     }
-    // Who reaches each workspace: usually two or three end-effectors, so transitions are
-    // expanded per workspace rather than per pair of holders.
-    let mut reachers: Vec<Vec<EndEffectorId>> = vec![Vec::new(); n_ws];
-    for (e, ee) in cell.end_effectors.iter() {
-        for &w in &ee.reaches {
-            reachers[w.index()].push(e);
-        }
-    }
-    for (t, transition) in cell.transitions.iter().enumerate() {
-        if cell.grasps[transition.from].object != object
-            || cell.grasps[transition.to].object != object
-        {
-            continue;
-        }
+    // The states of each grasp sorted by workspace, then holder: a transition's arcs join
+    // the states of its two grasps that share a workspace, found by merging the two lists.
+    let by_workspace = |g: GraspId| -> Vec<(WorkspaceId, EndEffectorId)> {
+        let mut states: Vec<(WorkspaceId, EndEffectorId)> = holders
+            .of(g)
+            .iter()
+            .flat_map(|&e| cell.end_effectors[e].reaches.iter().map(move |&w| (w, e)))
+            .collect();
+        states.sort_unstable();
+        states
+    };
+    let states_of: HashMap<GraspId, Vec<(WorkspaceId, EndEffectorId)>> =
+        obj.grasps.iter().map(|&g| (g, by_workspace(g))).collect();
+    for &t in parts.transitions {
+        let transition = &cell.transitions[t];
         let explicit = matches!(
             cell.grasps[transition.from].holder,
             Some(Holder::EndEffector(_))
@@ -198,17 +402,30 @@ fn build_object(
             cell.grasps[transition.to].holder,
             Some(Holder::EndEffector(_))
         );
-        let (from_holders, to_holders) = (
-            &holders[transition.from.index()],
-            &holders[transition.to.index()],
-        );
-        for (w, here) in reachers.iter().enumerate() {
-            let w = WorkspaceId(w as u32);
-            for &ei in here
-                .iter()
-                .filter(|e| from_holders.binary_search(e).is_ok())
-            {
-                for &ej in here.iter().filter(|e| to_holders.binary_search(e).is_ok()) {
+        let (Some(from_states), Some(to_states)) = (
+            states_of.get(&transition.from),
+            states_of.get(&transition.to),
+        ) else {
+            continue;
+        };
+        budget.add_visits((from_states.len() + to_states.len()) as u64)?;
+        let (mut i, mut j) = (0, 0);
+        while i < from_states.len() && j < to_states.len() {
+            let (wa, wb) = (from_states[i].0, to_states[j].0);
+            if wa < wb {
+                i += 1;
+                continue;
+            }
+            if wb < wa {
+                j += 1;
+                continue;
+            }
+            let w = wa;
+            let i_end = i + from_states[i..].partition_point(|s| s.0 == w);
+            let j_end = j + to_states[j..].partition_point(|s| s.0 == w);
+            budget.add_visits(((i_end - i) * (j_end - j)) as u64)?;
+            for &(_, ei) in &from_states[i..i_end] {
+                for &(_, ej) in &to_states[j..j_end] {
                     // A hand kind's grasps expand to every hand of that kind, but no hand
                     // passes an object to itself; explicit same-holder rows (imported
                     // databases) are kept and warned about.
@@ -222,6 +439,7 @@ fn build_object(
                     if let (Some(from), Some(to)) =
                         (node(ei, transition.from, w), node(ej, transition.to, w))
                     {
+                        budget.add_size(1)?;
                         graph.add_edge(
                             from,
                             to,
@@ -233,11 +451,13 @@ fn build_object(
                     }
                 }
             }
+            i = i_end;
+            j = j_end;
         }
     }
-    ObjectGraph {
+    Ok(ObjectGraph {
         object,
         graph,
         index,
-    }
+    })
 }

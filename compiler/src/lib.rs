@@ -68,9 +68,14 @@ pub fn compile(files: &dyn Files, path: &str) -> Compilation {
         // Graph-level findings on a cell that already has errors would mostly repeat
         // them in other words, so they wait until the cell is clean.
         if !diagnostics.iter().any(Diagnostic::is_error) {
-            graphs = graph::build(&resolved);
-            checks::check_graphs(&resolved, &graphs, &mut diagnostics);
-            expect::check(&resolved, &graphs, &mut diagnostics);
+            match graph::build(&resolved) {
+                Ok(built) => {
+                    graphs = built;
+                    checks::check_graphs(&resolved, &graphs, &mut diagnostics);
+                    expect::check(&resolved, &graphs, &mut diagnostics);
+                }
+                Err(too_large) => diagnostics.push(too_large_diagnostic(&resolved, &too_large)),
+            }
         }
         cell = Some(resolved);
     }
@@ -81,6 +86,28 @@ pub fn compile(files: &dyn Files, path: &str) -> Compilation {
         graphs,
         diagnostics,
     }
+}
+
+/// The diagnostic of graphs refused as too large, at the object whose graph crossed the
+/// limit (or the end-effector whose reach alone makes too many adjacent pairs).
+fn too_large_diagnostic(cell: &Cell, too_large: &graph::TooLarge) -> Diagnostic {
+    let biggest = too_large
+        .biggest_reach
+        .map(|(e, n)| (cell.end_effectors[e].name.as_str(), n));
+    let at = match (too_large.object, too_large.biggest_reach) {
+        (Some(o), _) => Some((cell.objects[o].name.as_str(), cell.objects[o].origin)),
+        (None, Some((e, _))) => Some((
+            cell.end_effectors[e].name.as_str(),
+            cell.end_effectors[e].origin,
+        )),
+        (None, None) => None,
+    };
+    let measure = if too_large.limit == graph::MAX_GRAPH_SIZE {
+        diagnostics::GraphMeasure::Size
+    } else {
+        diagnostics::GraphMeasure::TransitionVisits
+    };
+    diagnostics::graph_too_large(at, measure, too_large.counted, too_large.limit, biggest)
 }
 
 /// Source order: by file, then position, then code; diagnostics without a place last.

@@ -398,28 +398,36 @@ impl Cell {
         }
     }
 
-    /// End-effectors that can hold grasp `g`, in id order.
-    pub fn holders_of(&self, g: GraspId) -> Vec<EndEffectorId> {
-        self.end_effectors
-            .ids()
-            .filter(|&e| self.holds(e, g))
-            .collect()
-    }
-
-    /// True when workspaces `a` and `b` are adjacent: declared so, or (when the cell
-    /// declares no adjacency) both reached by one movable end-effector.
-    pub fn adjacent(&self, a: WorkspaceId, b: WorkspaceId) -> bool {
-        if a == b {
-            return false;
+    /// Who can hold each grasp (see [`Holders`]).
+    pub fn holders(&self) -> Holders {
+        let mut of_kind: Vec<Vec<EndEffectorId>> = vec![Vec::new(); self.holder_kinds.len()];
+        for (e, ee) in self.end_effectors.iter() {
+            if let Some(kind) = ee.kind {
+                of_kind[kind.index()].push(e);
+            }
         }
-        if self.adjacencies.is_empty() {
-            self.end_effectors
-                .iter()
-                .any(|(_, e)| e.is_movable() && e.reaches.contains(&a) && e.reaches.contains(&b))
-        } else {
-            self.adjacencies
-                .iter()
-                .any(|adj| (adj.a == a && adj.b == b) || (adj.a == b && adj.b == a))
+        let grasps = self.grasps.iter().map(|(_, g)| g.holder).collect();
+        Holders { of_kind, grasps }
+    }
+}
+
+/// For every grasp, the end-effectors that can hold it, in id order. Built in one pass
+/// over the end-effectors (grouped by kind) and one over the grasps, and a kind's list is
+/// shared by all its grasps, so a cell with many hands and many grasps costs their sum,
+/// not their product.
+#[derive(Clone, Debug)]
+pub struct Holders {
+    of_kind: Vec<Vec<EndEffectorId>>,
+    grasps: Vec<Option<Holder>>,
+}
+
+impl Holders {
+    /// The end-effectors that can hold grasp `g`, in id order.
+    pub fn of(&self, g: GraspId) -> &[EndEffectorId] {
+        match &self.grasps[g.index()] {
+            Some(Holder::EndEffector(e)) => std::slice::from_ref(e),
+            Some(Holder::Kind(kind)) => &self.of_kind[kind.index()],
+            None => &[],
         }
     }
 }

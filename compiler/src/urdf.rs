@@ -62,7 +62,11 @@ pub fn load_robot(
     if !problems.is_empty() {
         let shown = problems.len().min(MAX_URDF_PROBLEMS);
         for (i, problem) in problems.iter().take(shown).enumerate() {
-            let more = if i + 1 == shown { problems.len() - shown } else { 0 };
+            let more = if i + 1 == shown {
+                problems.len() - shown
+            } else {
+                0
+            };
             diagnostics.push(diagnostics::urdf_problem(
                 &path,
                 problem,

@@ -16,8 +16,8 @@ pub mod span;
 
 pub use diagnostic::{Code, Diagnostic, Label, Severity};
 pub use format::format;
-pub use screen::{not_a_cell, NotACell, MAX_NESTING};
 pub use parser::{parse_placement, Parsed};
+pub use screen::{not_a_cell, NotACell, MAX_NESTING};
 pub use span::{FileId, SourceFile, SourceMap, Span};
 
 /// Parses one file's text. Never panics: every problem is a diagnostic. Text the grammar

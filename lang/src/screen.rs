@@ -158,7 +158,10 @@ mod tests {
     #[test]
     fn tells_cells_from_other_files() {
         assert_eq!(not_a_cell("cell c {}"), None);
-        assert_eq!(not_a_cell("\u{FEFF}// a comment\n/* x */ library l { oops"), None);
+        assert_eq!(
+            not_a_cell("\u{FEFF}// a comment\n/* x */ library l { oops"),
+            None
+        );
         assert_eq!(not_a_cell("cel c {}"), Some(NotACell::NoOutline));
         assert_eq!(
             not_a_cell("root:x:0:0:root:/root:/bin/bash\n"),

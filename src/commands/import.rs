@@ -48,4 +48,3 @@ pub fn dualmanip(db: &Path, output: &Path) -> ExitCode {
     );
     ExitCode::SUCCESS
 }
-

@@ -95,9 +95,9 @@ pub fn not_a_cell_file(
         NotCellReason::Screen(NotACell::Empty) => {
             format!("{size} of blanks and comments, with no `cell` or `library` in it")
         }
-        NotCellReason::Screen(_) => format!(
-            "{size} of text that does not begin with `cell NAME {{` or `library NAME {{`"
-        ),
+        NotCellReason::Screen(_) => {
+            format!("{size} of text that does not begin with `cell NAME {{` or `library NAME {{`")
+        }
     };
     let d = Diagnostic::error(
         NOT_A_CELL_FILE,
@@ -144,35 +144,53 @@ pub fn urdf_problem(
     }
 }
 
-/// The graphs of the cell would have more states and arcs than the limit.
+/// What a limit of the graphs counts.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum GraphMeasure {
+    /// States, arcs and adjacent pairs of workspaces.
+    Size,
+    /// States visited to expand transitions.
+    TransitionVisits,
+}
+
+/// The graphs of the cell would exceed a limit. `at` is the object whose graph crossed it
+/// (or the end-effector whose reach alone does), `biggest` the movable end-effector that
+/// reaches the most workspaces.
 pub fn graph_too_large(
-    object: &str,
-    origin: Origin,
+    at: Option<(&str, Origin)>,
+    measure: GraphMeasure,
     counted: u64,
     limit: u64,
     biggest: Option<(&str, usize)>,
 ) -> Diagnostic {
-    let d = Diagnostic::error(
-        GRAPH_TOO_LARGE,
-        format!(
-            "the object-state graphs would have more than {limit} states and arcs in all"
+    let what = match measure {
+        GraphMeasure::Size => format!(
+            "the object-state graphs would have more than {limit} states, arcs and adjacent \
+             workspace pairs"
         ),
-    )
-    .primary(
-        origin.file,
-        origin.name_span,
-        format!("the graph of `{object}` reaches {counted} states and arcs"),
-    );
+        GraphMeasure::TransitionVisits => {
+            format!("expanding the transitions would visit more than {limit} states")
+        }
+    };
+    let d = Diagnostic::error(GRAPH_TOO_LARGE, what);
+    let d = match at {
+        Some((name, origin)) => d.primary(
+            origin.file,
+            origin.name_span,
+            format!("{counted} counted when `{name}` was reached"),
+        ),
+        None => d,
+    };
     let d = match biggest {
         Some((holder, reached)) => d.note(format!(
-            "`{holder}` reaches {reached} workspaces, and a movable end-effector moves between \
-             every two adjacent workspaces it reaches"
+            "movable `{holder}` reaches {reached} workspaces; it moves between every two \
+             adjacent ones, with every grasp it holds"
         )),
         None => d,
     };
     d.help(
-        "split the cell, or declare `adjacent` pairs rather than letting every two workspaces \
-         an arm reaches be adjacent",
+        "split the cell, or declare `adjacent` pairs so that not every two workspaces an arm \
+         reaches are adjacent (see `cellc explain E0320` for the limits)",
     )
 }
 
