@@ -23,7 +23,7 @@ pub fn lower(cell: &Cell, graphs: &[ObjectGraph], sources: &SourceMap) -> schema
         .map(|(_, r)| schema::Robot {
             name: r.name.clone(),
             urdf_path: r.urdf_path.clone(),
-            urdf_sha256: sha256_hex(r.urdf_text.as_bytes()),
+            urdf_sha256: r.urdf_sha256.clone(),
             base_link: r.base_link.clone(),
             tip_link: r.tip_link.clone(),
             joints: r

@@ -16,6 +16,7 @@ pub mod graph;
 pub mod ids;
 pub mod load;
 pub mod math;
+pub mod merge;
 pub mod model;
 pub mod resolve;
 pub mod units;

@@ -122,16 +122,17 @@ pub struct Robot {
     pub name: String,
     /// URDF path, resolved against the declaring file.
     pub urdf_path: String,
-    /// The URDF text (kept for hashing into the artifact and for the kinematics crate).
-    pub urdf_text: String,
+    /// SHA-256 of the URDF text, recorded in the artifact so the runtime can tell a
+    /// changed file.
+    pub urdf_sha256: String,
     /// Base link.
     pub base_link: String,
     /// Tip link.
     pub tip_link: String,
     /// The movable joints from base to tip, in order.
     pub chain_joints: Vec<Joint>,
-    /// Every link of the URDF (for `allow contact` names).
-    pub links: Vec<String>,
+    /// Every link of the URDF (for `allow contact` names), sorted.
+    pub links: std::collections::BTreeSet<String>,
     /// Declaration.
     pub origin: Origin,
 }

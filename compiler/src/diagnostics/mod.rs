@@ -85,6 +85,8 @@ pub mod codes {
     pub const GRAPH_TOO_LARGE: Code = Code("E0320");
     /// `workspaces from reach` over more space cells than the limit.
     pub const DERIVATION_TOO_LARGE: Code = Code("E0321");
+    /// `expect` requirements that would take too long to check.
+    pub const EXPECT_TOO_COSTLY: Code = Code("E0322");
 
     /// A URDF file that can't be read.
     pub const URDF_UNREADABLE: Code = Code("E0401");
@@ -147,6 +149,7 @@ pub mod codes {
         NOT_A_CELL_FILE,
         GRAPH_TOO_LARGE,
         DERIVATION_TOO_LARGE,
+        EXPECT_TOO_COSTLY,
         URDF_UNREADABLE,
         URDF_INVALID,
         URDF_UNKNOWN_LINK,

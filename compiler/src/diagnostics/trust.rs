@@ -64,6 +64,19 @@ pub fn sources_too_large(path: &str, limit: u64, at: Option<(FileId, Span)>) -> 
     }
 }
 
+/// The URDFs of the cell would exceed the budget of URDF text in all.
+pub fn urdfs_too_large(path: &str, limit: u64, file: FileId, span: Span) -> Diagnostic {
+    Diagnostic::error(
+        FILE_TOO_LARGE,
+        format!(
+            "URDF `{path}` is not read: with it, the cell's robot descriptions exceed {} in all",
+            human_bytes(limit)
+        ),
+    )
+    .primary(file, span, "named here")
+    .help("name fewer or smaller URDF files; a compilation reads at most this much of them")
+}
+
 /// Why a file read as a cell is not one, with the facts the loader knows.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum NotCellReason {
@@ -194,19 +207,32 @@ pub fn graph_too_large(
     )
 }
 
-/// `workspaces from reach` would cut space into more cells than the limit.
+/// Requirements left unchecked because checking them would exceed the budget.
+pub fn expectations_not_checked(left: usize, limit: u64, first: Origin) -> Diagnostic {
+    Diagnostic::error(
+        EXPECT_TOO_COSTLY,
+        format!("{left} requirements are not checked: checking them would visit more than {limit} states and arcs"),
+    )
+    .primary(first.file, first.span, "the first requirement not checked")
+    .help("write fewer `expect` lines, or check a smaller cell; a cell whose requirements are not all checked does not pass")
+}
+
+/// Deriving workspaces, or finding who reaches which, would take more box tests than the
+/// limit.
 pub fn derivation_too_large(origin: Origin, work: u64, limit: u64) -> Diagnostic {
     Diagnostic::error(
         DERIVATION_TOO_LARGE,
-        "deriving workspaces from reach would take too many steps".to_string(),
+        format!(
+            "the workspace geometry would take {work} box tests to work out, more than {limit}"
+        ),
     )
     .primary(
         origin.file,
         origin.span,
-        format!("{work} space cells times boxes to test; the limit is {limit}"),
+        "workspaces and reach are computed from here",
     )
     .help(
-        "use fewer reach boxes, obstacles and declared workspace boxes (every box face cuts \
-         space along its plane), or declare the workspaces",
+        "use fewer reach boxes, obstacles and workspace boxes (every box face cuts space \
+         along its plane), or declare the workspaces and who reaches them",
     )
 }
