@@ -23,11 +23,10 @@ impl Files for FsFiles {
     fn read_at_most(&self, path: &str, max_bytes: u64) -> Result<Vec<u8>, FileError> {
         // `metadata` follows symbolic links, so a link to a FIFO is refused too; it never
         // opens the file, so it cannot block.
-        let metadata = std::fs::metadata(path)?;
-        check_kind(&metadata)?;
-        if metadata.len() > max_bytes {
+        let size = regular_file(path)?;
+        if size > max_bytes {
             return Err(FileError::TooLarge {
-                size: metadata.len(),
+                size,
                 limit: max_bytes,
             });
         }
@@ -35,7 +34,7 @@ impl Files for FsFiles {
         // The path may have been replaced between the look and the open: check what was
         // opened, before reading from it.
         check_kind(&file.metadata()?)?;
-        let mut bytes = Vec::with_capacity(metadata.len() as usize);
+        let mut bytes = Vec::with_capacity(size as usize);
         file.take(max_bytes.saturating_add(1))
             .read_to_end(&mut bytes)?;
         let size = bytes.len() as u64;
@@ -47,6 +46,14 @@ impl Files for FsFiles {
         }
         Ok(bytes)
     }
+}
+
+/// The size of the regular file at `path`, from its metadata (the file is not opened);
+/// a folder, pipe, device or socket is refused.
+pub fn regular_file(path: &str) -> Result<u64, FileError> {
+    let metadata = std::fs::metadata(path)?;
+    check_kind(&metadata)?;
+    Ok(metadata.len())
 }
 
 /// Refuses what is not a regular file: folders, pipes, devices and sockets.

@@ -73,7 +73,12 @@ fn neutralize(text: &str) -> Cow<'_, str> {
     Cow::Owned(out)
 }
 
-/// Human rendering of a list of diagnostics, with a summary line.
+/// The most diagnostics one human rendering shows: nobody reads more, and a hostile cell
+/// can have hundreds of thousands (the short and JSON forms list them all).
+pub const MAX_HUMAN_DIAGNOSTICS: usize = 500;
+
+/// Human rendering of a list of diagnostics (at most [`MAX_HUMAN_DIAGNOSTICS`], then a
+/// line that counts the rest).
 pub fn human(diagnostics: &[Diagnostic], sources: &SourceMap, color: Color) -> String {
     let theme = match color {
         Color::Always => GraphicalTheme::unicode(),
@@ -85,7 +90,8 @@ pub fn human(diagnostics: &[Diagnostic], sources: &SourceMap, color: Color) -> S
         .without_syntax_highlighting();
     let mut out = String::new();
     let mut files = Sources::new(sources, |text| neutralize(text).into_owned());
-    for diagnostic in diagnostics {
+    let (shown, hidden) = diagnostics.split_at(diagnostics.len().min(MAX_HUMAN_DIAGNOSTICS));
+    for diagnostic in shown {
         let report = Report::new(diagnostic, sources, &mut files);
         if handler.render_report(&mut out, &report).is_err() {
             // Rendering into a String cannot fail for I/O reasons; fall back to the short
@@ -93,6 +99,13 @@ pub fn human(diagnostics: &[Diagnostic], sources: &SourceMap, color: Color) -> S
             out.push_str(&short(std::slice::from_ref(diagnostic), sources));
         }
         out.push('\n');
+    }
+    if !hidden.is_empty() {
+        out.push_str(&format!(
+            "... and {} more diagnostics, not shown (`cellc check --format short` or \
+             `--format json` lists every one)\n\n",
+            hidden.len()
+        ));
     }
     out
 }

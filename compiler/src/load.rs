@@ -86,6 +86,42 @@ pub fn load(files: &dyn Files, path: &str) -> Loaded {
     loader.loaded
 }
 
+/// Reads one cell or library as the loader does: at most `budget` bytes (refused as too
+/// large for [`MAX_SOURCE_BYTES`], or for what [`MAX_TOTAL_SOURCE_BYTES`] leaves when
+/// `budget` is smaller), and screened, so that a file that is not a cell is described and
+/// its text dropped. `included_at` is the `include` that names it.
+pub fn read_source(
+    files: &dyn Files,
+    path: &str,
+    budget: u64,
+    included_at: Option<(FileId, Span)>,
+) -> Result<String, Diagnostic> {
+    let bytes = match files.read_at_most(path, budget) {
+        Ok(bytes) => bytes,
+        Err(FileError::TooLarge { size, .. })
+            if budget < MAX_SOURCE_BYTES && size <= MAX_SOURCE_BYTES =>
+        {
+            return Err(diagnostics::sources_too_large(
+                path,
+                MAX_TOTAL_SOURCE_BYTES,
+                included_at,
+            ));
+        }
+        Err(error) => return Err(diagnostics::file_unreadable(path, &error, included_at)),
+    };
+    let size = bytes.len();
+    let not_a_cell = |reason| diagnostics::not_a_cell_file(path, size, reason, included_at);
+    let text = String::from_utf8(bytes).map_err(|error| {
+        not_a_cell(NotCellReason::NotUtf8 {
+            offset: error.utf8_error().valid_up_to(),
+        })
+    })?;
+    if let Some(reason) = cellc_lang::not_a_cell(&text) {
+        return Err(not_a_cell(NotCellReason::Screen(reason)));
+    }
+    Ok(text)
+}
+
 /// A file being walked: its includes, and how many of them are done.
 struct Frame {
     path: String,
@@ -109,38 +145,14 @@ impl Loader<'_> {
     fn read_file(&mut self, path: &str, included_at: Option<(FileId, Span)>) -> Option<Frame> {
         let diagnostics = &mut self.loaded.diagnostics;
         let budget = MAX_SOURCE_BYTES.min(self.bytes_left);
-        let bytes = match self.files.read_at_most(path, budget) {
-            Ok(bytes) => bytes,
-            Err(FileError::TooLarge { size, .. })
-                if budget < MAX_SOURCE_BYTES && size <= MAX_SOURCE_BYTES =>
-            {
-                diagnostics.push(diagnostics::sources_too_large(
-                    path,
-                    MAX_TOTAL_SOURCE_BYTES,
-                    included_at,
-                ));
-                return None;
-            }
-            Err(error) => {
-                diagnostics.push(diagnostics::file_unreadable(path, &error, included_at));
-                return None;
-            }
-        };
-        self.bytes_left -= bytes.len() as u64;
-        let size = bytes.len();
-        let not_a_cell = |reason| diagnostics::not_a_cell_file(path, size, reason, included_at);
-        let text = match String::from_utf8(bytes) {
+        let text = match read_source(self.files, path, budget, included_at) {
             Ok(text) => text,
-            Err(error) => {
-                let offset = error.utf8_error().valid_up_to();
-                diagnostics.push(not_a_cell(NotCellReason::NotUtf8 { offset }));
+            Err(d) => {
+                diagnostics.push(d);
                 return None;
             }
         };
-        if let Some(reason) = cellc_lang::not_a_cell(&text) {
-            diagnostics.push(not_a_cell(NotCellReason::Screen(reason)));
-            return None;
-        }
+        self.bytes_left -= text.len() as u64;
         let id = self.loaded.sources.add(path, text);
         let parsed = cellc_lang::parse(id, &self.loaded.sources.get(id).text);
         diagnostics.extend(parsed.diagnostics);

@@ -276,16 +276,18 @@ impl Scene {
                 },
             })
             .collect();
-        let mut kind_solids: Vec<Vec<PlacedShape>> = Vec::with_capacity(artifact.holder_kinds.len());
+        let mut kind_solids: Vec<Vec<PlacedShape>> =
+            Vec::with_capacity(artifact.holder_kinds.len());
         for k in &artifact.holder_kinds {
             let mut solids = Vec::with_capacity(k.solids.len());
             for s in &k.solids {
-                let solid = placed(&s.shape, iso_from_schema(&s.pose), files).map_err(
-                    |reason| SceneError::HandMesh {
-                        kind: k.name.clone(),
-                        reason,
-                    },
-                )?;
+                let solid =
+                    placed(&s.shape, iso_from_schema(&s.pose), files).map_err(|reason| {
+                        SceneError::HandMesh {
+                            kind: k.name.clone(),
+                            reason,
+                        }
+                    })?;
                 solids.extend(solid);
             }
             kind_solids.push(solids);

@@ -22,6 +22,9 @@ pub const MAX_SOURCE_BYTES: u64 = 16 << 20;
 pub const MAX_URDF_BYTES: u64 = 16 << 20;
 /// The largest mesh file read, in bytes (32 MiB: a binary STL of 670,000 triangles).
 pub const MAX_MESH_BYTES: u64 = 32 << 20;
+/// The largest artifact read, in bytes (1 GiB: graphs at the compiler's size limit, with
+/// a witness for every arc).
+pub const MAX_ARTIFACT_BYTES: u64 = 1 << 30;
 
 /// Supplies file contents to the compiler and the runtime.
 pub trait Files {

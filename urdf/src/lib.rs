@@ -30,6 +30,4 @@ mod validate;
 pub use chain::{Chain, ChainError, ChainJoint, JointError, JointKind, JointType, Motion};
 pub use description::{Description, ParseError};
 pub use geometry::{mesh_path, Collision, Geometry, MeshPathError};
-pub use validate::{
-    PoseOf, Problem, MAX_ANGLE, MAX_LENGTH, MAX_MASS, MAX_SCALE, MIN_AXIS_NORM,
-};
+pub use validate::{PoseOf, Problem, MAX_ANGLE, MAX_LENGTH, MAX_MASS, MAX_SCALE, MIN_AXIS_NORM};

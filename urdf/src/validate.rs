@@ -571,7 +571,10 @@ mod tests {
               <joint name="ax" type="fixed"><parent link="a"/><child link="x"/></joint>
             </robot>"#,
         );
-        assert!(matches!(&undefined[..], [Problem::UndefinedLink { role: "child", .. }]));
+        assert!(matches!(
+            &undefined[..],
+            [Problem::UndefinedLink { role: "child", .. }]
+        ));
         let forest = problems(r#"<robot name="r"><link name="a"/><link name="b"/></robot>"#);
         assert!(matches!(&forest[..], [Problem::SeveralRoots { roots }] if roots.len() == 2));
         let twice = problems(

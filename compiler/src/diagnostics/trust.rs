@@ -48,6 +48,15 @@ pub(crate) fn refused_file(
     })
 }
 
+/// A file given on the command line as `what` (an artifact, a database) that cannot be
+/// read: too large or not a regular file with their own codes, anything else as E0308.
+pub fn input_unreadable(what: &str, path: &str, error: &FileError) -> Diagnostic {
+    refused_file(what, path, error, None).unwrap_or_else(|| {
+        Diagnostic::error(FILE_UNREADABLE, format!("cannot read `{path}`: {error}"))
+            .help("check the path and that the file is readable")
+    })
+}
+
 /// The cell and its includes would exceed the budget of source text in all.
 pub fn sources_too_large(path: &str, limit: u64, at: Option<(FileId, Span)>) -> Diagnostic {
     let d = Diagnostic::error(
