@@ -347,10 +347,7 @@ fn pairs(planner: &Planner<'_>, object: u32, geometric: bool) -> Vec<Pair> {
 fn cli(a: &Artifact, object: u32, p: &Placement) -> String {
     let holder = &a.end_effectors[p.holder.index()].name;
     let holder = match p.grasp {
-        Some(g) => format!(
-            "{holder}.{}",
-            a.objects[object as usize].grasps[g.index()].name
-        ),
+        Some(g) => format!("{holder}.{}", a.objects[object as usize].grasps[g.index()].name),
         None => holder.clone(),
     };
     let workspace = p.workspace.map(|w| &a.workspaces[w.index()].name);
@@ -453,8 +450,8 @@ fn measure(
                         plan: request.options.clone(),
                     };
                     execute(planner, plan, &mut simulator, &options)
-                        .map(|_| ())
-                        .map_err(|e| format!("execution: {e:?}"))
+                    .map(|_| ())
+                    .map_err(|e| format!("execution: {e:?}"))
                 }
                 Err(e) => Err(format!("plan: {e:?}")),
             };

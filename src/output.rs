@@ -101,3 +101,4 @@ fn write_whole(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
     }
     result
 }
+

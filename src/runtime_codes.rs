@@ -13,10 +13,4 @@ pub const TIME_BUDGET: Code = Code("R0006");
 /// Executing a plan failed for good: before the object left its start, or too often.
 pub const EXECUTION_FAILED: Code = Code("R0007");
 /// Every code of this phase.
-pub const ALL: &[Code] = &[
-    LOCATE,
-    UNREACHABLE,
-    NO_REQUEST,
-    TIME_BUDGET,
-    EXECUTION_FAILED,
-];
+pub const ALL: &[Code] = &[LOCATE, UNREACHABLE, NO_REQUEST, TIME_BUDGET, EXECUTION_FAILED];

@@ -79,10 +79,7 @@ fn every_bit_flip_is_refused() {
                 }
             }
         }
-        assert!(
-            accepted.is_empty(),
-            "{encoding:?}: flips accepted at {accepted:?}"
-        );
+        assert!(accepted.is_empty(), "{encoding:?}: flips accepted at {accepted:?}");
     }
 }
 
@@ -92,59 +89,28 @@ fn every_bit_flip_is_refused() {
 fn inconsistent_artifacts_with_valid_checksums_are_refused() {
     let base = build("cells/vito.cell");
     let cases: Vec<(&str, Box<dyn Fn(&mut Artifact)>)> = vec![
-        (
-            "arc to a node that does not exist",
-            Box::new(|a| a.objects[0].graph.arcs[0].to = 10_000),
-        ),
-        (
-            "negative cylinder height",
-            Box::new(|a| {
-                a.objects[0].shape = Some(cellc_schema::Shape::Cylinder {
-                    radius: 0.03,
-                    height: -0.1,
-                })
-            }),
-        ),
-        (
-            "NaN in a grasp pose",
-            Box::new(|a| {
-                a.objects[0].grasps[0]
-                    .pose
-                    .as_mut()
-                    .expect("posed")
-                    .translation[0] = f64::NAN
-            }),
-        ),
-        (
-            "home of the wrong length",
-            Box::new(|a| {
-                for e in &mut a.end_effectors {
-                    if let cellc_schema::Body::Arm { home, .. } = &mut e.body {
-                        home.pop();
-                    }
+        ("arc to a node that does not exist", Box::new(|a| a.objects[0].graph.arcs[0].to = 10_000)),
+        ("negative cylinder height", Box::new(|a| {
+            a.objects[0].shape = Some(cellc_schema::Shape::Cylinder { radius: 0.03, height: -0.1 })
+        })),
+        ("NaN in a grasp pose", Box::new(|a| {
+            a.objects[0].grasps[0].pose.as_mut().expect("posed").translation[0] = f64::NAN
+        })),
+        ("home of the wrong length", Box::new(|a| {
+            for e in &mut a.end_effectors {
+                if let cellc_schema::Body::Arm { home, .. } = &mut e.body {
+                    home.pop();
                 }
-            }),
-        ),
-        (
-            "limits in the wrong order",
-            Box::new(|a| {
-                let j = &mut a.robots[0].joints[0];
-                j.lower = Some(1.0);
-                j.upper = Some(-1.0);
-            }),
-        ),
-        (
-            "a negative weight",
-            Box::new(|a| a.objects[0].graph.arcs[0].weight = -1.0),
-        ),
-        (
-            "a reach into no workspace",
-            Box::new(|a| a.end_effectors[0].reaches.push(999)),
-        ),
-        (
-            "a span past the table",
-            Box::new(|a| a.objects[0].span = 1 << 30),
-        ),
+            }
+        })),
+        ("limits in the wrong order", Box::new(|a| {
+            let j = &mut a.robots[0].joints[0];
+            j.lower = Some(1.0);
+            j.upper = Some(-1.0);
+        })),
+        ("a negative weight", Box::new(|a| a.objects[0].graph.arcs[0].weight = -1.0)),
+        ("a reach into no workspace", Box::new(|a| a.end_effectors[0].reaches.push(999))),
+        ("a span past the table", Box::new(|a| a.objects[0].span = 1 << 30)),
     ];
     for (what, damage) in cases {
         let mut a = base.clone();
@@ -153,18 +119,12 @@ fn inconsistent_artifacts_with_valid_checksums_are_refused() {
         for encoding in [Encoding::Binary, Encoding::Json] {
             let result = Artifact::from_bytes(&a.to_bytes(encoding));
             assert!(
-                matches!(
-                    result,
-                    Err(ReadError::Invalid(_)) | Err(ReadError::Corrupt { .. })
-                ),
+                matches!(result, Err(ReadError::Invalid(_)) | Err(ReadError::Corrupt { .. })),
                 "{what} ({encoding:?}): {result:?}"
             );
         }
         assert!(
-            matches!(
-                Artifact::from_bytes(&a.to_bytes(Encoding::Binary)),
-                Err(ReadError::Invalid(_))
-            ),
+            matches!(Artifact::from_bytes(&a.to_bytes(Encoding::Binary)), Err(ReadError::Invalid(_))),
             "{what}"
         );
     }

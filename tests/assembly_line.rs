@@ -263,7 +263,7 @@ fn plan_and_run(seed: u64) {
         plan: request.options.clone(),
     };
     let run = execute(&planner, plan, &mut simulator, &options)
-        .unwrap_or_else(|e| panic!("seed {seed}: execution failed: {e:?}"));
+    .unwrap_or_else(|e| panic!("seed {seed}: execution failed: {e:?}"));
     assert_eq!(run.plans.len(), 1, "seed {seed}: no replan");
     assert_eq!(run.final_state, goal);
     let final_pose = run.final_pose.expect("the simulator knows the pose");

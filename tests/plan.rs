@@ -247,10 +247,7 @@ fn unknown_names_are_located_errors() {
         Err(e @ LocateError::UnknownHolder { .. }) => e,
         other => panic!("{other:?}"),
     };
-    assert!(
-        error.to_string().contains("no end-effector `tabel`"),
-        "{error}"
-    );
+    assert!(error.to_string().contains("no end-effector `tabel`"), "{error}");
     // The CLI says what was meant.
     let d = cellc::plan_report::plan_error(&a, &PlanError::Locate(error), None);
     assert_eq!(d.help.as_deref(), Some("did you mean `table`?"));

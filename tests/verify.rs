@@ -259,11 +259,7 @@ fn runtime_ui() {
             &FsFiles
         };
         let diagnostics = match Scene::load(&artifact, files) {
-            Err(e) => vec![cellc::verify_report::scene_error_at(
-                &e,
-                &artifact.robots,
-                &artifact.spans,
-            )],
+            Err(e) => vec![cellc::verify_report::scene_error_at(&e, &artifact.robots, &artifact.spans)],
             Ok(scene) => {
                 verify(&mut artifact, &scene, &VerifyOptions::default(), &|_, _| {});
                 cellc::verify_report::pruned_warnings(&artifact)

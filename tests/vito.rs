@@ -114,9 +114,7 @@ fn tamper_with_a_grasp(cell: &Cell, plan: &mut Plan, from: usize) -> usize {
         )
     };
     let index = (from..plan.steps.len())
-        .find(
-            |&i| matches!(&plan.steps[i].command, Command::Grasp { holder, .. } if is_arm(*holder)),
-        )
+        .find(|&i| matches!(&plan.steps[i].command, Command::Grasp { holder, .. } if is_arm(*holder)))
         .expect("a grasp by an arm");
     let step = &mut plan.steps[index];
     step.motion = None;

@@ -28,9 +28,7 @@ pub fn main() -> Result<(), Box<dyn std::error::Error>> {
 
     let mut cell = Cell::load(&vito_artifact(), &Disk)?;
     cell.verify(&VerifyOptions::default());
-    let request = cell
-        .named_request(&name, PlanOptions::default())
-        .ok_or("no such request")?;
+    let request = cell.named_request(&name, PlanOptions::default()).ok_or("no such request")?;
     let plan = cell.plan(&request)?;
     println!("{name}: {} in {} steps", plan.strategy, plan.steps.len());
     let mut simulator = cell.simulator(&plan);

@@ -13,7 +13,7 @@ use crate::explain::Explanation;
 use crate::plan::planner::Planner;
 use crate::plan::search::SearchGraph;
 use crate::plan::{
-    names, GoalByName, LocateError, PlacementByName, Plan, PlanError, PlanOptions, Request,
+    names, GoalByName, LocateError, Plan, PlanError, PlanOptions, PlacementByName, Request,
     Unreachable,
 };
 use crate::scene::{Scene, SceneError};

@@ -306,8 +306,10 @@ impl<'a> Simulator<'a> {
             .objects
             .get(self.object as usize)
             .map_or(&[][..], |o| o.symmetries.as_slice());
-        let rotation_error =
-            crate::symmetry::residual(&(expected.rotation.inverse() * pose.rotation), symmetries);
+        let rotation_error = crate::symmetry::residual(
+            &(expected.rotation.inverse() * pose.rotation),
+            symmetries,
+        );
         if position_error > self.tolerance.position || rotation_error > self.tolerance.rotation {
             return Err(StepError::GraspMissed {
                 holder,
@@ -332,8 +334,12 @@ impl<'a> Simulator<'a> {
             .objects
             .get(self.object as usize)
             .map_or(&[][..], |o| o.symmetries.as_slice());
-        let (height_error, rotation_error) =
-            crate::plan::locate::rest_error(&pose, &self.grasp_pose(rest), slab.maxs.z, symmetries);
+        let (height_error, rotation_error) = crate::plan::locate::rest_error(
+            &pose,
+            &self.grasp_pose(rest),
+            slab.maxs.z,
+            symmetries,
+        );
         if height_error > self.tolerance.position || rotation_error > self.tolerance.rotation {
             return Err(StepError::NotResting {
                 surface,
@@ -552,10 +558,7 @@ impl std::fmt::Display for ExecutionError {
             }
             ExecutionError::Replan(e) => write!(f, "replanning failed: {e}"),
             ExecutionError::TooManyFailures { replans, last } => {
-                write!(
-                    f,
-                    "steps kept failing ({last}); gave up after {replans} replans"
-                )
+                write!(f, "steps kept failing ({last}); gave up after {replans} replans")
             }
         }
     }

@@ -38,8 +38,8 @@ pub use execute::{
 pub use explain::Explanation;
 pub use math::Iso;
 pub use plan::{
-    Command, Goal, GoalByName, LocateError, Placement, PlacementByName, Plan, PlanError, PlanGoal,
-    PlanOptions, Request, Step, Strategy, Trajectory, Unreachable,
+    Command, Goal, GoalByName, LocateError, Placement, PlacementByName, Plan, PlanError,
+    PlanGoal, PlanOptions, Request, Step, Strategy, Trajectory, Unreachable,
 };
 pub use verify::VerifyOptions;
 

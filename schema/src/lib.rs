@@ -20,8 +20,8 @@ use serde::{Deserialize, Serialize};
 pub mod files;
 pub mod hash;
 pub mod ids;
-pub mod math;
 pub mod validate;
+pub mod math;
 pub use files::{FileError, Files, MemoryFiles};
 pub use hash::sha256_hex;
 pub use ids::{EndEffectorId, GraspId, NodeId, ObjectId, RobotId, SpanId, WorkspaceId};
@@ -574,9 +574,9 @@ impl std::fmt::Display for ReadError {
             ReadError::Corrupt { detail } => {
                 write!(f, "the artifact is truncated or corrupted: {detail}")
             }
-            ReadError::Damaged => {
-                f.write_str("the artifact is damaged: its content does not match its checksum")
-            }
+            ReadError::Damaged => f.write_str(
+                "the artifact is damaged: its content does not match its checksum",
+            ),
             ReadError::Invalid(invalid) => write!(f, "the artifact is inconsistent: {invalid}"),
         }
     }

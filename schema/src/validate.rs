@@ -33,10 +33,7 @@ pub const MAX_COORDINATE: f64 = 1.0e6;
 
 /// Checks everything the runtime relies on; the first finding is returned.
 pub fn validate(a: &Artifact) -> Result<(), Invalid> {
-    let mut v = Validator {
-        a,
-        path: Vec::new(),
-    };
+    let mut v = Validator { a, path: Vec::new() };
     v.artifact()
 }
 
@@ -244,12 +241,7 @@ impl Validator<'_> {
 
     fn placement(&mut self, p: &RequestPlacement, n_grasps: usize) -> Check {
         let a = self.a;
-        self.index(
-            "end_effector",
-            p.end_effector,
-            a.end_effectors.len(),
-            "end-effectors",
-        )?;
+        self.index("end_effector", p.end_effector, a.end_effectors.len(), "end-effectors")?;
         if let Some(g) = p.grasp {
             self.index("grasp", g, n_grasps, "grasps")?;
         }
@@ -270,12 +262,7 @@ impl Validator<'_> {
             self.index("kind", k, a.holder_kinds.len(), "holder kinds")?;
         }
         for (j, w) in e.reaches.iter().enumerate() {
-            self.index(
-                &format!("reaches[{j}]"),
-                *w,
-                a.workspaces.len(),
-                "workspaces",
-            )?;
+            self.index(&format!("reaches[{j}]"), *w, a.workspaces.len(), "workspaces")?;
         }
         for (j, b) in e.reach_boxes.iter().enumerate() {
             self.aabb(&format!("reach_boxes[{j}]"), b)?;
@@ -315,9 +302,7 @@ impl Validator<'_> {
                 if joint.lower.is_some_and(|l| *x < l - slack)
                     || joint.upper.is_some_and(|u| *x > u + slack)
                 {
-                    return v.at(format!("[{j}]"), |v| {
-                        Err(v.fail("outside the joint's limits"))
-                    });
+                    return v.at(format!("[{j}]"), |v| Err(v.fail("outside the joint's limits")));
                 }
             }
             Ok(())
@@ -374,12 +359,7 @@ impl Validator<'_> {
         let a = self.a;
         for (i, n) in g.nodes.iter().enumerate() {
             self.at(format!("nodes[{i}]"), |v| {
-                v.index(
-                    "end_effector",
-                    n.end_effector,
-                    a.end_effectors.len(),
-                    "end-effectors",
-                )?;
+                v.index("end_effector", n.end_effector, a.end_effectors.len(), "end-effectors")?;
                 v.index("grasp", n.grasp, n_grasps, "grasps")?;
                 v.index("workspace", n.workspace, a.workspaces.len(), "workspaces")
             })?;
@@ -398,12 +378,7 @@ impl Validator<'_> {
                 v.pose("object", &w.object)?;
                 for (j, c) in w.configurations.iter().enumerate() {
                     v.at(format!("configurations[{j}]"), |v| {
-                        v.index(
-                            "end_effector",
-                            c.end_effector,
-                            a.end_effectors.len(),
-                            "end-effectors",
-                        )?;
+                        v.index("end_effector", c.end_effector, a.end_effectors.len(), "end-effectors")?;
                         match &a.end_effectors[c.end_effector as usize].body {
                             Body::Arm { robot, .. } => v.joints("joints", *robot, &c.joints),
                             _ => Err(v.fail("a configuration of an end-effector that is no arm")),

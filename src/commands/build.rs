@@ -78,10 +78,7 @@ pub fn run(cell: &Path, output: Option<&Path>, options: &BuildOptions) -> ExitCo
         .map(|(_, f)| PathBuf::from(&f.path))
         .collect();
     inputs.extend(artifact.robots.iter().map(|r| PathBuf::from(&r.urdf_path)));
-    let solids = artifact
-        .holder_kinds
-        .iter()
-        .flat_map(|k| k.solids.iter().map(|s| &s.shape));
+    let solids = artifact.holder_kinds.iter().flat_map(|k| k.solids.iter().map(|s| &s.shape));
     let shapes = artifact.objects.iter().filter_map(|o| o.shape.as_ref());
     inputs.extend(solids.chain(shapes).filter_map(|shape| match shape {
         cellc_schema::Shape::Mesh { path } => Some(PathBuf::from(path)),

@@ -48,3 +48,4 @@ pub fn dualmanip(db: &Path, output: &Path) -> ExitCode {
     );
     ExitCode::SUCCESS
 }
+

@@ -91,9 +91,7 @@ pub fn run(args: &PlanArgs, fail_at: Option<usize>) -> ExitCode {
                 codes::EXECUTION_FAILED,
                 format!("{error}, before the object left its start"),
             )
-            .help(
-                "nothing moved, so there is nothing to recover from: fix the cause and run again",
-            );
+            .help("nothing moved, so there is nothing to recover from: fix the cause and run again");
             print(&[d], &loaded.sources);
             ExitCode::from(1)
         }

@@ -127,10 +127,7 @@ pub fn check_request(artifact: &Artifact, request: &Request) -> Result<(), Locat
                 id: p.holder.0,
             });
         }
-        if let Some(w) = p
-            .workspace
-            .filter(|w| w.index() >= artifact.workspaces.len())
-        {
+        if let Some(w) = p.workspace.filter(|w| w.index() >= artifact.workspaces.len()) {
             return Err(LocateError::NoSuchId {
                 kind: IdKind::Workspace,
                 id: w.0,
