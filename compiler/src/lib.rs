@@ -96,8 +96,11 @@ fn too_large_diagnostic(cell: &Cell, too_large: &graph::TooLarge) -> Diagnostic 
         .biggest_reach
         .map(|(e, n)| (cell.end_effectors[e].name.as_str(), n));
     let at = match (too_large.object, too_large.biggest_reach) {
-        (Some(o), _) => Some((cell.objects[o].name.as_str(), cell.objects[o].origin)),
-        (None, Some((e, _))) => Some((
+        (Some(o), _) => Some(diagnostics::GraphAt::Object(
+            cell.objects[o].name.as_str(),
+            cell.objects[o].origin,
+        )),
+        (None, Some((e, _))) => Some(diagnostics::GraphAt::Reach(
             cell.end_effectors[e].name.as_str(),
             cell.end_effectors[e].origin,
         )),

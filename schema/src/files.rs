@@ -129,8 +129,7 @@ impl fmt::Display for FileError {
             }
             FileError::TooLarge { size, limit } => write!(
                 f,
-                "it has {} and the limit is {}",
-                human_bytes(*size),
+                "it has {size} bytes, over the limit of {limit} ({})",
                 human_bytes(*limit)
             ),
             FileError::NotUtf8 { valid_up_to } => {
@@ -286,7 +285,7 @@ mod tests {
                 limit: MAX_SOURCE_BYTES
             }
             .to_string(),
-            "it has 20.0 MiB and the limit is 16.0 MiB"
+            "it has 20971520 bytes, over the limit of 16777216 (16.0 MiB)"
         );
         assert_eq!(human_bytes(1000), "1000 bytes");
         assert_eq!(human_bytes(1536), "1.5 KiB");

@@ -24,8 +24,7 @@ pub(crate) fn refused_file(
         FileError::TooLarge { size, limit } => Diagnostic::error(
             FILE_TOO_LARGE,
             format!(
-                "{what} `{path}` is too large: {} (the limit is {})",
-                human_bytes(*size),
+                "{what} `{path}` is too large: {size} bytes, over the limit of {limit} ({})",
                 human_bytes(*limit)
             ),
         )
@@ -175,11 +174,20 @@ pub enum GraphMeasure {
     TransitionVisits,
 }
 
-/// The graphs of the cell would exceed a limit. `at` is the object whose graph crossed it
-/// (or the end-effector whose reach alone does), `biggest` the movable end-effector that
+/// Where the graphs crossed their limit.
+#[derive(Clone, Copy, Debug)]
+pub enum GraphAt<'a> {
+    /// While counting or building the graph of this object.
+    Object(&'a str, Origin),
+    /// Counting the adjacent pairs that movable end-effectors' reach makes, before any
+    /// graph; this one reaches the most.
+    Reach(&'a str, Origin),
+}
+
+/// The graphs of the cell would exceed a limit. `biggest` is the movable end-effector that
 /// reaches the most workspaces.
 pub fn graph_too_large(
-    at: Option<(&str, Origin)>,
+    at: Option<GraphAt<'_>>,
     measure: GraphMeasure,
     counted: u64,
     limit: u64,
@@ -196,10 +204,15 @@ pub fn graph_too_large(
     };
     let d = Diagnostic::error(GRAPH_TOO_LARGE, what);
     let d = match at {
-        Some((name, origin)) => d.primary(
+        Some(GraphAt::Object(name, origin)) => d.primary(
             origin.file,
             origin.name_span,
-            format!("{counted} counted when `{name}` was reached"),
+            format!("{counted} counted up to the graph of `{name}`"),
+        ),
+        Some(GraphAt::Reach(name, origin)) => d.primary(
+            origin.file,
+            origin.name_span,
+            format!("`{name}` and the others make {counted} pairs of adjacent workspaces"),
         ),
         None => d,
     };
