@@ -12,6 +12,7 @@ use cellc_schema::math::{aabb_to_schema, iso_to_schema};
 use cellc_schema::sha256_hex;
 
 use crate::graph::{Adjacency, ArcSource, ObjectGraph, MAX_GRAPH_SIZE};
+use crate::ids::Id;
 use crate::model::*;
 
 /// Builds the artifact of a compiled cell.
@@ -96,9 +97,13 @@ pub fn lower(cell: &Cell, graphs: &[ObjectGraph], sources: &SourceMap) -> schema
             span: spans.get(e.origin.file, e.origin.span),
         })
         .collect();
+    let mut transitions: Vec<Vec<usize>> = vec![Vec::new(); cell.objects.len()];
+    for (t, transition) in cell.transitions.iter().enumerate() {
+        transitions[cell.grasps[transition.from].object.index()].push(t);
+    }
     let objects = graphs
         .iter()
-        .map(|g| lower_object(cell, g, &mut spans))
+        .map(|g| lower_object(cell, g, &transitions[g.object.index()], &mut spans))
         .collect();
     schema::Artifact {
         format: schema::FORMAT.to_string(),
@@ -163,7 +168,14 @@ pub fn lower(cell: &Cell, graphs: &[ObjectGraph], sources: &SourceMap) -> schema
     }
 }
 
-fn lower_object(cell: &Cell, g: &ObjectGraph, spans: &mut SpanTable) -> schema::Object {
+/// The artifact form of one object; `transitions` are its own (indices into
+/// [`Cell::transitions`], in order), so lowering every object costs the transitions once.
+fn lower_object(
+    cell: &Cell,
+    g: &ObjectGraph,
+    transitions: &[usize],
+    spans: &mut SpanTable,
+) -> schema::Object {
     let object = &cell.objects[g.object];
     let grasp_index: HashMap<crate::ids::GraspId, u32> = object
         .grasps
@@ -236,9 +248,9 @@ fn lower_object(cell: &Cell, g: &ObjectGraph, spans: &mut SpanTable) -> schema::
             })
         })
         .collect();
-    let transitions = cell
-        .transitions
+    let transitions = transitions
         .iter()
+        .map(|&t| &cell.transitions[t])
         .filter_map(|t| {
             Some(schema::DeclaredTransition {
                 from: *grasp_index.get(&t.from)?,
