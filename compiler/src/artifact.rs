@@ -97,6 +97,13 @@ pub fn lower(cell: &Cell, graphs: &[ObjectGraph], sources: &SourceMap) -> schema
             span: spans.get(e.origin.file, e.origin.span),
         })
         .collect();
+    // Each grasp's index among its object's grasps (the artifact's grasp numbers).
+    let mut index_in_object: Vec<u32> = vec![0; cell.grasps.len()];
+    for (_, object) in cell.objects.iter() {
+        for (i, &g) in object.grasps.iter().enumerate() {
+            index_in_object[g.index()] = i as u32;
+        }
+    }
     let mut transitions: Vec<Vec<usize>> = vec![Vec::new(); cell.objects.len()];
     for (t, transition) in cell.transitions.iter().enumerate() {
         transitions[cell.grasps[transition.from].object.index()].push(t);
@@ -139,9 +146,9 @@ pub fn lower(cell: &Cell, graphs: &[ObjectGraph], sources: &SourceMap) -> schema
             .requests
             .iter()
             .map(|r| {
-                let object = &cell.objects[r.object];
+                let object = r.object;
                 let grasp_index = |g: crate::ids::GraspId| {
-                    object.grasps.iter().position(|&x| x == g).map(|i| i as u32)
+                    (cell.grasps[g].object == object).then(|| index_in_object[g.index()])
                 };
                 let placement = |p: &RequestPlacement| schema::RequestPlacement {
                     end_effector: p.end_effector.0,

@@ -80,6 +80,7 @@ pub fn resolve(files: &dyn Files, loaded: &Loaded, diagnostics: &mut Vec<Diagnos
         weight_origins: [None, None],
         transition_origins: HashMap::new(),
         obstacle_names: HashSet::new(),
+        request_names: HashMap::new(),
         suggestions: SuggestionBudget::default(),
         urdfs: crate::urdf::UrdfCache::default(),
         diagnostics,
@@ -162,6 +163,8 @@ struct Resolver<'w, 'd> {
     transition_origins: HashMap<(GraspId, GraspId), Origin>,
     /// Obstacles with a box, by name.
     obstacle_names: HashSet<String>,
+    /// Requests by name (index into the cell's requests).
+    request_names: HashMap<String, usize>,
     /// What is left of this compilation's "did you mean" searches.
     suggestions: SuggestionBudget,
     /// URDFs read so far, and the budget for reading more.
