@@ -11,7 +11,8 @@ use cellc_schema as schema;
 use cellc_schema::math::{aabb_to_schema, iso_to_schema};
 use cellc_schema::sha256_hex;
 
-use crate::graph::{Adjacency, ArcSource, ObjectGraph, MAX_GRAPH_SIZE};
+use crate::budget::MAX_GRAPH_SIZE;
+use crate::graph::{Adjacency, ArcSource, ObjectGraph};
 use crate::ids::Id;
 use crate::model::*;
 
@@ -104,10 +105,7 @@ pub fn lower(cell: &Cell, graphs: &[ObjectGraph], sources: &SourceMap) -> schema
             index_in_object[g.index()] = i as u32;
         }
     }
-    let mut transitions: Vec<Vec<usize>> = vec![Vec::new(); cell.objects.len()];
-    for (t, transition) in cell.transitions.iter().enumerate() {
-        transitions[cell.grasps[transition.from].object.index()].push(t);
-    }
+    let transitions = crate::graph::transitions_by_object(cell);
     let objects = graphs
         .iter()
         .map(|g| lower_object(cell, g, &transitions[g.object.index()], &mut spans))

@@ -86,32 +86,6 @@ impl ObjectGraph {
     }
 }
 
-/// The most states, arcs and adjacent workspace pairs the graphs of one cell may have in
-/// all. Memory grows with them (about 60 bytes each, with the artifact), so a cell that
-/// would need more is refused before anything is built.
-pub const MAX_GRAPH_SIZE: u64 = 5_000_000;
-
-/// The most states expanding transitions may visit in all: a transition visits the states
-/// of its two grasps to find those that share a workspace, so a cell with many
-/// transitions between grasps with many states is refused even when few arcs result.
-pub const MAX_TRANSITION_VISITS: u64 = 100_000_000;
-
-/// Why the graphs were not built: they would exceed [`MAX_GRAPH_SIZE`] or
-/// [`MAX_TRANSITION_VISITS`].
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct TooLarge {
-    /// The object whose graph crossed the limit (`None` when the adjacency of the cell
-    /// alone does).
-    pub object: Option<ObjectId>,
-    /// What was counted when the limit was crossed (at least the limit).
-    pub counted: u64,
-    /// The limit crossed.
-    pub limit: u64,
-    /// The movable end-effector that reaches the most workspaces, with how many (it
-    /// makes the most move arcs).
-    pub biggest_reach: Option<(EndEffectorId, usize)>,
-}
-
 /// Which workspaces are adjacent: the declared pairs, or (when the cell declares none)
 /// every two workspaces one movable end-effector reaches. Kept as lists of neighbours,
 /// never as a matrix: a cell of 10⁵ workspaces has 10¹⁰ pairs, and only the few that are
@@ -174,7 +148,7 @@ impl Adjacency {
     }
 
     /// How many move arcs [`Adjacency::moves`] gives for `reaches`, without listing them.
-    fn n_moves(&self, reaches: &[WorkspaceId]) -> u64 {
+    pub(crate) fn n_moves(&self, reaches: &[WorkspaceId]) -> u64 {
         match self {
             Adjacency::Derived => {
                 let r = reaches.len() as u64;
@@ -215,83 +189,78 @@ impl Adjacency {
     }
 }
 
-/// Counts toward [`MAX_GRAPH_SIZE`] and [`MAX_TRANSITION_VISITS`].
-struct Budget {
-    size: u64,
-    visits: u64,
-}
-
-impl Budget {
-    fn add_size(&mut self, n: u64) -> Result<(), u64> {
-        self.size = self.size.saturating_add(n);
-        if self.size > MAX_GRAPH_SIZE {
-            return Err(MAX_GRAPH_SIZE);
-        }
-        Ok(())
-    }
-
-    fn add_visits(&mut self, n: u64) -> Result<(), u64> {
-        self.visits = self.visits.saturating_add(n);
-        if self.visits > MAX_TRANSITION_VISITS {
-            return Err(MAX_TRANSITION_VISITS);
-        }
-        Ok(())
-    }
-}
-
-/// Builds the graph of every object, in object order; refuses (before building, as far as
-/// counting allows) graphs beyond [`MAX_GRAPH_SIZE`] or [`MAX_TRANSITION_VISITS`].
-pub fn build(cell: &Cell) -> Result<Vec<ObjectGraph>, TooLarge> {
-    let adjacency = Adjacency::of(cell);
-    let holders = cell.holders();
-    let biggest_reach = cell
-        .end_effectors
+/// A grasp's states as `(workspace, holder)`, sorted: the order in which a transition's
+/// arcs are found, by merging the lists of its two grasps.
+pub(crate) fn states_by_workspace(
+    cell: &Cell,
+    holders: &Holders,
+    g: GraspId,
+) -> Vec<(WorkspaceId, EndEffectorId)> {
+    let mut states: Vec<(WorkspaceId, EndEffectorId)> = holders
+        .of(g)
         .iter()
-        .filter(|(_, e)| e.is_movable())
-        .map(|(id, e)| (id, e.reaches.len()))
-        .max_by_key(|&(id, n)| (n, std::cmp::Reverse(id)));
-    let too_large = |object: Option<ObjectId>, budget: &Budget, limit: u64| TooLarge {
-        object,
-        counted: if limit == MAX_GRAPH_SIZE {
-            budget.size
-        } else {
-            budget.visits
-        },
-        limit,
-        biggest_reach,
-    };
-    let mut budget = Budget { size: 0, visits: 0 };
-    // The artifact records the adjacent pairs: they count, and must be few enough to list.
-    match adjacency.pairs(cell, MAX_GRAPH_SIZE) {
-        Ok(pairs) => budget.size = pairs.len() as u64,
-        Err(listed) => budget.size = listed,
-    }
-    if budget.size > MAX_GRAPH_SIZE {
-        return Err(too_large(None, &budget, MAX_GRAPH_SIZE));
-    }
-    // Count states and move arcs of every object first (cheap, exact), so a cell far
-    // beyond the limit is refused before any graph exists.
-    let moves_of: Vec<u64> = cell
-        .end_effectors
-        .iter()
-        .map(|(_, e)| {
-            if e.is_movable() {
-                adjacency.n_moves(&e.reaches)
-            } else {
-                0
-            }
-        })
+        .flat_map(|&e| cell.end_effectors[e].reaches.iter().map(move |&w| (w, e)))
         .collect();
-    for (object, obj) in cell.objects.iter() {
-        for &g in &obj.grasps {
-            for &e in holders.of(g) {
-                budget
-                    .add_size(cell.end_effectors[e].reaches.len() as u64 + moves_of[e.index()])
-                    .map_err(|limit| too_large(Some(object), &budget, limit))?;
+    states.sort_unstable();
+    states
+}
+
+/// The workspaces two sorted state lists share, each with both lists' states there, in
+/// workspace order.
+pub(crate) fn shared_workspaces<'a>(
+    from: &'a [(WorkspaceId, EndEffectorId)],
+    to: &'a [(WorkspaceId, EndEffectorId)],
+) -> impl Iterator<
+    Item = (
+        WorkspaceId,
+        &'a [(WorkspaceId, EndEffectorId)],
+        &'a [(WorkspaceId, EndEffectorId)],
+    ),
+> + 'a {
+    let (mut i, mut j) = (0, 0);
+    std::iter::from_fn(move || {
+        while i < from.len() && j < to.len() {
+            let (wa, wb) = (from[i].0, to[j].0);
+            if wa != wb {
+                if wa < wb {
+                    i += 1;
+                } else {
+                    j += 1;
+                }
+                continue;
             }
+            let i_end = i + from[i..].partition_point(|s| s.0 == wa);
+            let j_end = j + to[j..].partition_point(|s| s.0 == wa);
+            let here = (wa, &from[i..i_end], &to[j..j_end]);
+            (i, j) = (i_end, j_end);
+            return Some(here);
         }
-    }
-    // Each object's transitions, in declaration order.
+        None
+    })
+}
+
+/// Whether `giver` passes an object to `taker` by a transition: never two fixed
+/// end-effectors, and a hand kind's grasps expand to every hand of that kind but no hand
+/// passes an object to itself (explicit same-holder rows, as imported databases have, are
+/// kept and warned about).
+pub(crate) fn exchanges(
+    cell: &Cell,
+    giver: EndEffectorId,
+    taker: EndEffectorId,
+    explicit: bool,
+) -> bool {
+    (giver != taker || explicit)
+        && (cell.end_effectors[giver].is_movable() || cell.end_effectors[taker].is_movable())
+}
+
+/// Whether a transition's two grasps are both declared for end-effectors (not kinds).
+pub(crate) fn is_explicit(cell: &Cell, transition: &Transition) -> bool {
+    let explicit = |g: GraspId| matches!(cell.grasps[g].holder, Some(Holder::EndEffector(_)));
+    explicit(transition.from) && explicit(transition.to)
+}
+
+/// Each object's transitions (indices into [`Cell::transitions`]), in declaration order.
+pub(crate) fn transitions_by_object(cell: &Cell) -> Vec<Vec<usize>> {
     let mut transitions: Vec<Vec<usize>> = vec![Vec::new(); cell.objects.len()];
     for (t, transition) in cell.transitions.iter().enumerate() {
         let object = cell.grasps[transition.from].object;
@@ -299,19 +268,27 @@ pub fn build(cell: &Cell) -> Result<Vec<ObjectGraph>, TooLarge> {
             transitions[object.index()].push(t);
         }
     }
-    let mut graphs = Vec::with_capacity(cell.objects.len());
-    for (object, obj) in cell.objects.iter() {
-        let parts = Parts {
-            cell,
-            holders: &holders,
-            adjacency: &adjacency,
-            transitions: &transitions[object.index()],
-        };
-        let graph = build_object(&parts, object, obj, &mut budget)
-            .map_err(|limit| too_large(Some(object), &budget, limit))?;
-        graphs.push(graph);
-    }
-    Ok(graphs)
+    transitions
+}
+
+/// Builds the graph of every object, in object order. Callers check the size first
+/// ([`crate::budget::check`]): building costs what the graphs hold.
+pub fn build(cell: &Cell) -> Vec<ObjectGraph> {
+    let adjacency = Adjacency::of(cell);
+    let holders = cell.holders();
+    let transitions = transitions_by_object(cell);
+    cell.objects
+        .iter()
+        .map(|(object, obj)| {
+            let parts = Parts {
+                cell,
+                holders: &holders,
+                adjacency: &adjacency,
+                transitions: &transitions[object.index()],
+            };
+            build_object(&parts, object, obj)
+        })
+        .collect()
 }
 
 /// What every object's graph is built from.
@@ -323,12 +300,7 @@ struct Parts<'a> {
     transitions: &'a [usize],
 }
 
-fn build_object(
-    parts: &Parts<'_>,
-    object: ObjectId,
-    obj: &Object,
-    budget: &mut Budget,
-) -> Result<ObjectGraph, u64> {
+fn build_object(parts: &Parts<'_>, object: ObjectId, obj: &Object) -> ObjectGraph {
     let Parts {
         cell,
         holders,
@@ -380,66 +352,29 @@ fn build_object(
             }
         }
     }
-    // The states of each grasp sorted by workspace, then holder: a transition's arcs join
-    // the states of its two grasps that share a workspace, found by merging the two lists.
-    let by_workspace = |g: GraspId| -> Vec<(WorkspaceId, EndEffectorId)> {
-        let mut states: Vec<(WorkspaceId, EndEffectorId)> = holders
-            .of(g)
-            .iter()
-            .flat_map(|&e| cell.end_effectors[e].reaches.iter().map(move |&w| (w, e)))
-            .collect();
-        states.sort_unstable();
-        states
-    };
-    let states_of: HashMap<GraspId, Vec<(WorkspaceId, EndEffectorId)>> =
-        obj.grasps.iter().map(|&g| (g, by_workspace(g))).collect();
+    let states_of: HashMap<GraspId, Vec<(WorkspaceId, EndEffectorId)>> = obj
+        .grasps
+        .iter()
+        .map(|&g| (g, states_by_workspace(cell, holders, g)))
+        .collect();
     for &t in parts.transitions {
         let transition = &cell.transitions[t];
-        let explicit = matches!(
-            cell.grasps[transition.from].holder,
-            Some(Holder::EndEffector(_))
-        ) && matches!(
-            cell.grasps[transition.to].holder,
-            Some(Holder::EndEffector(_))
-        );
-        let (Some(from_states), Some(to_states)) = (
+        let explicit = is_explicit(cell, transition);
+        let (Some(givers), Some(takers)) = (
             states_of.get(&transition.from),
             states_of.get(&transition.to),
         ) else {
             continue;
         };
-        budget.add_visits((from_states.len() + to_states.len()) as u64)?;
-        let (mut i, mut j) = (0, 0);
-        while i < from_states.len() && j < to_states.len() {
-            let (wa, wb) = (from_states[i].0, to_states[j].0);
-            if wa < wb {
-                i += 1;
-                continue;
-            }
-            if wb < wa {
-                j += 1;
-                continue;
-            }
-            let w = wa;
-            let i_end = i + from_states[i..].partition_point(|s| s.0 == w);
-            let j_end = j + to_states[j..].partition_point(|s| s.0 == w);
-            budget.add_visits(((i_end - i) * (j_end - j)) as u64)?;
-            for &(_, ei) in &from_states[i..i_end] {
-                for &(_, ej) in &to_states[j..j_end] {
-                    // A hand kind's grasps expand to every hand of that kind, but no hand
-                    // passes an object to itself; explicit same-holder rows (imported
-                    // databases) are kept and warned about.
-                    if ei == ej && !explicit {
-                        continue;
-                    }
-                    if !cell.end_effectors[ei].is_movable() && !cell.end_effectors[ej].is_movable()
-                    {
+        for (w, here_from, here_to) in shared_workspaces(givers, takers) {
+            for &(_, ei) in here_from {
+                for &(_, ej) in here_to {
+                    if !exchanges(cell, ei, ej, explicit) {
                         continue;
                     }
                     if let (Some(from), Some(to)) =
                         (node(ei, transition.from, w), node(ej, transition.to, w))
                     {
-                        budget.add_size(1)?;
                         graph.add_edge(
                             from,
                             to,
@@ -451,13 +386,11 @@ fn build_object(
                     }
                 }
             }
-            i = i_end;
-            j = j_end;
         }
     }
-    Ok(ObjectGraph {
+    ObjectGraph {
         object,
         graph,
         index,
-    })
+    }
 }

@@ -3,12 +3,14 @@
 //!
 //! Pipeline: [`load`] (read and parse the main file and its includes) -> [`resolve`]
 //! (names to typed ids, quantities to SI) -> [`workspaces`] (derive workspaces, compute
-//! reach) -> [`checks`] -> [`graph`] (one graph per object) -> [`expect`] (the cell's own
+//! reach) -> [`checks`] -> [`budget`] (the graphs' size, counted) -> [`graph`] (one graph
+//! per object) -> [`expect`] (the cell's own
 //! requirements). [`compile`] runs it all. The compiler does no I/O: files come through
 //! [`Files`] (defined in `cellc_schema`, shared with the runtime).
 #![warn(missing_docs)]
 
 pub mod artifact;
+pub mod budget;
 pub mod checks;
 pub mod diagnostics;
 pub mod expect;
@@ -69,9 +71,10 @@ pub fn compile(files: &dyn Files, path: &str) -> Compilation {
         // Graph-level findings on a cell that already has errors would mostly repeat
         // them in other words, so they wait until the cell is clean.
         if !diagnostics.iter().any(Diagnostic::is_error) {
-            match graph::build(&resolved) {
-                Ok(built) => {
-                    graphs = built;
+            // Counted before built: a cell can ask for billions of arcs.
+            match budget::check(&resolved) {
+                Ok(_) => {
+                    graphs = graph::build(&resolved);
                     checks::check_graphs(&resolved, &graphs, &mut diagnostics);
                     expect::check(&resolved, &graphs, &mut diagnostics);
                 }
@@ -91,7 +94,7 @@ pub fn compile(files: &dyn Files, path: &str) -> Compilation {
 
 /// The diagnostic of graphs refused as too large, at the object whose graph crossed the
 /// limit (or the end-effector whose reach alone makes too many adjacent pairs).
-fn too_large_diagnostic(cell: &Cell, too_large: &graph::TooLarge) -> Diagnostic {
+fn too_large_diagnostic(cell: &Cell, too_large: &budget::TooLarge) -> Diagnostic {
     let biggest = too_large
         .biggest_reach
         .map(|(e, n)| (cell.end_effectors[e].name.as_str(), n));
@@ -106,7 +109,7 @@ fn too_large_diagnostic(cell: &Cell, too_large: &graph::TooLarge) -> Diagnostic 
         )),
         (None, None) => None,
     };
-    let measure = if too_large.limit == graph::MAX_GRAPH_SIZE {
+    let measure = if too_large.limit == budget::MAX_GRAPH_SIZE {
         diagnostics::GraphMeasure::Size
     } else {
         diagnostics::GraphMeasure::TransitionVisits
