@@ -205,18 +205,15 @@ pub(crate) fn states_by_workspace(
     states
 }
 
+/// A grasp's states in one workspace, as `(workspace, holder)`.
+pub(crate) type StatesHere<'a> = &'a [(WorkspaceId, EndEffectorId)];
+
 /// The workspaces two sorted state lists share, each with both lists' states there, in
 /// workspace order.
 pub(crate) fn shared_workspaces<'a>(
-    from: &'a [(WorkspaceId, EndEffectorId)],
-    to: &'a [(WorkspaceId, EndEffectorId)],
-) -> impl Iterator<
-    Item = (
-        WorkspaceId,
-        &'a [(WorkspaceId, EndEffectorId)],
-        &'a [(WorkspaceId, EndEffectorId)],
-    ),
-> + 'a {
+    from: StatesHere<'a>,
+    to: StatesHere<'a>,
+) -> impl Iterator<Item = (WorkspaceId, StatesHere<'a>, StatesHere<'a>)> + 'a {
     let (mut i, mut j) = (0, 0);
     std::iter::from_fn(move || {
         while i < from.len() && j < to.len() {
