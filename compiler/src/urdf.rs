@@ -88,7 +88,7 @@ impl UrdfCache {
     ) -> Option<Read> {
         let left = MAX_TOTAL_URDF_BYTES.saturating_sub(self.bytes_read);
         let budget = MAX_URDF_BYTES.min(left);
-        let text = match files.read_text(path, budget) {
+        let text = match files.read_text_at_most(path, budget) {
             Ok(text) => text,
             Err(FileError::TooLarge { size, .. })
                 if budget < MAX_URDF_BYTES && size <= MAX_URDF_BYTES =>

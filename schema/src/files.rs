@@ -3,7 +3,8 @@
 //!
 //! Neither core does I/O. The CLI implements [`Files`] on the file system; tests, the
 //! importer and an editor server use [`MemoryFiles`]. Files are bytes (meshes are
-//! binary); [`Files::read_text`] is the one place that decides what "not text" means.
+//! binary); [`Files::read_text_at_most`] is the one place that decides what "not text"
+//! means.
 //!
 //! Paths are `/`-separated strings as [`join`] and [`normalize`] produce them, so one file
 //! always has one name (include cycles are found by comparing names).
@@ -49,10 +50,16 @@ pub trait Files {
 
     /// The text of the file at `path`: at most `max_bytes` bytes, refused when they are
     /// not UTF-8.
-    fn read_text(&self, path: &str, max_bytes: u64) -> Result<String, FileError> {
+    fn read_text_at_most(&self, path: &str, max_bytes: u64) -> Result<String, FileError> {
         String::from_utf8(self.read_at_most(path, max_bytes)?).map_err(|e| FileError::NotUtf8 {
             valid_up_to: e.utf8_error().valid_up_to(),
         })
+    }
+
+    /// The text of a source file at `path` ([`Files::read_text_at_most`] with
+    /// [`MAX_SOURCE_BYTES`]).
+    fn read_text(&self, path: &str) -> Result<String, FileError> {
+        self.read_text_at_most(path, MAX_SOURCE_BYTES)
     }
 }
 
@@ -265,18 +272,18 @@ mod tests {
     fn memory_files_read_by_normalised_path() {
         let files = MemoryFiles::new([("cells/a.cell", "text"), ("cells/b.bin", "\u{0}")]);
         assert_eq!(
-            files.read_text("cells/./x/../a.cell", 100).as_deref(),
+            files.read_text("cells/./x/../a.cell").as_deref(),
             Ok("text")
         );
         assert_eq!(files.read("nothing"), Err(FileError::NotFound));
         let mut bytes = MemoryFiles::default();
         bytes.insert("m.stl", vec![0xff, 0x00]);
         assert_eq!(
-            bytes.read_text("m.stl", 100),
+            bytes.read_text("m.stl"),
             Err(FileError::NotUtf8 { valid_up_to: 0 })
         );
         assert_eq!(
-            files.read_text("cells/a.cell", 3),
+            files.read_text_at_most("cells/a.cell", 3),
             Err(FileError::TooLarge { size: 4, limit: 3 })
         );
         assert_eq!(
