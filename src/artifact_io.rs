@@ -4,6 +4,7 @@
 use std::path::{Path, PathBuf};
 
 use cellc_lang::{Code, Diagnostic, SourceMap};
+use cellc_schema::files::{Files, MAX_ARTIFACT_BYTES};
 use cellc_schema::{Artifact, ReadError};
 
 use crate::fs_files::FsFiles;
@@ -50,13 +51,10 @@ pub fn diagnostic(path: &str, error: &ReadError) -> Diagnostic {
 
 /// Reads an artifact file.
 pub fn read(path: &str) -> Result<Artifact, Diagnostic> {
-    let bytes = std::fs::read(path).map_err(|e| {
-        Diagnostic::error(
-            cellc_compiler::diagnostics::codes::FILE_UNREADABLE,
-            format!("cannot read `{path}`: {e}"),
-        )
-        .help("check the path and that the file is readable")
-    })?;
+    // Looked at before it is read, like every input: a FIFO or a device never ends.
+    let bytes = FsFiles
+        .read_at_most(path, MAX_ARTIFACT_BYTES)
+        .map_err(|e| cellc_compiler::diagnostics::input_unreadable("artifact", path, &e))?;
     let (mut artifact, _) = Artifact::from_bytes(&bytes).map_err(|e| diagnostic(path, &e))?;
     paths_from_input(&mut artifact, Path::new(path));
     Ok(artifact)

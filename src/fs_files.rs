@@ -1,13 +1,123 @@
 //! The file system as the cores see it: the one [`Files`] implementation of the command
 //! line, shared by the compiler (cell sources, URDFs) and the runtime (URDFs, meshes).
+//!
+//! A cell under review names whatever paths its author likes, so every read looks
+//! before it reads: the path's metadata must say it is a regular file (a FIFO would make
+//! `cellc check` wait for ever, `/dev/zero` would never end) no larger than the budget of
+//! its kind; then at most one byte more than the budget is read, so a file that grows
+//! between the two steps (or a `/proc` file whose size says 0) is still refused.
 
-use cellc_schema::{FileError, Files};
+use std::io::Read;
+
+use cellc_schema::files::{FileError, Files, SpecialFile, MAX_MESH_BYTES};
 
 /// Reads files from disk, relative to the current directory.
 pub struct FsFiles;
 
 impl Files for FsFiles {
+    /// A read without a stated budget gets the largest one (that of meshes).
     fn read(&self, path: &str) -> Result<Vec<u8>, FileError> {
-        Ok(std::fs::read(path)?)
+        self.read_at_most(path, MAX_MESH_BYTES)
+    }
+
+    fn read_at_most(&self, path: &str, max_bytes: u64) -> Result<Vec<u8>, FileError> {
+        // `metadata` follows symbolic links, so a link to a FIFO is refused too; it never
+        // opens the file, so it cannot block.
+        let size = regular_file(path)?;
+        if size > max_bytes {
+            return Err(FileError::TooLarge {
+                size,
+                limit: max_bytes,
+            });
+        }
+        let file = std::fs::File::open(path)?;
+        // The path may have been replaced between the look and the open: check what was
+        // opened, before reading from it.
+        check_kind(&file.metadata()?)?;
+        let mut bytes = Vec::with_capacity(size as usize);
+        file.take(max_bytes.saturating_add(1))
+            .read_to_end(&mut bytes)?;
+        let size = bytes.len() as u64;
+        if size > max_bytes {
+            return Err(FileError::TooLarge {
+                size,
+                limit: max_bytes,
+            });
+        }
+        Ok(bytes)
+    }
+}
+
+/// The size of the regular file at `path`, from its metadata (the file is not opened);
+/// a folder, pipe, device or socket is refused.
+pub fn regular_file(path: &str) -> Result<u64, FileError> {
+    let metadata = std::fs::metadata(path)?;
+    check_kind(&metadata)?;
+    Ok(metadata.len())
+}
+
+/// Refuses what is not a regular file: folders, pipes, devices and sockets.
+fn check_kind(metadata: &std::fs::Metadata) -> Result<(), FileError> {
+    let kind = metadata.file_type();
+    if kind.is_file() {
+        return Ok(());
+    }
+    if kind.is_dir() {
+        return Err(FileError::IsADirectory);
+    }
+    Err(FileError::NotRegular {
+        what: special(&kind),
+    })
+}
+
+#[cfg(unix)]
+fn special(kind: &std::fs::FileType) -> SpecialFile {
+    use std::os::unix::fs::FileTypeExt;
+    if kind.is_fifo() {
+        SpecialFile::Fifo
+    } else if kind.is_char_device() {
+        SpecialFile::CharDevice
+    } else if kind.is_block_device() {
+        SpecialFile::BlockDevice
+    } else if kind.is_socket() {
+        SpecialFile::Socket
+    } else {
+        SpecialFile::Other
+    }
+}
+
+#[cfg(not(unix))]
+fn special(_: &std::fs::FileType) -> SpecialFile {
+    SpecialFile::Other
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn refuses_what_is_not_a_small_regular_file() {
+        let folder = std::env::temp_dir().join(format!("cellc-fs-files-{}", std::process::id()));
+        std::fs::create_dir_all(&folder).expect("temp folder");
+        let file = folder.join("a.cell");
+        std::fs::write(&file, "0123456789").expect("written");
+        let path = file.to_string_lossy();
+        assert_eq!(FsFiles.read_at_most(&path, 10).map(|b| b.len()), Ok(10));
+        assert_eq!(
+            FsFiles.read_at_most(&path, 9),
+            Err(FileError::TooLarge { size: 10, limit: 9 })
+        );
+        assert_eq!(
+            FsFiles.read(&folder.to_string_lossy()),
+            Err(FileError::IsADirectory)
+        );
+        #[cfg(unix)]
+        assert_eq!(
+            FsFiles.read("/dev/zero"),
+            Err(FileError::NotRegular {
+                what: SpecialFile::CharDevice
+            })
+        );
+        std::fs::remove_dir_all(&folder).expect("removed");
     }
 }

@@ -15,6 +15,7 @@ pub mod output;
 pub mod plan_report;
 pub mod render;
 pub mod runtime_codes;
+pub mod snippet;
 pub mod verify_report;
 
 use std::process::ExitCode;

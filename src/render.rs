@@ -8,6 +8,8 @@ use cellc_lang::{Diagnostic, FileId, Severity, SourceMap};
 use miette::{GraphicalReportHandler, GraphicalTheme, LabeledSpan, NamedSource};
 use serde::Serialize;
 
+use crate::snippet::{Shared, Sources};
+
 /// Output style.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
 pub enum Format {
@@ -71,7 +73,12 @@ fn neutralize(text: &str) -> Cow<'_, str> {
     Cow::Owned(out)
 }
 
-/// Human rendering of a list of diagnostics, with a summary line.
+/// The most diagnostics one human rendering shows: nobody reads more, and a hostile cell
+/// can have hundreds of thousands (the short and JSON forms list them all).
+pub const MAX_HUMAN_DIAGNOSTICS: usize = 500;
+
+/// Human rendering of a list of diagnostics (at most [`MAX_HUMAN_DIAGNOSTICS`], then a
+/// line that counts the rest).
 pub fn human(diagnostics: &[Diagnostic], sources: &SourceMap, color: Color) -> String {
     let theme = match color {
         Color::Always => GraphicalTheme::unicode(),
@@ -82,14 +89,23 @@ pub fn human(diagnostics: &[Diagnostic], sources: &SourceMap, color: Color) -> S
         .with_links(false)
         .without_syntax_highlighting();
     let mut out = String::new();
-    for diagnostic in diagnostics {
-        let report = Report::new(diagnostic, sources);
+    let mut files = Sources::new(sources, |text| neutralize(text).into_owned());
+    let (shown, hidden) = diagnostics.split_at(diagnostics.len().min(MAX_HUMAN_DIAGNOSTICS));
+    for diagnostic in shown {
+        let report = Report::new(diagnostic, sources, &mut files);
         if handler.render_report(&mut out, &report).is_err() {
             // Rendering into a String cannot fail for I/O reasons; fall back to the short
             // form rather than lose the diagnostic.
             out.push_str(&short(std::slice::from_ref(diagnostic), sources));
         }
         out.push('\n');
+    }
+    if !hidden.is_empty() {
+        out.push_str(&format!(
+            "... and {} more diagnostics, not shown (`cellc check --format short` or \
+             `--format json` lists every one)\n\n",
+            hidden.len()
+        ));
     }
     out
 }
@@ -267,7 +283,7 @@ pub fn summary(diagnostics: &[Diagnostic]) -> String {
 struct Report<'a> {
     diagnostic: &'a Diagnostic,
     file: Option<FileId>,
-    source: Option<NamedSource<String>>,
+    source: Option<NamedSource<Shared>>,
     labels: Vec<LabeledSpan>,
     related: Vec<Related>,
     help: Option<String>,
@@ -275,21 +291,40 @@ struct Report<'a> {
 
 struct Related {
     message: String,
-    source: NamedSource<String>,
+    source: NamedSource<Shared>,
     label: LabeledSpan,
 }
 
 impl<'a> Report<'a> {
-    fn new(diagnostic: &'a Diagnostic, sources: &SourceMap) -> Report<'a> {
-        let file = diagnostic.primary_label().map(|l| l.file);
-        let named = |f: FileId| {
-            let s = sources.get(f);
-            NamedSource::new(&*escape(&s.path), neutralize(&s.text).into_owned())
-        };
-        let source = file.map(named);
+    fn new(diagnostic: &'a Diagnostic, sources: &SourceMap, files: &mut Sources) -> Report<'a> {
+        // Places whose lines are too long to show are said in words instead.
+        let mut elsewhere: Vec<String> = Vec::new();
+        let mut shown: Vec<&cellc_lang::Label> = Vec::new();
+        for label in &diagnostic.labels {
+            let (start, end) = (label.span.start as usize, label.span.end as usize);
+            match files.too_long(label.file, start, end) {
+                Some(length) => {
+                    let file = sources.get(label.file);
+                    let (line, col) = file.line_col(label.span.start);
+                    elsewhere.push(format!(
+                        "{} at {}:{line}:{col} (a line of {length} bytes, too long to show)",
+                        if label.message.is_empty() {
+                            "here"
+                        } else {
+                            &label.message
+                        },
+                        file.path
+                    ));
+                }
+                None => shown.push(label),
+            }
+        }
+        let mut named = |f: FileId| NamedSource::new(escape(&sources.get(f).path), files.get(f));
+        let file = shown.iter().find(|l| l.primary).map(|l| l.file);
+        let source = file.map(&mut named);
         let mut labels = Vec::new();
         let mut related = Vec::new();
-        for label in &diagnostic.labels {
+        for label in shown {
             let span = label.span.start as usize..label.span.end as usize;
             let text = (!label.message.is_empty()).then(|| escape(&label.message).into_owned());
             let labeled = if label.primary {
@@ -308,10 +343,10 @@ impl<'a> Report<'a> {
             }
         }
         let mut help = diagnostic.help.as_deref().map(|h| escape(h).into_owned());
-        if !diagnostic.notes.is_empty() {
-            let notes = diagnostic
-                .notes
+        if !diagnostic.notes.is_empty() || !elsewhere.is_empty() {
+            let notes = elsewhere
                 .iter()
+                .chain(&diagnostic.notes)
                 .map(|n| format!("note: {}", escape(n)))
                 .collect::<Vec<_>>()
                 .join("\n");

@@ -29,7 +29,9 @@ pub fn scene_error_at(
     spans: &[cellc_schema::SourceSpan],
 ) -> Diagnostic {
     let robot = match error {
-        SceneError::StaleUrdf { robot, .. } | SceneError::Robot { robot, .. } => Some(robot),
+        SceneError::StaleUrdf { robot, .. }
+        | SceneError::Robot { robot, .. }
+        | SceneError::JointCount { robot, .. } => Some(robot),
         _ => None,
     };
     let place = robot
@@ -48,6 +50,14 @@ pub fn scene_error(error: &SceneError) -> Diagnostic {
         SceneError::StaleUrdf { .. } => (
             codes::STALE_URDF,
             "rebuild the artifact from its cell (`cellc build CELL`) so that it matches the robot model",
+        ),
+        SceneError::Mesh { .. } | SceneError::HandMesh { .. } => (
+            codes::MODEL_UNUSABLE,
+            "fix the mesh file: an STL or OBJ whose vertices enclose a volume, within the limits `cellc explain R0002` lists",
+        ),
+        SceneError::JointCount { .. } => (
+            codes::MODEL_UNUSABLE,
+            "rebuild the artifact from its cell (`cellc build CELL`): it does not match the robot model",
         ),
         _ => (
             codes::MODEL_UNUSABLE,

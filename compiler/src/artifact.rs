@@ -11,7 +11,9 @@ use cellc_schema as schema;
 use cellc_schema::math::{aabb_to_schema, iso_to_schema};
 use cellc_schema::sha256_hex;
 
+use crate::budget::{Adjacency, MAX_GRAPH_SIZE};
 use crate::graph::{ArcSource, ObjectGraph};
+use crate::ids::Id;
 use crate::model::*;
 
 /// Builds the artifact of a compiled cell.
@@ -23,7 +25,7 @@ pub fn lower(cell: &Cell, graphs: &[ObjectGraph], sources: &SourceMap) -> schema
         .map(|(_, r)| schema::Robot {
             name: r.name.clone(),
             urdf_path: r.urdf_path.clone(),
-            urdf_sha256: sha256_hex(r.urdf_text.as_bytes()),
+            urdf_sha256: r.urdf_sha256.clone(),
             base_link: r.base_link.clone(),
             tip_link: r.tip_link.clone(),
             joints: r
@@ -96,9 +98,17 @@ pub fn lower(cell: &Cell, graphs: &[ObjectGraph], sources: &SourceMap) -> schema
             span: spans.get(e.origin.file, e.origin.span),
         })
         .collect();
+    // Each grasp's index among its object's grasps (the artifact's grasp numbers).
+    let mut index_in_object: Vec<u32> = vec![0; cell.grasps.len()];
+    for (_, object) in cell.objects.iter() {
+        for (i, &g) in object.grasps.iter().enumerate() {
+            index_in_object[g.index()] = i as u32;
+        }
+    }
+    let transitions = crate::budget::transitions_by_object(cell);
     let objects = graphs
         .iter()
-        .map(|g| lower_object(cell, g, &mut spans))
+        .map(|g| lower_object(cell, g, &transitions[g.object.index()], &mut spans))
         .collect();
     schema::Artifact {
         format: schema::FORMAT.to_string(),
@@ -134,9 +144,9 @@ pub fn lower(cell: &Cell, graphs: &[ObjectGraph], sources: &SourceMap) -> schema
             .requests
             .iter()
             .map(|r| {
-                let object = &cell.objects[r.object];
+                let object = r.object;
                 let grasp_index = |g: crate::ids::GraspId| {
-                    object.grasps.iter().position(|&x| x == g).map(|i| i as u32)
+                    (cell.grasps[g].object == object).then(|| index_in_object[g.index()])
                 };
                 let placement = |p: &RequestPlacement| schema::RequestPlacement {
                     end_effector: p.end_effector.0,
@@ -163,7 +173,14 @@ pub fn lower(cell: &Cell, graphs: &[ObjectGraph], sources: &SourceMap) -> schema
     }
 }
 
-fn lower_object(cell: &Cell, g: &ObjectGraph, spans: &mut SpanTable) -> schema::Object {
+/// The artifact form of one object; `transitions` are its own (indices into
+/// [`Cell::transitions`], in order), so lowering every object costs the transitions once.
+fn lower_object(
+    cell: &Cell,
+    g: &ObjectGraph,
+    transitions: &[usize],
+    spans: &mut SpanTable,
+) -> schema::Object {
     let object = &cell.objects[g.object];
     let grasp_index: HashMap<crate::ids::GraspId, u32> = object
         .grasps
@@ -236,9 +253,9 @@ fn lower_object(cell: &Cell, g: &ObjectGraph, spans: &mut SpanTable) -> schema::
             })
         })
         .collect();
-    let transitions = cell
-        .transitions
+    let transitions = transitions
         .iter()
+        .map(|&t| &cell.transitions[t])
         .filter_map(|t| {
             Some(schema::DeclaredTransition {
                 from: *grasp_index.get(&t.from)?,
@@ -270,19 +287,15 @@ fn lower_object(cell: &Cell, g: &ObjectGraph, spans: &mut SpanTable) -> schema::
     }
 }
 
-/// Every adjacent pair of workspaces, each once, in order.
+/// Every adjacent pair of workspaces, each once, in order. Artifacts are lowered from
+/// cells whose graphs were built, so the pairs are within [`MAX_GRAPH_SIZE`].
 fn adjacent_pairs(cell: &Cell) -> Vec<(u32, u32)> {
-    let rules = crate::graph::cell_rules(cell);
-    let n = cell.workspaces.len() as u32;
-    let mut pairs = Vec::new();
-    for a in 0..n {
-        for b in (a + 1)..n {
-            if rules.is_adjacent(schema::WorkspaceId(a), schema::WorkspaceId(b)) {
-                pairs.push((a, b));
-            }
-        }
-    }
-    pairs
+    Adjacency::of(cell)
+        .pairs(cell, MAX_GRAPH_SIZE)
+        .unwrap_or_default()
+        .into_iter()
+        .map(|(a, b)| (a.0, b.0))
+        .collect()
 }
 
 /// Interns spans so that a million arcs made by a few hundred declarations share a few

@@ -2,7 +2,6 @@
 
 use cellc_lang::ast::Mobility;
 use cellc_lang::Diagnostic;
-use petgraph::visit::{Bfs, Walker};
 use petgraph::Direction;
 
 use crate::checks::describe_state;
@@ -10,9 +9,24 @@ use crate::diagnostics;
 use crate::graph::ObjectGraph;
 use crate::model::*;
 
+/// The most states, arcs and end-effectors the requirements of one cell may look at in
+/// all: each `expect` costs a pass over its object's graph, so 10⁵ of them on a graph of
+/// 10⁶ states would take hours. Requirements past the budget are reported as not checked.
+pub const MAX_EXPECT_VISITS: u64 = 100_000_000;
+
 /// Reports every requirement that does not hold.
 pub fn check(cell: &Cell, graphs: &[ObjectGraph], diagnostics: &mut Vec<Diagnostic>) {
-    for expectation in &cell.expectations {
+    let mut visits: u64 = 0;
+    for (i, expectation) in cell.expectations.iter().enumerate() {
+        visits = visits.saturating_add(cost(cell, graphs, &expectation.requirement));
+        if visits > MAX_EXPECT_VISITS {
+            diagnostics.push(diagnostics::expectations_not_checked(
+                cell.expectations.len() - i,
+                MAX_EXPECT_VISITS,
+                expectation.origin,
+            ));
+            return;
+        }
         if let Requirement::Reach { from, to, .. } = &expectation.requirement {
             let mut mismatch = false;
             for p in [from, to] {
@@ -37,6 +51,27 @@ pub fn check(cell: &Cell, graphs: &[ObjectGraph], diagnostics: &mut Vec<Diagnost
                 &why,
             ));
         }
+    }
+}
+
+/// What checking a requirement looks at: its object's graph (or all graphs), or the
+/// end-effectors.
+fn cost(cell: &Cell, graphs: &[ObjectGraph], requirement: &Requirement) -> u64 {
+    let size = |g: &ObjectGraph| (g.graph.node_count() + g.graph.edge_count()) as u64;
+    match requirement {
+        Requirement::Reach { object, .. } => graphs
+            .iter()
+            .filter(|g| g.object == *object)
+            .map(size)
+            .sum::<u64>()
+            .max(1),
+        Requirement::Coverage { .. } => cell.end_effectors.len().max(1) as u64,
+        Requirement::NoIsolatedStates { object } => graphs
+            .iter()
+            .filter(|g| object.is_none_or(|o| o == g.object))
+            .map(size)
+            .sum::<u64>()
+            .max(1),
     }
 }
 
@@ -87,10 +122,23 @@ pub fn holds(cell: &Cell, graphs: &[ObjectGraph], requirement: &Requirement) -> 
                     describe_placement(cell, to)
                 ));
             }
+            // One search from all the starts at once: a search per start would cost the
+            // graph once per start.
             let mut reached = vec![false; graph.graph.node_count()];
+            let mut queue: std::collections::VecDeque<petgraph::graph::NodeIndex> =
+                std::collections::VecDeque::new();
             for &start in &starts {
-                for n in Bfs::new(&graph.graph, start).iter(&graph.graph) {
-                    reached[n.index()] = true;
+                if !reached[start.index()] {
+                    reached[start.index()] = true;
+                    queue.push_back(start);
+                }
+            }
+            while let Some(n) = queue.pop_front() {
+                for next in graph.graph.neighbors(n) {
+                    if !reached[next.index()] {
+                        reached[next.index()] = true;
+                        queue.push_back(next);
+                    }
                 }
             }
             if goals.iter().any(|g| reached[g.index()]) {
@@ -113,7 +161,8 @@ pub fn holds(cell: &Cell, graphs: &[ObjectGraph], requirement: &Requirement) -> 
                 .end_effectors
                 .iter()
                 .filter(|(_, e)| {
-                    e.reaches.contains(workspace) && mobility.is_none_or(|m| m == e.mobility)
+                    e.reaches.binary_search(workspace).is_ok()
+                        && mobility.is_none_or(|m| m == e.mobility)
                 })
                 .map(|(_, e)| e.name.as_str())
                 .collect();

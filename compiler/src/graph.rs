@@ -109,16 +109,26 @@ pub fn cell_rules(cell: &Cell) -> CellRules {
     CellRules::new(cell.workspaces.len(), end_effectors, adjacency)
 }
 
-/// Builds the graph of every object, in object order.
+/// Builds the graph of every object, in object order. Callers check the size first
+/// ([`crate::budget::check`]): building costs what the graphs hold.
 pub fn build(cell: &Cell) -> Vec<ObjectGraph> {
     let rules = cell_rules(cell);
+    let holders = cell.holders();
+    let by_object = crate::budget::transitions_by_object(cell);
     cell.objects
         .iter()
-        .map(|(object, obj)| build_object(cell, &rules, object, obj))
+        .map(|(object, obj)| build_object(cell, &rules, &holders, &by_object, object, obj))
         .collect()
 }
 
-fn build_object(cell: &Cell, rules: &CellRules, object: ObjectId, obj: &Object) -> ObjectGraph {
+fn build_object(
+    cell: &Cell,
+    rules: &CellRules,
+    holders: &Holders,
+    by_object: &[Vec<usize>],
+    object: ObjectId,
+    obj: &Object,
+) -> ObjectGraph {
     // The rules index an object's own grasps; the cell's transitions are global.
     let local: HashMap<GraspId, u32> = obj
         .grasps
@@ -130,13 +140,16 @@ fn build_object(cell: &Cell, rules: &CellRules, object: ObjectId, obj: &Object) 
         .grasps
         .iter()
         .map(|&g| GraspFacts {
-            holders: cell.holders_of(g).iter().map(|e| EeIndex(e.0)).collect(),
+            holders: holders.of(g).iter().map(|e| EeIndex(e.0)).collect(),
             explicit: matches!(cell.grasps[g].holder, Some(Holder::EndEffector(_))),
         })
         .collect();
     let mut declared = Vec::new();
     let mut transitions = Vec::new();
-    for (t, transition) in cell.transitions.iter().enumerate() {
+    // Cells list transitions globally; only this object's are looked at (objects x
+    // transitions would be quadratic).
+    for &t in &by_object[object.index()] {
+        let transition = &cell.transitions[t];
         if let (Some(&from), Some(&to)) = (local.get(&transition.from), local.get(&transition.to)) {
             declared.push(t);
             transitions.push((GraspIndex(from), GraspIndex(to)));

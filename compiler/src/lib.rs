@@ -3,12 +3,14 @@
 //!
 //! Pipeline: [`load`] (read and parse the main file and its includes) -> [`resolve`]
 //! (names to typed ids, quantities to SI) -> [`workspaces`] (derive workspaces, compute
-//! reach) -> [`checks`] -> [`graph`] (one graph per object) -> [`expect`] (the cell's own
+//! reach) -> [`checks`] -> [`budget`] (the graphs' size, counted) -> [`graph`] (one graph
+//! per object) -> [`expect`] (the cell's own
 //! requirements). [`compile`] runs it all. The compiler does no I/O: files come through
 //! [`Files`] (defined in `cellc_schema`, shared with the runtime).
 #![warn(missing_docs)]
 
 pub mod artifact;
+pub mod budget;
 pub mod checks;
 pub mod diagnostics;
 pub mod expect;
@@ -16,6 +18,7 @@ pub mod graph;
 pub mod ids;
 pub mod load;
 pub mod math;
+pub mod merge;
 pub mod model;
 pub mod resolve;
 pub mod units;
@@ -68,9 +71,15 @@ pub fn compile(files: &dyn Files, path: &str) -> Compilation {
         // Graph-level findings on a cell that already has errors would mostly repeat
         // them in other words, so they wait until the cell is clean.
         if !diagnostics.iter().any(Diagnostic::is_error) {
-            graphs = graph::build(&resolved);
-            checks::check_graphs(&resolved, &graphs, &mut diagnostics);
-            expect::check(&resolved, &graphs, &mut diagnostics);
+            // Counted before built: a cell can ask for billions of arcs.
+            match budget::check(&resolved) {
+                Ok(_) => {
+                    graphs = graph::build(&resolved);
+                    checks::check_graphs(&resolved, &graphs, &mut diagnostics);
+                    expect::check(&resolved, &graphs, &mut diagnostics);
+                }
+                Err(too_large) => diagnostics.push(too_large_diagnostic(&resolved, &too_large)),
+            }
         }
         cell = Some(resolved);
     }
@@ -81,6 +90,31 @@ pub fn compile(files: &dyn Files, path: &str) -> Compilation {
         graphs,
         diagnostics,
     }
+}
+
+/// The diagnostic of graphs refused as too large, at the object whose graph crossed the
+/// limit (or the end-effector whose reach alone makes too many adjacent pairs).
+fn too_large_diagnostic(cell: &Cell, too_large: &budget::TooLarge) -> Diagnostic {
+    let biggest = too_large
+        .biggest_reach
+        .map(|(e, n)| (cell.end_effectors[e].name.as_str(), n));
+    let at = match (too_large.object, too_large.biggest_reach) {
+        (Some(o), _) => Some(diagnostics::GraphAt::Object(
+            cell.objects[o].name.as_str(),
+            cell.objects[o].origin,
+        )),
+        (None, Some((e, _))) => Some(diagnostics::GraphAt::Reach(
+            cell.end_effectors[e].name.as_str(),
+            cell.end_effectors[e].origin,
+        )),
+        (None, None) => None,
+    };
+    let measure = if too_large.limit == budget::MAX_GRAPH_SIZE {
+        diagnostics::GraphMeasure::Size
+    } else {
+        diagnostics::GraphMeasure::TransitionVisits
+    };
+    diagnostics::graph_too_large(at, measure, too_large.counted, too_large.limit, biggest)
 }
 
 /// Source order: by file, then position, then code; diagnostics without a place last.

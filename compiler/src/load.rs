@@ -1,10 +1,16 @@
 //! Reads the main file and everything it includes, parsing each once.
+//!
+//! Every file is read within [`MAX_SOURCE_BYTES`] and screened before it is parsed: a file
+//! that is not a cell at all (binary, not UTF-8, no `cell`/`library` outline) is reported
+//! by what it is and never enters the source map, so no snippet can ever show its lines.
+
+use std::collections::{HashMap, HashSet};
 
 use cellc_lang::ast::{self, FileKind};
-use cellc_lang::{Diagnostic, FileId, SourceMap};
+use cellc_lang::{Diagnostic, FileId, SourceMap, Span};
+use cellc_schema::files::{join, normalize, FileError, Files, MAX_SOURCE_BYTES};
 
-use crate::diagnostics;
-use cellc_schema::files::{join, normalize, Files};
+use crate::diagnostics::{self, NotCellReason};
 
 /// One parsed file.
 #[derive(Debug)]
@@ -28,70 +34,153 @@ pub struct Loaded {
     pub diagnostics: Vec<Diagnostic>,
 }
 
+/// The most source text one compilation reads, the main file and its includes together
+/// (64 MiB): each file is also at most [`MAX_SOURCE_BYTES`].
+pub const MAX_TOTAL_SOURCE_BYTES: u64 = 64 << 20;
+
 /// Reads `path` and, depth first, every file it includes. A file included twice (a
 /// diamond) is read once; a file that includes itself through a chain is an error.
+///
+/// The walk keeps its own stack rather than recursing, so a chain of thousands of
+/// includes cannot overflow the thread's stack.
 pub fn load(files: &dyn Files, path: &str) -> Loaded {
-    let mut loaded = Loaded::default();
-    let path = normalize(path);
-    let mut stack = Vec::new();
-    load_file(files, &path, None, &mut stack, &mut loaded);
-    loaded
+    let mut loader = Loader {
+        files,
+        read: HashSet::new(),
+        bytes_left: MAX_TOTAL_SOURCE_BYTES,
+        loaded: Loaded::default(),
+    };
+    let mut stack: Vec<Frame> = Vec::new();
+    // Path -> its index in `stack`, for include cycles.
+    let mut on_stack: HashMap<String, usize> = HashMap::new();
+    if let Some(frame) = loader.read_file(&normalize(path), None) {
+        on_stack.insert(frame.path.clone(), 0);
+        stack.push(frame);
+    }
+    while let Some(top) = stack.last_mut() {
+        let Some((include, span)) = top.includes.get(top.next).cloned() else {
+            if let Some(done) = stack.pop() {
+                on_stack.remove(&done.path);
+            }
+            continue;
+        };
+        top.next += 1;
+        let including = top.id;
+        if let Some(&start) = on_stack.get(&include) {
+            let mut chain: Vec<String> = stack[start..].iter().map(|f| f.path.clone()).collect();
+            chain.push(include);
+            loader
+                .loaded
+                .diagnostics
+                .push(diagnostics::include_cycle(including, span, &chain));
+            continue;
+        }
+        if loader.read.contains(&include) {
+            continue;
+        }
+        if let Some(frame) = loader.read_file(&include, Some((including, span))) {
+            on_stack.insert(frame.path.clone(), stack.len());
+            stack.push(frame);
+        }
+    }
+    loader.loaded
 }
 
-fn load_file(
+/// Reads one cell or library as the loader does: at most `budget` bytes (refused as too
+/// large for [`MAX_SOURCE_BYTES`], or for what [`MAX_TOTAL_SOURCE_BYTES`] leaves when
+/// `budget` is smaller), and screened, so that a file that is not a cell is described and
+/// its text dropped. `included_at` is the `include` that names it.
+pub fn read_source(
     files: &dyn Files,
     path: &str,
-    included_at: Option<(FileId, cellc_lang::Span)>,
-    stack: &mut Vec<String>,
-    loaded: &mut Loaded,
-) {
-    let text = match files.read_text(path) {
-        Ok(text) => text,
-        Err(error) => {
-            loaded
-                .diagnostics
-                .push(diagnostics::file_unreadable(path, &error, included_at));
-            return;
+    budget: u64,
+    included_at: Option<(FileId, Span)>,
+) -> Result<String, Diagnostic> {
+    let bytes = match files.read_at_most(path, budget) {
+        Ok(bytes) => bytes,
+        Err(FileError::TooLarge { size, .. })
+            if budget < MAX_SOURCE_BYTES && size <= MAX_SOURCE_BYTES =>
+        {
+            return Err(diagnostics::sources_too_large(
+                path,
+                MAX_TOTAL_SOURCE_BYTES,
+                included_at,
+            ));
         }
+        Err(error) => return Err(diagnostics::file_unreadable(path, &error, included_at)),
     };
-    let id = loaded.sources.add(path, text);
-    let parsed = cellc_lang::parse(id, &loaded.sources.get(id).text);
-    loaded.diagnostics.extend(parsed.diagnostics);
-    let includes: Vec<(String, cellc_lang::Span)> = parsed
-        .file
-        .iter()
-        .flat_map(|f| f.items.iter())
-        .filter_map(|item| match item {
-            ast::Item::Include(inc) => Some((join(path, &inc.path.value), inc.span)),
-            _ => None,
+    let size = bytes.len();
+    let not_a_cell = |reason| diagnostics::not_a_cell_file(path, size, reason, included_at);
+    let text = String::from_utf8(bytes).map_err(|error| {
+        not_a_cell(NotCellReason::NotUtf8 {
+            offset: error.utf8_error().valid_up_to(),
         })
-        .collect();
-    if let (Some(file), Some(at)) = (&parsed.file, included_at) {
-        if file.kind == FileKind::Cell {
-            loaded
-                .diagnostics
-                .push(diagnostics::included_cell(path, at.0, at.1));
-        }
+    })?;
+    if let Some(reason) = cellc_lang::not_a_cell(&text) {
+        return Err(not_a_cell(NotCellReason::Screen(reason)));
     }
-    loaded.files.push(LoadedFile {
-        id,
-        path: path.to_string(),
-        ast: parsed.file,
-    });
-    stack.push(path.to_string());
-    for (include, span) in includes {
-        if let Some(start) = stack.iter().position(|p| *p == include) {
-            let mut chain: Vec<String> = stack[start..].to_vec();
-            chain.push(include.clone());
-            loaded
-                .diagnostics
-                .push(diagnostics::include_cycle(id, span, &chain));
-            continue;
+    Ok(text)
+}
+
+/// A file being walked: its includes, and how many of them are done.
+struct Frame {
+    path: String,
+    id: FileId,
+    includes: Vec<(String, Span)>,
+    next: usize,
+}
+
+struct Loader<'f> {
+    files: &'f dyn Files,
+    /// Paths read and parsed.
+    read: HashSet<String>,
+    /// What [`MAX_TOTAL_SOURCE_BYTES`] leaves.
+    bytes_left: u64,
+    loaded: Loaded,
+}
+
+impl Loader<'_> {
+    /// Reads, screens and parses one file; `None` when it is not read (the problem is
+    /// reported).
+    fn read_file(&mut self, path: &str, included_at: Option<(FileId, Span)>) -> Option<Frame> {
+        let diagnostics = &mut self.loaded.diagnostics;
+        let budget = MAX_SOURCE_BYTES.min(self.bytes_left);
+        let text = match read_source(self.files, path, budget, included_at) {
+            Ok(text) => text,
+            Err(d) => {
+                diagnostics.push(d);
+                return None;
+            }
+        };
+        self.bytes_left -= text.len() as u64;
+        let id = self.loaded.sources.add(path, text);
+        let parsed = cellc_lang::parse(id, &self.loaded.sources.get(id).text);
+        diagnostics.extend(parsed.diagnostics);
+        let includes: Vec<(String, Span)> = parsed
+            .file
+            .iter()
+            .flat_map(|f| f.items.iter())
+            .filter_map(|item| match item {
+                ast::Item::Include(inc) => Some((join(path, &inc.path.value), inc.span)),
+                _ => None,
+            })
+            .collect();
+        if let (Some(file), Some(at)) = (&parsed.file, included_at) {
+            if file.kind == FileKind::Cell {
+                diagnostics.push(diagnostics::included_cell(path, at.0, at.1));
+            }
         }
-        if loaded.files.iter().any(|f| f.path == include) {
-            continue;
-        }
-        load_file(files, &include, Some((id, span)), stack, loaded);
+        self.loaded.files.push(LoadedFile {
+            id,
+            path: path.to_string(),
+            ast: parsed.file,
+        });
+        self.read.insert(path.to_string());
+        Some(Frame {
+            path: path.to_string(),
+            id,
+            includes,
+            next: 0,
+        })
     }
-    stack.pop();
 }

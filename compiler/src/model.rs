@@ -122,16 +122,17 @@ pub struct Robot {
     pub name: String,
     /// URDF path, resolved against the declaring file.
     pub urdf_path: String,
-    /// The URDF text (kept for hashing into the artifact and for the kinematics crate).
-    pub urdf_text: String,
+    /// SHA-256 of the URDF text, recorded in the artifact so the runtime can tell a
+    /// changed file.
+    pub urdf_sha256: String,
     /// Base link.
     pub base_link: String,
     /// Tip link.
     pub tip_link: String,
     /// The movable joints from base to tip, in order.
     pub chain_joints: Vec<Joint>,
-    /// Every link of the URDF (for `allow contact` names).
-    pub links: Vec<String>,
+    /// Every link of the URDF (for `allow contact` names), sorted.
+    pub links: std::collections::BTreeSet<String>,
     /// Declaration.
     pub origin: Origin,
 }
@@ -398,11 +399,36 @@ impl Cell {
         }
     }
 
-    /// End-effectors that can hold grasp `g`, in id order.
-    pub fn holders_of(&self, g: GraspId) -> Vec<EndEffectorId> {
-        self.end_effectors
-            .ids()
-            .filter(|&e| self.holds(e, g))
-            .collect()
+    /// Who can hold each grasp (see [`Holders`]).
+    pub fn holders(&self) -> Holders {
+        let mut of_kind: Vec<Vec<EndEffectorId>> = vec![Vec::new(); self.holder_kinds.len()];
+        for (e, ee) in self.end_effectors.iter() {
+            if let Some(kind) = ee.kind {
+                of_kind[kind.index()].push(e);
+            }
+        }
+        let grasps = self.grasps.iter().map(|(_, g)| g.holder).collect();
+        Holders { of_kind, grasps }
+    }
+}
+
+/// For every grasp, the end-effectors that can hold it, in id order. Built in one pass
+/// over the end-effectors (grouped by kind) and one over the grasps, and a kind's list is
+/// shared by all its grasps, so a cell with many hands and many grasps costs their sum,
+/// not their product.
+#[derive(Clone, Debug)]
+pub struct Holders {
+    of_kind: Vec<Vec<EndEffectorId>>,
+    grasps: Vec<Option<Holder>>,
+}
+
+impl Holders {
+    /// The end-effectors that can hold grasp `g`, in id order.
+    pub fn of(&self, g: GraspId) -> &[EndEffectorId] {
+        match &self.grasps[g.index()] {
+            Some(Holder::EndEffector(e)) => std::slice::from_ref(e),
+            Some(Holder::Kind(kind)) => &self.of_kind[kind.index()],
+            None => &[],
+        }
     }
 }

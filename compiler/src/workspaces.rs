@@ -28,7 +28,14 @@ pub fn reach_boxes(e: &EndEffector) -> Vec<Aabb> {
     }
 }
 
+/// The most box tests deriving workspaces may take (space cells times the boxes each is
+/// tested against), and again the most that finding who reaches which workspace may take
+/// (reach boxes times workspace boxes). Every box face cuts space along its plane, so
+/// `n` scattered boxes make up to `8 n³` cells: forty arms are fine, a thousand are not.
+pub const MAX_DERIVATION_WORK: u64 = 100_000_000;
+
 /// Derives workspaces when asked, then fills `reaches` of every geometric end-effector.
+/// Refuses (E0321) geometry that would exceed [`MAX_DERIVATION_WORK`].
 pub fn assign(cell: &mut Cell, diagnostics: &mut Vec<Diagnostic>) {
     let reach: Vec<(EndEffectorId, Vec<Aabb>)> = cell
         .end_effectors
@@ -43,9 +50,34 @@ pub fn assign(cell: &mut Cell, diagnostics: &mut Vec<Diagnostic>) {
                 origin,
                 "add `reach ARM box ...` lines or surfaces, or declare the workspaces",
             ));
-        } else {
-            derive(cell, &reach, origin);
+        } else if let Err(work) = derive(cell, &reach, origin) {
+            // Declared workspaces still get their reach, so nothing else is misreported.
+            diagnostics.push(diagnostics::derivation_too_large(
+                origin,
+                work,
+                MAX_DERIVATION_WORK,
+            ));
         }
+    }
+    let workspace_boxes: u64 = cell
+        .workspaces
+        .iter()
+        .map(|(_, w)| w.boxes.len() as u64)
+        .sum();
+    let reach_boxes: u64 = reach.iter().map(|(_, b)| b.len() as u64).sum();
+    let work = workspace_boxes.saturating_mul(reach_boxes);
+    if work > MAX_DERIVATION_WORK {
+        let at = cell
+            .derive_workspaces
+            .or_else(|| reach.first().map(|(e, _)| cell.end_effectors[*e].origin));
+        if let Some(origin) = at {
+            diagnostics.push(diagnostics::derivation_too_large(
+                origin,
+                work,
+                MAX_DERIVATION_WORK,
+            ));
+        }
+        return;
     }
     for (e, boxes) in &reach {
         let mut reaches: Vec<WorkspaceId> = cell
@@ -63,7 +95,13 @@ pub fn assign(cell: &mut Cell, diagnostics: &mut Vec<Diagnostic>) {
     }
 }
 
-fn derive(cell: &mut Cell, reach: &[(EndEffectorId, Vec<Aabb>)], origin: Origin) {
+/// Cuts space along every box face and names the regions; `Err` with the work it would
+/// take when that is over [`MAX_DERIVATION_WORK`].
+fn derive(
+    cell: &mut Cell,
+    reach: &[(EndEffectorId, Vec<Aabb>)],
+    origin: Origin,
+) -> Result<(), u64> {
     let declared: Vec<Aabb> = cell
         .workspaces
         .iter()
@@ -92,6 +130,16 @@ fn derive(cell: &mut Cell, reach: &[(EndEffectorId, Vec<Aabb>)], origin: Origin)
         cuts.dedup_by(|a, b| (*a - *b).abs() <= EPS);
         cuts
     });
+    let cells = cuts
+        .iter()
+        .map(|c| c.len().saturating_sub(1) as u64)
+        .fold(1u64, u64::saturating_mul);
+    let tested = (declared.len() + solids.len()) as u64
+        + reach.iter().map(|(_, b)| b.len() as u64).sum::<u64>();
+    let work = cells.saturating_mul(tested.max(1));
+    if work > MAX_DERIVATION_WORK {
+        return Err(work);
+    }
     // label (sorted end-effectors) -> cells; BTreeMap so that naming and order are
     // deterministic.
     let mut regions: BTreeMap<Vec<EndEffectorId>, Vec<Aabb>> = BTreeMap::new();
@@ -150,51 +198,10 @@ fn derive(cell: &mut Cell, reach: &[(EndEffectorId, Vec<Aabb>)], origin: Origin)
         cell.workspaces.insert(Workspace {
             name,
             label: Some(format!("reached by {}", names.join(", "))),
-            boxes: merge_boxes(boxes),
+            boxes: crate::merge::merge_boxes(boxes),
             origin,
             derived: true,
         });
     }
-}
-
-/// Merges grid cells that share a whole face, until no two can merge, so that a
-/// workspace is described by few boxes.
-fn merge_boxes(mut boxes: Vec<Aabb>) -> Vec<Aabb> {
-    let same = |a: f64, b: f64| (a - b).abs() <= EPS;
-    loop {
-        let mut merged = false;
-        'search: for i in 0..boxes.len() {
-            for j in (i + 1)..boxes.len() {
-                let (a, b) = (boxes[i], boxes[j]);
-                for axis in 0..3 {
-                    let others_equal = (0..3)
-                        .filter(|&k| k != axis)
-                        .all(|k| same(a.mins[k], b.mins[k]) && same(a.maxs[k], b.maxs[k]));
-                    if others_equal
-                        && (same(a.maxs[axis], b.mins[axis]) || same(b.maxs[axis], a.mins[axis]))
-                    {
-                        let mut union = a;
-                        union.mins[axis] = a.mins[axis].min(b.mins[axis]);
-                        union.maxs[axis] = a.maxs[axis].max(b.maxs[axis]);
-                        boxes[i] = union;
-                        boxes.swap_remove(j);
-                        merged = true;
-                        break 'search;
-                    }
-                }
-            }
-        }
-        if !merged {
-            break;
-        }
-    }
-    boxes.sort_by(|a, b| {
-        a.mins
-            .iter()
-            .zip(b.mins.iter())
-            .map(|(x, y)| x.total_cmp(y))
-            .find(|o| o.is_ne())
-            .unwrap_or(std::cmp::Ordering::Equal)
-    });
-    boxes
+    Ok(())
 }

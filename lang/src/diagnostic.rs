@@ -145,17 +145,43 @@ impl Diagnostic {
     }
 }
 
+/// A name longer than this (in characters) gets no suggestion, and is never suggested:
+/// comparing two names costs the product of their lengths.
+pub const MAX_SUGGESTION_NAME_CHARS: usize = 64;
+
+/// At most this many candidates are compared for one suggestion (after the cheap length
+/// test), in the order given: callers pass candidates in a deterministic order.
+pub const MAX_SUGGESTION_CANDIDATES: usize = 500;
+
 /// "did you mean" candidates: the closest name by edit distance, if close enough to be a
 /// plausible typo (at most a third of the longer name's length, and at least one edit).
+///
+/// The cost is bounded whatever the input: names longer than
+/// [`MAX_SUGGESTION_NAME_CHARS`] are skipped, a candidate whose length alone puts it
+/// too far is skipped without comparing, and at most [`MAX_SUGGESTION_CANDIDATES`] are
+/// compared. A phase that may ask many times keeps a [`SuggestionBudget`].
 pub fn did_you_mean<'a>(
     wanted: &str,
     candidates: impl IntoIterator<Item = &'a str>,
 ) -> Option<&'a str> {
+    let wanted_chars = short_name_chars(wanted)?;
     let mut best: Option<(usize, &str)> = None;
+    let mut compared = 0;
     for candidate in candidates {
+        let Some(candidate_chars) = short_name_chars(candidate) else {
+            continue;
+        };
+        let limit = (wanted_chars.max(candidate_chars) / 3).max(1);
+        // The distance is at least the difference in length.
+        if wanted_chars.abs_diff(candidate_chars) > limit {
+            continue;
+        }
+        compared += 1;
+        if compared > MAX_SUGGESTION_CANDIDATES {
+            break;
+        }
         // Optimal string alignment: a swapped pair of letters (`tabel`) is one edit.
         let distance = strsim::osa_distance(wanted, candidate);
-        let limit = (wanted.chars().count().max(candidate.chars().count()) / 3).max(1);
         if distance <= limit
             && best.is_none_or(|(d, c)| distance < d || (distance == d && candidate < c))
         {
@@ -163,6 +189,47 @@ pub fn did_you_mean<'a>(
         }
     }
     best.map(|(_, c)| c)
+}
+
+/// The length of `name` in characters, when it is short enough to compare.
+fn short_name_chars(name: &str) -> Option<usize> {
+    // Four bytes a character at most: a longer byte string is too long without counting.
+    if name.len() > 4 * MAX_SUGGESTION_NAME_CHARS {
+        return None;
+    }
+    let chars = name.chars().count();
+    (chars <= MAX_SUGGESTION_NAME_CHARS).then_some(chars)
+}
+
+/// How many "did you mean" searches one compilation may still run: each costs a pass over
+/// the names it could suggest, so a cell with 10⁵ unknown names among 10⁵ known ones
+/// would otherwise cost 10¹⁰. Past the budget, unknown names are still reported, without
+/// a suggestion.
+#[derive(Clone, Debug)]
+pub struct SuggestionBudget {
+    left: usize,
+}
+
+/// Searches a [`SuggestionBudget`] allows.
+pub const MAX_SUGGESTION_SEARCHES: usize = 100;
+
+impl Default for SuggestionBudget {
+    fn default() -> SuggestionBudget {
+        SuggestionBudget {
+            left: MAX_SUGGESTION_SEARCHES,
+        }
+    }
+}
+
+impl SuggestionBudget {
+    /// Runs `search` when the budget allows, counting it; `None` once it is spent.
+    pub fn search<'a>(&mut self, search: impl FnOnce() -> Option<&'a str>) -> Option<&'a str> {
+        if self.left == 0 {
+            return None;
+        }
+        self.left -= 1;
+        search()
+    }
 }
 
 #[cfg(test)]
@@ -175,5 +242,28 @@ mod tests {
         assert_eq!(did_you_mean("left_amr", names), Some("left_arm"));
         assert_eq!(did_you_mean("tabel", names), Some("table"));
         assert_eq!(did_you_mean("conveyor", names), None);
+    }
+
+    #[test]
+    fn suggestions_are_bounded_in_cost() {
+        let long = "x".repeat(MAX_SUGGESTION_NAME_CHARS + 1);
+        assert_eq!(did_you_mean(&long, [long.as_str()]), None);
+        assert_eq!(
+            did_you_mean("table", [long.as_str(), "tabel"]),
+            Some("tabel")
+        );
+        // Only the first candidates that pass the length test are compared.
+        let others: Vec<String> = (0..MAX_SUGGESTION_CANDIDATES)
+            .map(|i| format!("zz{i:04}"))
+            .collect();
+        let few = others[1..].iter().map(String::as_str).chain(["tabel"]);
+        assert_eq!(did_you_mean("table", few), Some("tabel"));
+        let many = others.iter().map(String::as_str).chain(["tabel"]);
+        assert_eq!(did_you_mean("table", many), None);
+        let mut budget = SuggestionBudget::default();
+        for _ in 0..MAX_SUGGESTION_SEARCHES {
+            assert_eq!(budget.search(|| Some("a")), Some("a"));
+        }
+        assert_eq!(budget.search(|| Some("a")), None);
     }
 }

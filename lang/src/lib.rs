@@ -11,21 +11,21 @@ pub mod format;
 mod grammar;
 mod parser;
 pub mod phrases;
+pub mod screen;
 pub mod span;
 
 pub use diagnostic::{Code, Diagnostic, Label, Severity};
 pub use format::format;
 pub use parser::{parse_placement, Parsed};
+pub use screen::{not_a_cell, NotACell, MAX_NESTING};
 pub use span::{FileId, SourceFile, SourceMap, Span};
 
-/// How deep `{ ... }` blocks may nest before the parser refuses the file. Real cells nest
-/// two levels; the limit only keeps hostile input from exhausting the stack.
-pub const MAX_NESTING: usize = 64;
-
-/// Parses one file's text. Never panics: every problem is a diagnostic.
+/// Parses one file's text. Never panics: every problem is a diagnostic. Text the grammar
+/// must not see is refused first (see [`screen`]): blocks nested too deep, and control
+/// characters, each reported at its place.
 pub fn parse(file: FileId, text: &str) -> Parsed {
     pest::set_error_detail(true);
-    if let Some(offset) = too_deep_at(text) {
+    if let Some(offset) = screen::too_deep_at(text) {
         return Parsed {
             file: None,
             diagnostics: vec![phrases::too_deep(
@@ -35,52 +35,24 @@ pub fn parse(file: FileId, text: &str) -> Parsed {
             )],
         };
     }
-    parser::parse(file, text)
-}
-
-/// The offset of the first `{` nested deeper than [`MAX_NESTING`], ignoring braces in
-/// comments, strings and quoted names.
-fn too_deep_at(text: &str) -> Option<usize> {
-    let bytes = text.as_bytes();
-    let mut depth = 0usize;
-    let mut i = 0;
-    while i < bytes.len() {
-        match bytes[i] {
-            b'/' if bytes.get(i + 1) == Some(&b'/') => {
-                while i < bytes.len() && bytes[i] != b'\n' {
-                    i += 1;
-                }
+    let (controls, count) = screen::control_characters(text);
+    if !controls.is_empty() {
+        let mut diagnostics: Vec<Diagnostic> = controls
+            .iter()
+            .map(|&span| phrases::control_character(file, span, &text[span.range()]))
+            .collect();
+        if count > controls.len() {
+            if let Some(last) = diagnostics.last_mut() {
+                last.notes.push(format!(
+                    "{} more runs of control characters are not shown",
+                    count - controls.len()
+                ));
             }
-            b'/' if bytes.get(i + 1) == Some(&b'*') => {
-                i += 2;
-                while i < bytes.len() && !(bytes[i] == b'*' && bytes.get(i + 1) == Some(&b'/')) {
-                    i += 1;
-                }
-                i += 2;
-            }
-            quote @ (b'"' | b'`') => {
-                i += 1;
-                while i < bytes.len() && bytes[i] != quote && bytes[i] != b'\n' {
-                    if quote == b'"' && bytes[i] == b'\\' {
-                        i += 1;
-                    }
-                    i += 1;
-                }
-                i += 1;
-            }
-            b'{' => {
-                depth += 1;
-                if depth > MAX_NESTING {
-                    return Some(i);
-                }
-                i += 1;
-            }
-            b'}' => {
-                depth = depth.saturating_sub(1);
-                i += 1;
-            }
-            _ => i += 1,
         }
+        return Parsed {
+            file: None,
+            diagnostics,
+        };
     }
-    None
+    parser::parse(file, text)
 }

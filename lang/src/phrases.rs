@@ -21,8 +21,10 @@ pub mod codes {
     pub const TOO_DEEP: Code = Code("E0002");
     /// A whole number too large to represent.
     pub const INTEGER_TOO_LARGE: Code = Code("E0003");
+    /// A control character (other than tab and line breaks) in a cell file.
+    pub const CONTROL_CHARACTER: Code = Code("E0004");
     /// Every code of this phase.
-    pub const ALL: &[Code] = &[SYNTAX, TOO_DEEP, INTEGER_TOO_LARGE];
+    pub const ALL: &[Code] = &[SYNTAX, TOO_DEEP, INTEGER_TOO_LARGE, CONTROL_CHARACTER];
 }
 
 /// Item keywords: when pest expected several of these, the message says "an item" rather
@@ -331,6 +333,21 @@ pub(crate) fn too_deep(file: FileId, span: Span, limit: usize) -> Diagnostic {
     )
     .primary(file, span, "this `{` is too deep")
     .help("close the blocks that are open; cells nest at most two levels (`cell` and `object`)")
+}
+
+pub(crate) fn control_character(file: FileId, span: Span, run: &str) -> Diagnostic {
+    let shown: Vec<String> = run
+        .chars()
+        .take(8)
+        .map(|c| format!("U+{:04X}", u32::from(c)))
+        .collect();
+    let more = if run.chars().count() > 8 { ", ..." } else { "" };
+    Diagnostic::error(
+        codes::CONTROL_CHARACTER,
+        format!("control character in the text ({}{more})", shown.join(", ")),
+    )
+    .primary(file, span, "not allowed in a cell file")
+    .help("remove it: a cell file holds printable text, tabs and line breaks only (inside a string, write `\\n` or `\\t`)")
 }
 
 pub(crate) fn integer_too_large(file: FileId, span: Span) -> Diagnostic {

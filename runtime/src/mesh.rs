@@ -1,10 +1,16 @@
 //! Mesh files as collision solids: the vertices of an STL or OBJ file, scaled, and their
 //! convex hull. Robot links ([`crate::robot`]) and object shapes ([`crate::scene`]) both
 //! read meshes here.
+//!
+//! A mesh is untrusted input like the URDF that names it. It is read within
+//! [`MAX_MESH_BYTES`], its vertices are counted against [`MAX_MESH_VERTICES`] before any
+//! hull is computed (the hull is the expensive step), and a file that does not parse is
+//! described by what it is not, never by quoting its lines (the STL reader's own messages
+//! quote them).
 
 use std::fmt;
 
-use cellc_schema::files::{FileError, Files};
+use cellc_schema::files::{FileError, Files, MAX_MESH_BYTES};
 use parry3d_f64::shape::SharedShape;
 
 use crate::math::Point;
@@ -24,10 +30,12 @@ pub enum MeshError {
     Unreadable(FileError),
     /// The extension is neither `.stl` nor `.obj`.
     UnknownFormat,
-    /// The STL reader refused the file.
-    Stl {
-        /// The reader's explanation.
-        reason: String,
+    /// Neither a binary STL nor an ASCII STL that parses.
+    NotStl,
+    /// More vertices than [`MAX_MESH_VERTICES`].
+    TooManyVertices {
+        /// How many there are.
+        count: usize,
     },
     /// An OBJ file that is not UTF-8 text.
     ObjNotText,
@@ -62,7 +70,15 @@ impl fmt::Display for MeshError {
             MeshError::UnknownFormat => {
                 f.write_str("only STL and OBJ meshes are supported (by file extension)")
             }
-            MeshError::Stl { reason } => write!(f, "not a readable STL file: {reason}"),
+            MeshError::NotStl => f.write_str(
+                "not an STL file: neither binary STL (an 84-byte header, then 50 bytes for \
+                 each triangle it counts) nor ASCII STL that parses",
+            ),
+            MeshError::TooManyVertices { count } => write!(
+                f,
+                "{count} vertices, more than the {MAX_MESH_VERTICES} a mesh may have; \
+                 simplify it (a convex hull needs few)"
+            ),
             MeshError::ObjNotText => f.write_str("not a text OBJ file"),
             MeshError::ObjVertex { line } => {
                 write!(f, "line {line}: a vertex needs three numbers")
@@ -83,12 +99,19 @@ impl fmt::Display for MeshError {
 
 impl std::error::Error for MeshError {}
 
-/// Reads the mesh at `path` through `files` and returns its convex hull, scaled.
+/// The most vertices a mesh may have (after merging repeated ones): the hull's cost grows
+/// with them, and a collision solid needs only its outline.
+pub const MAX_MESH_VERTICES: usize = 200_000;
+
+/// Reads the mesh at `path` through `files` (at most [`MAX_MESH_BYTES`]) and returns its
+/// convex hull, scaled.
 pub fn load(path: &str, scale: [f64; 3], files: &dyn Files) -> Result<SharedShape, MeshError> {
     if !scale.iter().all(|s| s.is_finite() && *s != 0.0) {
         return Err(MeshError::BadScale { scale });
     }
-    let bytes = files.read(path).map_err(MeshError::Unreadable)?;
+    let bytes = files
+        .read_at_most(path, MAX_MESH_BYTES)
+        .map_err(MeshError::Unreadable)?;
     hull(path, &bytes, scale)
 }
 
@@ -102,6 +125,11 @@ pub fn hull(path: &str, bytes: &[u8], scale: [f64; 3]) -> Result<SharedShape, Me
     } else {
         return Err(MeshError::UnknownFormat);
     };
+    if vertices.len() > MAX_MESH_VERTICES {
+        return Err(MeshError::TooManyVertices {
+            count: vertices.len(),
+        });
+    }
     let points: Vec<Point> = vertices
         .iter()
         .map(|v| Point::new(v[0] * scale[0], v[1] * scale[1], v[2] * scale[2]))
@@ -165,12 +193,9 @@ fn read_stl_vertices(bytes: &[u8]) -> Result<Vec<[f64; 3]>, MeshError> {
             .map(|v| [f64::from(v[0]), f64::from(v[1]), f64::from(v[2])])
             .collect())
     };
-    let refused = |e: std::io::Error| MeshError::Stl {
-        reason: e.to_string(),
-    };
     match read(bytes) {
         Ok(vertices) => Ok(vertices),
-        Err(first) => {
+        Err(_) => {
             // Many exporters write binary STL with a header that starts with "solid",
             // which makes the reader take it for ASCII. When the size matches the binary
             // layout exactly (84-byte header, 50 bytes a triangle), blank the header
@@ -180,10 +205,10 @@ fn read_stl_vertices(bytes: &[u8]) -> Result<Vec<[f64; 3]>, MeshError> {
                 if bytes.len() as u64 == 84 + 50 * u64::from(count) {
                     let mut copy = bytes.to_vec();
                     copy[..80].fill(0);
-                    return read(&copy).map_err(refused);
+                    return read(&copy).map_err(|_| MeshError::NotStl);
                 }
             }
-            Err(refused(first))
+            Err(MeshError::NotStl)
         }
     }
 }

@@ -22,7 +22,7 @@ use rand::Rng;
 use crate::math::{Iso, Vec3};
 use crate::mesh::{self, MeshError};
 
-pub use cellc_urdf::{ChainError, JointError, JointKind, ParseError};
+pub use cellc_urdf::{ChainError, JointError, JointKind, ParseError, Problem};
 
 /// One collision solid of the robot, attached to a kinematic frame.
 #[derive(Clone)]
@@ -56,6 +56,9 @@ impl fmt::Debug for LinkShape {
 pub enum RobotError {
     /// The URDF text is not a URDF the reader accepts.
     Parse(ParseError),
+    /// The description is unsound: not one tree, or a value out of its domain (the first
+    /// problem [`cellc_urdf::Description::problems`] finds).
+    Unsound(Problem),
     /// The base or tip link is missing, or no chain of joints leads from one to the other.
     Chain(ChainError),
     /// A joint on the chain cannot be moved (its type, its axis or its limits).
@@ -100,6 +103,7 @@ impl fmt::Display for RobotError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             RobotError::Parse(error) => write!(f, "the URDF does not parse: {error}"),
+            RobotError::Unsound(problem) => write!(f, "{problem}"),
             RobotError::Chain(error) => write!(f, "{error}"),
             RobotError::Joint(error) => write!(f, "{error}"),
             RobotError::Mesh { link, path, reason } => {
@@ -172,6 +176,11 @@ impl Robot {
         files: &dyn Files,
     ) -> Result<Robot, RobotError> {
         let description = Description::parse(urdf_text)?;
+        // The same whole-file check as the compiler's: a description changed or damaged
+        // since the build must not reach the kinematics with a NaN in it.
+        if let Some(problem) = description.problems().into_iter().next() {
+            return Err(RobotError::Unsound(problem));
+        }
         let chain = description.chain(base_link, tip_link)?;
         let mut robot = Robot {
             name: description.name().to_string(),

@@ -2,6 +2,7 @@
 //! since the build), arms placed, surfaces as slabs, hand and object shapes for collision
 //! checks, workspaces as boxes.
 
+use cellc_schema::files::MAX_URDF_BYTES;
 use cellc_schema::{self as schema, sha256_hex, Artifact};
 use parry3d_f64::shape::SharedShape;
 
@@ -88,6 +89,23 @@ pub enum SceneError {
         /// Why.
         reason: String,
     },
+    /// A hand kind's solid (a mesh) could not be used.
+    HandMesh {
+        /// The hand kind.
+        kind: String,
+        /// Why.
+        reason: String,
+    },
+    /// The URDF's chain has another number of movable joints than the artifact records
+    /// (the artifact was edited, or built by another version).
+    JointCount {
+        /// Robot name.
+        robot: String,
+        /// Joints the artifact records.
+        recorded: usize,
+        /// Joints the URDF's chain has.
+        found: usize,
+    },
     /// The collision world could not be built (e.g. an allowed contact names no body).
     Collision {
         /// Why.
@@ -105,6 +123,16 @@ impl std::fmt::Display for SceneError {
             ),
             SceneError::Robot { robot, error } => write!(f, "robot `{robot}`: {error}"),
             SceneError::Mesh { object, reason } => write!(f, "object `{object}`: {reason}"),
+            SceneError::HandMesh { kind, reason } => write!(f, "hand `{kind}`: {reason}"),
+            SceneError::JointCount {
+                robot,
+                recorded,
+                found,
+            } => write!(
+                f,
+                "robot `{robot}`: the artifact records {recorded} movable joints, its URDF's \
+                 chain has {found}"
+            ),
             SceneError::Collision { reason } => write!(f, "collision world: {reason}"),
         }
     }
@@ -217,7 +245,7 @@ impl Scene {
         let mut robots = Vec::with_capacity(artifact.robots.len());
         for r in &artifact.robots {
             let bytes = files
-                .read(&r.urdf_path)
+                .read_at_most(&r.urdf_path, MAX_URDF_BYTES)
                 .map_err(|error| SceneError::Unreadable {
                     path: r.urdf_path.clone(),
                     reason: error.to_string(),
@@ -234,6 +262,15 @@ impl Scene {
                     robot: r.name.clone(),
                     error,
                 })?;
+            // Every configuration in the artifact (homes, witnesses) has one value per
+            // recorded joint; a model with another count would be indexed out of step.
+            if robot.n_joints() != r.joints.len() {
+                return Err(SceneError::JointCount {
+                    robot: r.name.clone(),
+                    recorded: r.joints.len(),
+                    found: robot.n_joints(),
+                });
+            }
             robots.push(robot);
         }
         let holders = artifact
@@ -252,20 +289,22 @@ impl Scene {
                 },
             })
             .collect();
-        let kind_solids = artifact
-            .holder_kinds
-            .iter()
-            .map(|k| {
-                k.solids
-                    .iter()
-                    .filter_map(|s| {
-                        placed(&s.shape, iso_from_schema(&s.pose), files)
-                            .ok()
-                            .flatten()
-                    })
-                    .collect()
-            })
-            .collect();
+        let mut kind_solids: Vec<Vec<PlacedShape>> =
+            Vec::with_capacity(artifact.holder_kinds.len());
+        for k in &artifact.holder_kinds {
+            let mut solids = Vec::with_capacity(k.solids.len());
+            for s in &k.solids {
+                let solid =
+                    placed(&s.shape, iso_from_schema(&s.pose), files).map_err(|reason| {
+                        SceneError::HandMesh {
+                            kind: k.name.clone(),
+                            reason,
+                        }
+                    })?;
+                solids.extend(solid);
+            }
+            kind_solids.push(solids);
+        }
         let workspaces = artifact
             .workspaces
             .iter()
@@ -571,8 +610,7 @@ fn placed(
         ),
         schema::Shape::Sphere { radius } => (Iso::identity(), SharedShape::ball(*radius)),
         schema::Shape::Mesh { path } => {
-            let bytes = files.read(path).map_err(|error| error.to_string())?;
-            let hull = crate::mesh::hull(path, &bytes, [1.0; 3])
+            let hull = crate::mesh::load(path, [1.0; 3], files)
                 .map_err(|reason| format!("mesh `{path}`: {reason}"))?;
             (Iso::identity(), hull)
         }

@@ -10,7 +10,7 @@ use cellc_runtime::kinematics::{
     pose_error, random_configuration, rotation_log, solve_ik, IkError, IkOptions, IkTarget,
 };
 use cellc_runtime::math::{Iso, Point, Vec3};
-use cellc_runtime::robot::{ChainError, JointError, JointKind, Robot, RobotError};
+use cellc_runtime::robot::{ChainError, JointKind, Problem, Robot, RobotError};
 use cellc_runtime::termination::Termination;
 use cellc_runtime::MemoryFiles;
 use nalgebra as na;
@@ -928,11 +928,13 @@ fn model_errors_are_reported() {
         ),
         Err(RobotError::Mesh { .. })
     ));
+    // A zero axis is found when the whole file is checked, before any chain is walked.
     let text = mesh_urdf("x.stl", "1 1 1").replace("0 0 2", "0 0 0");
     assert_eq!(
         load(&text, "base", "finger"),
-        Err(RobotError::Joint(JointError::ZeroAxis {
-            joint: "slide".to_string()
+        Err(RobotError::Unsound(Problem::BadAxis {
+            joint: "slide".to_string(),
+            axis: [0.0; 3]
         }))
     );
 }

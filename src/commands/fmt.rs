@@ -5,6 +5,10 @@ use std::process::ExitCode;
 
 use cellc_lang::{FileId, SourceMap};
 
+use cellc_compiler::load::read_source;
+use cellc_schema::files::MAX_SOURCE_BYTES;
+
+use crate::fs_files::FsFiles;
 use crate::render::{self, Color};
 
 /// Formats files in place, or with `--check` reports those that are not formatted.
@@ -13,14 +17,11 @@ pub fn run(files: &[PathBuf], check: bool) -> ExitCode {
     let mut failed = false;
     for path in files {
         let display = path.to_string_lossy().to_string();
-        let text = match std::fs::read_to_string(path) {
+        // Read as `cellc check` reads: within the size limit, and a file that is not a cell
+        // is described, never shown.
+        let text = match read_source(&FsFiles, &display, MAX_SOURCE_BYTES, None) {
             Ok(text) => text,
-            Err(e) => {
-                let d = cellc_lang::Diagnostic::error(
-                    cellc_compiler::diagnostics::codes::FILE_UNREADABLE,
-                    format!("cannot read `{display}`: {e}"),
-                )
-                .help("check the path and that the file is readable");
+            Err(d) => {
                 eprint!("{}", render::human(&[d], &SourceMap::new(), Color::Never));
                 failed = true;
                 continue;

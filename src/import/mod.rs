@@ -302,13 +302,9 @@ pub fn read_dualmanip(path: &Path) -> Result<Database, Vec<Diagnostic>> {
 /// Opens the file read-only and makes sure it is an SQLite database (SQLite opens any
 /// file lazily; the first query is what finds out).
 fn open(path: &Path, display: &str) -> Result<Connection, Diagnostic> {
-    match std::fs::metadata(path) {
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
-            return Err(diagnostics::cannot_open(display, "no such file"));
-        }
-        Err(e) => return Err(diagnostics::cannot_open(display, &e.to_string())),
-        Ok(m) if m.is_dir() => return Err(diagnostics::cannot_open(display, "it is a directory")),
-        Ok(_) => {}
+    // A pipe or a device would make SQLite wait for ever: only regular files are opened.
+    if let Err(e) = crate::fs_files::regular_file(&path.to_string_lossy()) {
+        return Err(diagnostics::cannot_open(display, &e.to_string()));
     }
     let flags = OpenFlags::SQLITE_OPEN_READ_ONLY | OpenFlags::SQLITE_OPEN_NO_MUTEX;
     let conn = Connection::open_with_flags(path, flags)

@@ -17,6 +17,9 @@ pub enum ParseError {
     },
     /// The reader crashed on the text (caught).
     ReaderFailed,
+    /// The text has no `<robot` element at all, so it is not a URDF (and the reader's
+    /// message, which may quote it, is not passed on).
+    NotUrdf,
 }
 
 impl fmt::Display for ParseError {
@@ -24,6 +27,7 @@ impl fmt::Display for ParseError {
         match self {
             ParseError::Invalid { reason } => f.write_str(reason),
             ParseError::ReaderFailed => f.write_str("the reader failed on this file"),
+            ParseError::NotUrdf => f.write_str("it has no `<robot>` element, so it is not a URDF"),
         }
     }
 }
@@ -46,6 +50,11 @@ pub struct Description {
 impl Description {
     /// Reads a URDF text.
     pub fn parse(text: &str) -> Result<Description, ParseError> {
+        // Any file may be named as a URDF; one that is not even meant to be a robot
+        // description is refused before the reader can quote it in an error.
+        if !text.contains("<robot") {
+            return Err(ParseError::NotUrdf);
+        }
         // The URDF reader is a third-party XML stack: guard against it panicking on
         // hostile input so that a bad file can never take a checker or a planner down.
         let model = match std::panic::catch_unwind(|| urdf_rs::read_from_string(text)) {
@@ -151,6 +160,15 @@ pub(crate) fn iso(pose: &urdf_rs::Pose) -> Iso {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn what_is_not_a_robot_is_not_quoted() {
+        let secret = "<config><token>secret</token></config>";
+        assert_eq!(
+            Description::parse(secret).map(|_| ()),
+            Err(ParseError::NotUrdf)
+        );
+    }
 
     #[test]
     fn reader_errors_lose_the_serde_prefix() {

@@ -10,6 +10,10 @@
 //! - [`Description::chain`]: the joints from the base link down to the tip link, in order,
 //!   each with its typed facts ([`ChainJoint`]); [`ChainJoint::motion`] validates a
 //!   movable joint (supported type, non-zero axis, limits that are an interval);
+//! - [`Description::problems`]: everything that makes the file unsound, checked whole and
+//!   in linear time (links and joints that do not make one tree; NaN, infinite, reversed or
+//!   absurd numbers, with the bounds in [`MAX_LENGTH`], [`MAX_ANGLE`], [`MAX_MASS`] and
+//!   [`MAX_SCALE`]), so neither the compiler nor the runtime computes with them;
 //! - [`Description::attached_links`] and [`Description::collisions`]: the solids that move
 //!   with each link, and [`mesh_path`] for the files their meshes name.
 //!
@@ -21,7 +25,9 @@
 mod chain;
 mod description;
 mod geometry;
+mod validate;
 
 pub use chain::{Chain, ChainError, ChainJoint, JointError, JointKind, JointType, Motion};
 pub use description::{Description, ParseError};
 pub use geometry::{mesh_path, Collision, Geometry, MeshPathError};
+pub use validate::{PoseOf, Problem, MAX_ANGLE, MAX_LENGTH, MAX_MASS, MAX_SCALE, MIN_AXIS_NORM};

@@ -29,7 +29,7 @@ impl Resolver<'_, '_> {
     /// an object.
     fn body(&mut self, file: FileId, q: &ast::Qualified) -> Option<String> {
         let Some(owner) = &q.object else {
-            if self.cell.obstacles.iter().any(|o| o.0 == q.name.text) {
+            if self.obstacle_names.contains(&q.name.text) {
                 return Some(q.name.text.clone());
             }
             return match self.names.get(&q.name.text).copied() {
@@ -79,13 +79,16 @@ impl Resolver<'_, '_> {
         if known {
             return Some(format!("{}/{}", owner.text, q.name.text));
         }
-        let candidates: Vec<&str> = robot
-            .links
-            .iter()
-            .map(String::as_str)
-            .chain(hand.as_deref())
-            .collect();
-        let suggestion = did_you_mean(&q.name.text, candidates.iter().copied());
+        let suggestion = self.suggestions.search(|| {
+            did_you_mean(
+                &q.name.text,
+                robot
+                    .links
+                    .iter()
+                    .map(String::as_str)
+                    .chain(hand.as_deref()),
+            )
+        });
         self.diagnostics.push(diagnostics::urdf_unknown_link(
             "link",
             &q.name.text,

@@ -10,7 +10,6 @@ use crate::diagnostics::{self, Sort};
 use crate::ids::*;
 use crate::model::*;
 use crate::units::FileUnits;
-use crate::urdf;
 
 impl Resolver<'_, '_> {
     pub(super) fn declare(&mut self, file: FileId, path: &str, units: FileUnits, item: &ast::Item) {
@@ -86,7 +85,8 @@ impl Resolver<'_, '_> {
                     return;
                 }
                 if let Some(robot) =
-                    urdf::load_robot(self.files, path, file, r, o, self.diagnostics)
+                    self.urdfs
+                        .load_robot(self.files, path, file, r, o, self.diagnostics)
                 {
                     let id = self.cell.robots.insert(robot);
                     self.add_name(&r.name, Entry::Robot(id), o);
@@ -103,6 +103,7 @@ impl Resolver<'_, '_> {
                 if self.add_name(&o.name, Entry::Obstacle, origin) {
                     if let Some(b) = self.eval(file, units).aabb(&o.aabb) {
                         self.cell.obstacles.push((o.name.text.clone(), b, origin));
+                        self.obstacle_names.insert(o.name.text.clone());
                     }
                 }
             }

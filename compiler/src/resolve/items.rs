@@ -143,16 +143,21 @@ impl Resolver<'_, '_> {
                             None
                         }
                         None => {
-                            let candidates: Vec<&str> = self
-                                .names
-                                .iter()
-                                .filter(|(_, e)| {
-                                    matches!(e, Entry::EndEffector(_) | Entry::HolderKind(_))
-                                })
-                                .map(|(n, _)| n.as_str())
-                                .collect();
-                            let suggestion =
-                                did_you_mean(&g.holder.text, candidates.iter().copied());
+                            let names = &self.names;
+                            let suggestion = self.suggestions.search(|| {
+                                did_you_mean(
+                                    &g.holder.text,
+                                    names
+                                        .iter()
+                                        .filter(|(_, e)| {
+                                            matches!(
+                                                e,
+                                                Entry::EndEffector(_) | Entry::HolderKind(_)
+                                            )
+                                        })
+                                        .map(|(n, _)| n.as_str()),
+                                )
+                            });
                             self.diagnostics.push(diagnostics::unknown_name(
                                 Sort::EndEffector,
                                 &g.holder.text,
@@ -221,8 +226,9 @@ impl Resolver<'_, '_> {
             .collect();
         for value in values {
             let Some(i) = joints.iter().position(|j| j.name == value.joint.text) else {
-                let suggestion =
-                    did_you_mean(&value.joint.text, joints.iter().map(|j| j.name.as_str()));
+                let suggestion = self.suggestions.search(|| {
+                    did_you_mean(&value.joint.text, joints.iter().map(|j| j.name.as_str()))
+                });
                 let robot_name = self.cell.robots[robot].name.clone();
                 self.diagnostics.push(diagnostics::unknown_home_joint(
                     &value.joint.text,

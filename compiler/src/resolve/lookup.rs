@@ -34,13 +34,16 @@ impl Resolver<'_, '_> {
                 None
             }
             None => {
-                let candidates: Vec<&str> = self
-                    .names
-                    .iter()
-                    .filter(|(_, e)| e.sort() == want)
-                    .map(|(n, _)| n.as_str())
-                    .collect();
-                let suggestion = did_you_mean(&name.text, candidates.iter().copied());
+                let names = &self.names;
+                let suggestion = self.suggestions.search(|| {
+                    did_you_mean(
+                        &name.text,
+                        names
+                            .iter()
+                            .filter(|(_, e)| e.sort() == want)
+                            .map(|(n, _)| n.as_str()),
+                    )
+                });
                 self.diagnostics.push(diagnostics::unknown_name(
                     want, &name.text, file, name.span, suggestion, context,
                 ));
@@ -87,12 +90,16 @@ impl Resolver<'_, '_> {
             return Some(g);
         }
         let object_name = self.cell.objects[object].name.clone();
-        let candidates: Vec<String> = self.cell.objects[object]
-            .grasps
-            .iter()
-            .map(|&g| self.cell.grasps[g].name.clone())
-            .collect();
-        let suggestion = did_you_mean(&name.text, candidates.iter().map(String::as_str));
+        let cell = &self.cell;
+        let suggestion = self.suggestions.search(|| {
+            did_you_mean(
+                &name.text,
+                cell.objects[object]
+                    .grasps
+                    .iter()
+                    .map(|&g| cell.grasps[g].name.as_str()),
+            )
+        });
         self.diagnostics.push(diagnostics::unknown_name(
             Sort::Grasp,
             &name.text,

@@ -28,9 +28,10 @@ mod items;
 mod lookup;
 mod requirements;
 
-use std::collections::HashMap;
+use std::collections::{BTreeMap, HashMap, HashSet};
 
 use cellc_lang::ast;
+use cellc_lang::diagnostic::SuggestionBudget;
 use cellc_lang::{Diagnostic, FileId, Span};
 use cellc_schema::files::Files;
 
@@ -73,11 +74,15 @@ pub fn resolve(files: &dyn Files, loaded: &Loaded, diagnostics: &mut Vec<Diagnos
     let mut r = Resolver {
         files,
         cell: Cell::default(),
-        names: HashMap::new(),
+        names: BTreeMap::new(),
         origins: HashMap::new(),
         grasp_names: HashMap::new(),
         weight_origins: [None, None],
         transition_origins: HashMap::new(),
+        obstacle_names: HashSet::new(),
+        request_names: HashMap::new(),
+        suggestions: SuggestionBudget::default(),
+        urdfs: crate::urdf::UrdfCache::default(),
         diagnostics,
     };
     if let Some(main) = loaded.files.first().and_then(|f| f.ast.as_ref()) {
@@ -147,13 +152,23 @@ pub fn resolve(files: &dyn Files, loaded: &Loaded, diagnostics: &mut Vec<Diagnos
 struct Resolver<'w, 'd> {
     files: &'w dyn Files,
     cell: Cell,
-    names: HashMap<String, Entry>,
+    /// Sorted, so "did you mean" compares candidates in an order that does not depend on
+    /// hashing (it compares a bounded number of them).
+    names: BTreeMap<String, Entry>,
     origins: HashMap<String, Origin>,
     grasp_names: HashMap<(ObjectId, String), GraspId>,
     /// Where the move and transition weights were set, to refuse setting them twice.
     weight_origins: [Option<Origin>; 2],
     /// First declaration of each directed transition.
     transition_origins: HashMap<(GraspId, GraspId), Origin>,
+    /// Obstacles with a box, by name.
+    obstacle_names: HashSet<String>,
+    /// Requests by name (index into the cell's requests).
+    request_names: HashMap<String, usize>,
+    /// What is left of this compilation's "did you mean" searches.
+    suggestions: SuggestionBudget,
+    /// URDFs read so far, and the budget for reading more.
+    urdfs: crate::urdf::UrdfCache,
     diagnostics: &'d mut Vec<Diagnostic>,
 }
 

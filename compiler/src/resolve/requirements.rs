@@ -85,16 +85,18 @@ impl Resolver<'_, '_> {
         let (Some(object), Some(from), Some(to)) = (object, from, to) else {
             return;
         };
-        if let Some(first) = self.cell.requests.iter().find(|r| r.name == q.name.text) {
+        if let Some(&first) = self.request_names.get(&q.name.text) {
             let origin = origin(file, q.span, &q.name);
             self.diagnostics.push(diagnostics::duplicate_name(
                 Sort::Object,
                 &q.name.text,
-                first.origin,
+                self.cell.requests[first].origin,
                 origin,
             ));
             return;
         }
+        self.request_names
+            .insert(q.name.text.clone(), self.cell.requests.len());
         self.cell.requests.push(NamedRequest {
             name: q.name.text.clone(),
             object,

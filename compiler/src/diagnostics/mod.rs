@@ -9,6 +9,9 @@ use cellc_urdf::ParseError;
 
 use crate::model::Origin;
 
+mod trust;
+pub use trust::*;
+
 /// Codes of the compiler phases.
 pub mod codes {
     use cellc_lang::Code;
@@ -72,6 +75,18 @@ pub mod codes {
     pub const DERIVATION_CONFLICT: Code = Code("E0315");
     /// A grasp declared in a requirement for an end-effector that cannot hold it.
     pub const PLACEMENT_GRASP_MISMATCH: Code = Code("E0316");
+    /// A cell, library or URDF larger than its size limit.
+    pub const FILE_TOO_LARGE: Code = Code("E0317");
+    /// A path that names a pipe, a device or a socket.
+    pub const NOT_A_REGULAR_FILE: Code = Code("E0318");
+    /// A file read as a cell or library that is not one (binary, or no cell outline).
+    pub const NOT_A_CELL_FILE: Code = Code("E0319");
+    /// Object-state graphs larger than the limit.
+    pub const GRAPH_TOO_LARGE: Code = Code("E0320");
+    /// `workspaces from reach` over more space cells than the limit.
+    pub const DERIVATION_TOO_LARGE: Code = Code("E0321");
+    /// `expect` requirements that would take too long to check.
+    pub const EXPECT_TOO_COSTLY: Code = Code("E0322");
 
     /// A URDF file that can't be read.
     pub const URDF_UNREADABLE: Code = Code("E0401");
@@ -83,6 +98,10 @@ pub mod codes {
     pub const URDF_NO_CHAIN: Code = Code("E0404");
     /// A home joint value outside the joint's limits.
     pub const HOME_OUT_OF_LIMITS: Code = Code("E0405");
+    /// A URDF whose links and joints are not one tree.
+    pub const URDF_NOT_A_TREE: Code = Code("E0406");
+    /// A URDF number outside its domain (NaN, infinite, reversed or absurd).
+    pub const URDF_BAD_VALUE: Code = Code("E0407");
 
     /// A transition declared one way only.
     pub const ASYMMETRIC_TRANSITION: Code = Code("W0001");
@@ -125,11 +144,19 @@ pub mod codes {
         SELF_ADJACENCY,
         DERIVATION_CONFLICT,
         PLACEMENT_GRASP_MISMATCH,
+        FILE_TOO_LARGE,
+        NOT_A_REGULAR_FILE,
+        NOT_A_CELL_FILE,
+        GRAPH_TOO_LARGE,
+        DERIVATION_TOO_LARGE,
+        EXPECT_TOO_COSTLY,
         URDF_UNREADABLE,
         URDF_INVALID,
         URDF_UNKNOWN_LINK,
         URDF_NO_CHAIN,
         HOME_OUT_OF_LIMITS,
+        URDF_NOT_A_TREE,
+        URDF_BAD_VALUE,
         ASYMMETRIC_TRANSITION,
         DEAD_END_STATE,
         UNUSED_GRASP,
@@ -469,8 +496,11 @@ pub fn include_cycle(file: FileId, span: Span, chain: &[String]) -> Diagnostic {
         .help("remove one of the includes in the cycle; shared items belong in a library both include")
 }
 
-/// A file that can't be read.
+/// A file that can't be read (one too large or not a regular file has its own code).
 pub fn file_unreadable(path: &str, error: &FileError, at: Option<(FileId, Span)>) -> Diagnostic {
+    if let Some(refused) = trust::refused_file("cell file", path, error, at) {
+        return refused;
+    }
     let d = Diagnostic::error(FILE_UNREADABLE, format!("cannot read `{path}`: {error}"));
     match at {
         Some((file, span)) => d
@@ -562,8 +592,11 @@ pub fn placement_grasp_mismatch(holder: &str, grasp: &str, file: FileId, span: S
     .help(format!("name a grasp declared for `{holder}` or its kind"))
 }
 
-/// A URDF that can't be read.
+/// A URDF that can't be read (one too large or not a regular file has its own code).
 pub fn urdf_unreadable(path: &str, error: &FileError, file: FileId, span: Span) -> Diagnostic {
+    if let Some(refused) = trust::refused_file("URDF", path, error, Some((file, span))) {
+        return refused;
+    }
     Diagnostic::error(
         URDF_UNREADABLE,
         format!("cannot read URDF `{path}`: {error}"),
