@@ -63,6 +63,31 @@ pub fn read(path: &str) -> Result<Artifact, Diagnostic> {
 /// The artifact of a `.cell` file (compiled now) or of an artifact file. On failure the
 /// diagnostics are already printed to standard error.
 pub fn cell_or_artifact(path: &str) -> Option<Artifact> {
+    cell_or_artifact_reporting(path, Report::Human)
+}
+
+/// How [`cell_or_artifact_reporting`] reports failures.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Report {
+    /// Human text on standard error.
+    Human,
+    /// The JSON diagnostics report on standard output (for commands whose output is JSON,
+    /// so that it stays JSON on every path).
+    Json,
+}
+
+/// [`cell_or_artifact`], reporting failures as `report` says.
+pub fn cell_or_artifact_reporting(path: &str, report: Report) -> Option<Artifact> {
+    // Human text ends with a summary line after a compilation's errors.
+    let emit = |diagnostics: &[Diagnostic], sources: &SourceMap, summary: bool| match report {
+        Report::Human => {
+            eprint!("{}", render::human(diagnostics, sources, Color::Never));
+            if summary {
+                eprintln!("{}", render::summary(diagnostics));
+            }
+        }
+        Report::Json => print!("{}", render::json(diagnostics, sources)),
+    };
     if path.ends_with(".cell") {
         let compilation = cellc_compiler::compile(&FsFiles, path);
         let errors: Vec<Diagnostic> = compilation
@@ -72,11 +97,7 @@ pub fn cell_or_artifact(path: &str) -> Option<Artifact> {
             .cloned()
             .collect();
         if !errors.is_empty() || compilation.cell.is_none() {
-            eprint!(
-                "{}",
-                render::human(&errors, &compilation.sources, Color::Never)
-            );
-            eprintln!("{}", render::summary(&errors));
+            emit(&errors, &compilation.sources, true);
             return None;
         }
         let cell = compilation.cell.as_ref()?;
@@ -89,7 +110,7 @@ pub fn cell_or_artifact(path: &str) -> Option<Artifact> {
     match read(path) {
         Ok(artifact) => Some(artifact),
         Err(d) => {
-            eprint!("{}", render::human(&[d], &SourceMap::new(), Color::Never));
+            emit(&[d], &SourceMap::new(), false);
             None
         }
     }

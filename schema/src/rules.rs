@@ -499,21 +499,32 @@ impl CellRules {
     fn adjacent_pairs(&self, e: EndEffectorId) -> Vec<MovePair> {
         let reach = self.reach(e);
         let mut out = Vec::new();
-        for (i, &a) in reach.iter().enumerate() {
-            for (j, &b) in reach.iter().enumerate() {
-                // With derived adjacency, `e` itself makes every two of its workspaces
-                // adjacent.
-                let adjacency = match self.declared.get(&(a.min(b), a.max(b))) {
-                    _ if a == b => None,
-                    Some(&d) => Some(Some(d)),
-                    None if self.derived => Some(None),
-                    None => None,
-                };
-                if let Some(adjacency) = adjacency {
-                    out.push((i as u32, j as u32, adjacency));
+        if self.derived {
+            // `e` itself makes every two of its workspaces adjacent (declared pairs only
+            // add their provenance): all ordered pairs, as many as the moves it makes.
+            for (i, &a) in reach.iter().enumerate() {
+                for (j, &b) in reach.iter().enumerate() {
+                    if a != b {
+                        let declared = self.declared.get(&(a.min(b), a.max(b))).copied();
+                        out.push((i as u32, j as u32, declared));
+                    }
                 }
             }
+            return out;
         }
+        // Declared adjacency: only the declared pairs, both ends in reach (a reach of 10^5
+        // workspaces with a chain of `adjacent` lines costs the chain, not 10^10 lookups).
+        for (&(a, b), &d) in &self.declared {
+            if a == b {
+                continue;
+            }
+            if let (Ok(i), Ok(j)) = (reach.binary_search(&a), reach.binary_search(&b)) {
+                out.push((i as u32, j as u32, Some(d)));
+                out.push((j as u32, i as u32, Some(d)));
+            }
+        }
+        // In reach order, as the arcs have always been listed.
+        out.sort_unstable_by_key(|&(i, j, _)| (i, j));
         out
     }
 }

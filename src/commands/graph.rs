@@ -10,7 +10,11 @@ use serde::Serialize;
 
 /// Prints the object-state graph of one object.
 pub fn run(path: &str, object: &str, format: GraphFormat) -> ExitCode {
-    let Some(artifact) = crate::artifact_io::cell_or_artifact(path) else {
+    let report = match format {
+        GraphFormat::Dot => crate::artifact_io::Report::Human,
+        GraphFormat::Json => crate::artifact_io::Report::Json,
+    };
+    let Some(artifact) = crate::artifact_io::cell_or_artifact_reporting(path, report) else {
         return ExitCode::from(1);
     };
     let Some(obj) = artifact.objects.iter().find(|o| o.name == object) else {
@@ -24,7 +28,15 @@ pub fn run(path: &str, object: &str, format: GraphFormat) -> ExitCode {
             format!("unknown object `{object}`"),
         )
         .help(help);
-        crate::commands::plan::print(&[d], &cellc_lang::SourceMap::new());
+        match format {
+            GraphFormat::Dot => crate::commands::plan::print(&[d], &cellc_lang::SourceMap::new()),
+            GraphFormat::Json => {
+                print!(
+                    "{}",
+                    crate::render::json(&[d], &cellc_lang::SourceMap::new())
+                )
+            }
+        }
         return ExitCode::from(1);
     };
     match format {
