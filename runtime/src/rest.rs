@@ -21,7 +21,7 @@ use crate::math::Aabb;
 use crate::math::{Iso, Point, Quat, Vec3};
 
 /// How far (metres) the object's centre may lie above or below a workspace box's height
-/// range and still count as inside it: the slack of [`Aabb::contains`], with which a
+/// range and still count as inside it: the slack of [`contains_point`](crate::math::contains_point), with which a
 /// witness is re-checked, so a resting height equal to a box's top or bottom (derived
 /// workspaces are cut at surface heights) does not depend on rounding.
 pub const HEIGHT_SLACK: f64 = 1e-6;
