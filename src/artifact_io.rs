@@ -76,17 +76,24 @@ pub enum Report {
     Json,
 }
 
+impl Report {
+    /// Writes `diagnostics` where this report goes (plain text, no colour).
+    pub fn emit(self, diagnostics: &[Diagnostic], sources: &SourceMap) {
+        match self {
+            Report::Human => eprint!("{}", render::human(diagnostics, sources, Color::Never)),
+            Report::Json => print!("{}", render::json(diagnostics, sources)),
+        }
+    }
+}
+
 /// [`cell_or_artifact`], reporting failures as `report` says.
 pub fn cell_or_artifact_reporting(path: &str, report: Report) -> Option<Artifact> {
     // Human text ends with a summary line after a compilation's errors.
-    let emit = |diagnostics: &[Diagnostic], sources: &SourceMap, summary: bool| match report {
-        Report::Human => {
-            eprint!("{}", render::human(diagnostics, sources, Color::Never));
-            if summary {
-                eprintln!("{}", render::summary(diagnostics));
-            }
+    let emit = |diagnostics: &[Diagnostic], sources: &SourceMap, summary: bool| {
+        report.emit(diagnostics, sources);
+        if summary && report == Report::Human {
+            eprintln!("{}", render::summary(diagnostics));
         }
-        Report::Json => print!("{}", render::json(diagnostics, sources)),
     };
     if path.ends_with(".cell") {
         let compilation = cellc_compiler::compile(&FsFiles, path);

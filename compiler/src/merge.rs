@@ -127,6 +127,13 @@ pub fn merge_boxes(boxes: Vec<Aabb>) -> Vec<Aabb> {
         }
     }
     let mut boxes = m.boxes;
+    sort_by_mins(&mut boxes);
+    boxes
+}
+
+/// The order merged boxes are returned in: by smallest corner, x first (total order, so
+/// the result does not depend on how the merge went).
+fn sort_by_mins(boxes: &mut [Aabb]) {
     boxes.sort_by(|a, b| {
         a.mins
             .iter()
@@ -135,7 +142,6 @@ pub fn merge_boxes(boxes: Vec<Aabb>) -> Vec<Aabb> {
             .find(|o| o.is_ne())
             .unwrap_or(std::cmp::Ordering::Equal)
     });
-    boxes
 }
 
 #[cfg(test)]
@@ -174,14 +180,7 @@ mod tests {
                 break;
             }
         }
-        boxes.sort_by(|a, b| {
-            a.mins
-                .iter()
-                .zip(b.mins.iter())
-                .map(|(x, y)| x.total_cmp(y))
-                .find(|o| o.is_ne())
-                .unwrap_or(std::cmp::Ordering::Equal)
-        });
+        sort_by_mins(&mut boxes);
         boxes
     }
 
