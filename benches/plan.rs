@@ -40,7 +40,7 @@ fn pairs(a: &Artifact, object: usize) -> Vec<(Node, Node)> {
     let fixed: Vec<Node> = nodes
         .iter()
         .copied()
-        .filter(|n| !a.end_effectors[n.end_effector as usize].movable)
+        .filter(|n| !a.end_effectors[n.end_effector.index()].movable)
         .collect();
     let mut out = Vec::new();
     let n = fixed.len();

@@ -44,9 +44,7 @@ use cellc_runtime::plan::planner::Planner;
 use cellc_runtime::plan::{Goal, Placement, PlanOptions, Request};
 use cellc_runtime::scene::Scene;
 use cellc_runtime::verify::{verify, VerifyOptions};
-use cellc_schema::{
-    ArcKind, Artifact, Body, EndEffectorId, GraspId, Node, ObjectId, RequestPlacement, WorkspaceId,
-};
+use cellc_schema::{ArcKind, Artifact, Body, Node, ObjectId, RequestPlacement, WorkspaceId};
 
 /// One column of the paper's Table I (times in seconds).
 struct Paper {
@@ -222,9 +220,9 @@ fn geometric(path: &str) -> Result<Geometric, String> {
 
 fn placement_of(p: &RequestPlacement) -> Placement {
     Placement {
-        holder: EndEffectorId(p.end_effector),
-        grasp: p.grasp.map(GraspId),
-        workspace: p.workspace.map(WorkspaceId),
+        holder: p.end_effector,
+        grasp: p.grasp,
+        workspace: p.workspace,
         pose: p.pose.as_ref().map(iso_from_schema),
     }
 }
@@ -234,7 +232,7 @@ fn candidates(a: &Artifact, object: u32, geometric: bool) -> Vec<(Node, Option<I
     let graph = &a.objects[object as usize].graph;
     let mut out = Vec::new();
     for (i, node) in graph.nodes.iter().enumerate() {
-        let e = &a.end_effectors[node.end_effector as usize];
+        let e = &a.end_effectors[node.end_effector.index()];
         if e.movable {
             continue;
         }
@@ -264,7 +262,7 @@ fn placement_at(node: Node, pose: Option<Iso>) -> Placement {
     match pose {
         // A pose on a surface: located by pose, as a Cartesian request is.
         Some(pose) => Placement {
-            holder: EndEffectorId(node.end_effector),
+            holder: node.end_effector,
             grasp: None,
             workspace: None,
             pose: Some(pose),
@@ -281,7 +279,7 @@ fn pairs(planner: &Planner<'_>, object: u32, geometric: bool) -> Vec<Pair> {
     let mut proposed: Vec<Pair> = a
         .requests
         .iter()
-        .filter(|r| r.object == object)
+        .filter(|r| r.object.0 == object)
         .map(|r| Pair {
             what: format!("request {}", r.name),
             start: placement_of(&r.from),
@@ -289,7 +287,7 @@ fn pairs(planner: &Planner<'_>, object: u32, geometric: bool) -> Vec<Pair> {
         })
         .collect();
     let cands = candidates(a, object, geometric);
-    let mut groups: BTreeMap<(u32, u32), Vec<(usize, usize)>> = BTreeMap::new();
+    let mut groups: BTreeMap<(WorkspaceId, WorkspaceId), Vec<(usize, usize)>> = BTreeMap::new();
     for (i, s) in cands.iter().enumerate() {
         for (j, g) in cands.iter().enumerate() {
             if s.0.workspace != g.0.workspace {
@@ -308,10 +306,10 @@ fn pairs(planner: &Planner<'_>, object: u32, geometric: bool) -> Vec<Pair> {
                 proposed.push(Pair {
                     what: format!(
                         "{} in {} -> {} in {}",
-                        a.end_effectors[s.0.end_effector as usize].name,
-                        a.workspaces[s.0.workspace as usize].name,
-                        a.end_effectors[g.0.end_effector as usize].name,
-                        a.workspaces[g.0.workspace as usize].name
+                        a.end_effectors[s.0.end_effector.index()].name,
+                        a.workspaces[s.0.workspace.index()].name,
+                        a.end_effectors[g.0.end_effector.index()].name,
+                        a.workspaces[g.0.workspace.index()].name
                     ),
                     start: placement_at(s.0, s.1),
                     goal: placement_at(g.0, g.1),
@@ -610,7 +608,7 @@ fn main() {
                     .artifact
                     .requests
                     .first()
-                    .map(|r| r.object as usize)
+                    .map(|r| r.object.index())
                     .unwrap_or(0);
                 match g.artifact.objects.get(object) {
                     Some(o) => {

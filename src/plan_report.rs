@@ -6,7 +6,7 @@ use std::fmt::Write as _;
 use cellc_lang::{Diagnostic, FileId, SourceMap};
 use cellc_runtime::math::Iso;
 use cellc_runtime::plan::{Command, LocateError, Plan, PlanError};
-use cellc_schema::Artifact;
+use cellc_schema::{Artifact, EndEffectorId, GraspId, WorkspaceId};
 use serde::Serialize;
 
 pub use crate::runtime_codes as codes;
@@ -82,16 +82,12 @@ fn did_you_mean(error: &LocateError) -> Option<String> {
         .map(|s| format!("did you mean `{s}`?"))
 }
 
-fn ee(a: &Artifact, e: u32) -> &str {
-    a.end_effectors
-        .get(e as usize)
-        .map_or("?", |x| x.name.as_str())
+fn ee(a: &Artifact, e: EndEffectorId) -> &str {
+    a.end_effector_name(e)
 }
 
-fn ws(a: &Artifact, w: u32) -> &str {
-    a.workspaces
-        .get(w as usize)
-        .map_or("?", |x| x.name.as_str())
+fn ws(a: &Artifact, w: WorkspaceId) -> &str {
+    a.workspace_name(w)
 }
 
 fn pose_text(p: &Option<Iso>) -> String {
@@ -106,13 +102,8 @@ fn pose_text(p: &Option<Iso>) -> String {
 
 /// The plan as numbered steps.
 pub fn describe(artifact: &Artifact, name: &str, plan: &Plan) -> String {
-    let object = &artifact.objects[plan.object as usize];
-    let grasp = |g: u32| {
-        object
-            .grasps
-            .get(g as usize)
-            .map_or("?", |x| x.name.as_str())
-    };
+    let object = &artifact.objects[plan.object.index()];
+    let grasp = |g: GraspId| artifact.grasp_name(plan.object, g);
     let mut out = String::new();
     let _ = writeln!(
         out,
@@ -225,13 +216,8 @@ struct JsonTrajectory<'a> {
 }
 
 pub fn json<'a>(artifact: &'a Artifact, name: &'a str, plan: &'a Plan) -> impl Serialize + 'a {
-    let object = &artifact.objects[plan.object as usize];
-    let grasp = |g: u32| {
-        object
-            .grasps
-            .get(g as usize)
-            .map_or("?", |x| x.name.as_str())
-    };
+    let object = &artifact.objects[plan.object.index()];
+    let grasp = |g: GraspId| artifact.grasp_name(plan.object, g);
     let mut holders: Vec<&str> = Vec::new();
     for s in &plan.states {
         let h = ee(artifact, s.end_effector);

@@ -6,7 +6,7 @@ use std::collections::BTreeMap;
 
 use cellc_lang::{Code, Diagnostic, FileId, Span};
 use cellc_runtime::scene::SceneError;
-use cellc_schema::{ArcKind, Artifact, Infeasibility, Object};
+use cellc_schema::{ArcKind, Artifact, EndEffectorId, GraspId, Infeasibility, Object};
 
 /// Codes of verification and of loading a scene.
 pub mod codes {
@@ -78,25 +78,22 @@ fn span(spans: &[cellc_schema::SourceSpan], index: u32) -> Option<(FileId, Span)
     ))
 }
 
-fn ee(artifact: &Artifact, i: u32) -> &str {
-    artifact
-        .end_effectors
-        .get(i as usize)
-        .map_or("?", |e| e.name.as_str())
+fn ee(artifact: &Artifact, e: EndEffectorId) -> &str {
+    artifact.end_effector_name(e)
 }
 
 fn describe_arc(artifact: &Artifact, object: &Object, arc: &cellc_schema::Arc) -> String {
     let from = object.graph.nodes[arc.from as usize];
     let to = object.graph.nodes[arc.to as usize];
-    let grasp = |g: u32| {
+    let grasp = |g: GraspId| {
         object
             .grasps
-            .get(g as usize)
+            .get(g.index())
             .map_or("?", |g| g.name.as_str())
     };
     let ws = artifact
         .workspaces
-        .get(to.workspace as usize)
+        .get(to.workspace.index())
         .map_or("?", |w| w.name.as_str());
     match arc.kind {
         ArcKind::Move => format!(
@@ -193,7 +190,7 @@ pub fn pruned_warnings(artifact: &Artifact) -> Vec<Diagnostic> {
         {
             for node in [pruned.arc.from, pruned.arc.to] {
                 let g = object.graph.nodes[node as usize].grasp;
-                if let Some(grasp) = object.grasps.get(g as usize) {
+                if let Some(grasp) = object.grasps.get(g.index()) {
                     if grasp.span != source && !grasp_spans.contains(&grasp.span) {
                         grasp_spans.push(grasp.span);
                     }

@@ -59,7 +59,7 @@ fn line_request(artifact: &Artifact, seed: u64) -> Request {
 fn holders(artifact: &Artifact, plan: &Plan) -> Vec<String> {
     let mut out: Vec<String> = Vec::new();
     for s in &plan.states {
-        let name = &artifact.end_effectors[s.end_effector as usize].name;
+        let name = &artifact.end_effectors[s.end_effector.index()].name;
         if out.last() != Some(name) {
             out.push(name.clone());
         }
@@ -70,12 +70,13 @@ fn holders(artifact: &Artifact, plan: &Plan) -> Vec<String> {
 /// A state's holder and grasp, by name.
 type Held<'a> = (&'a str, &'a str);
 
-fn end_effector(artifact: &Artifact, name: &str) -> u32 {
-    artifact
+fn end_effector(artifact: &Artifact, name: &str) -> cellc_schema::EndEffectorId {
+    let i = artifact
         .end_effectors
         .iter()
         .position(|e| e.name == name)
-        .unwrap_or_else(|| panic!("no end-effector `{name}`")) as u32
+        .unwrap_or_else(|| panic!("no end-effector `{name}`"));
+    cellc_schema::EndEffectorId(i as u32)
 }
 
 #[test]
@@ -138,10 +139,10 @@ fn verification_rules_out_the_shortcuts_and_keeps_the_chain() {
     let name = |n: u32| {
         let node = graph.nodes[n as usize];
         (
-            artifact.end_effectors[node.end_effector as usize]
+            artifact.end_effectors[node.end_effector.index()]
                 .name
                 .as_str(),
-            object.grasps[node.grasp as usize].name.as_str(),
+            object.grasps[node.grasp.index()].name.as_str(),
         )
     };
     // No handoff between arms 2 and 3 survives: in the nest only `top` works, and
@@ -216,7 +217,7 @@ fn plan_and_run(seed: u64) {
     // The conveyor's joint where it takes the cylinder from arm 4 and where arm 5 takes it.
     let belt = end_effector(&artifact, "belt1");
     let arm5 = end_effector(&artifact, "arm5");
-    let belt_joint_at_grasp_by = |holder: u32| {
+    let belt_joint_at_grasp_by = |holder: cellc_schema::EndEffectorId| {
         plan.steps
             .iter()
             .find_map(|s| match &s.command {

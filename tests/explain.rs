@@ -399,7 +399,7 @@ fn a_request_outside_the_graph_says_what_does_not_fit() {
         message(&un),
         "no goal state of the request is a state of `cylinder`'s graph"
     );
-    un.object = 7;
+    un.object = cellc_schema::ObjectId(7);
     assert_eq!(
         message(&un),
         "the request names object #7, which the artifact does not have"

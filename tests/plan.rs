@@ -48,7 +48,7 @@ fn request(a: &Artifact, from: PlacementByName, to: PlacementByName) -> Request 
 fn holders(artifact: &Artifact, plan: &Plan) -> Vec<String> {
     let mut out: Vec<String> = Vec::new();
     for s in &plan.states {
-        let name = artifact.end_effectors[s.end_effector as usize].name.clone();
+        let name = artifact.end_effectors[s.end_effector.index()].name.clone();
         if out.last() != Some(&name) {
             out.push(name);
         }
@@ -109,7 +109,7 @@ fn the_named_requests_of_fig3_are_the_papers_figures() {
 /// A walk of the graph: each simplified step is an arc, or a run of moves of one holder
 /// with one grasp; holders and grasps change only through transition arcs.
 fn assert_walk(a: &Artifact, plan: &Plan) {
-    let graph = &a.objects[plan.object as usize].graph;
+    let graph = &a.objects[plan.object.index()].graph;
     let arc = |x: &Node, y: &Node, kind: ArcKind| {
         graph.arcs.iter().any(|arc| {
             arc.kind == kind
@@ -161,10 +161,10 @@ proptest! {
     fn every_plan_is_a_walk_of_the_graph(start in 0usize..21, goal in 0usize..21) {
         let a = artifact("cells/fig3.cell");
         let graph = &a.objects[0].graph;
-        let name = |n: &Node| a.end_effectors[n.end_effector as usize].name.clone();
+        let name = |n: &Node| a.end_effectors[n.end_effector.index()].name.clone();
         let (s, g) = (graph.nodes[start], graph.nodes[goal]);
-        let grasp = |n: &Node| a.objects[0].grasps[n.grasp as usize].name.clone();
-        let ws = |n: &Node| a.workspaces[n.workspace as usize].name.clone();
+        let grasp = |n: &Node| a.objects[0].grasps[n.grasp.index()].name.clone();
+        let ws = |n: &Node| a.workspaces[n.workspace.index()].name.clone();
         let planner = Planner::new(&a, None);
         let result = planner.plan(&request(
             &a,
@@ -181,7 +181,7 @@ proptest! {
                 prop_assert_eq!(grasps, ungrasps);
             }
             Err(PlanError::Unreachable(u)) => {
-                prop_assert!(!u.reachable.contains(&(goal as u32)));
+                prop_assert!(!u.reachable.contains(&cellc_schema::NodeId(goal as u32)));
             }
             Err(other) => prop_assert!(false, "{other:?}"),
         }
@@ -212,7 +212,7 @@ fn a_failed_motion_after_the_first_step_replans_from_the_new_state() {
     // The replan starts where the object was when the motion failed: held by the arm.
     let replan_start = run.plans[1].states[0];
     assert_eq!(
-        a.end_effectors[replan_start.end_effector as usize].name,
+        a.end_effectors[replan_start.end_effector.index()].name,
         "left_arm"
     );
     assert!(sim.log.iter().any(|l| l.contains("injected")));

@@ -9,7 +9,9 @@ use cellc_runtime::math::{iso_from_schema, Iso, Point};
 use cellc_runtime::scene::{Holder, ObjectPlacement, Scene, SceneScratch};
 use cellc_runtime::verify::{verify, VerifyOptions};
 use cellc_runtime::Files;
-use cellc_schema::{ArcKind, Artifact, Body, Encoding, Infeasibility};
+use cellc_schema::{
+    ArcKind, Artifact, Body, Encoding, EndEffectorId, GraspId, Infeasibility, ObjectId,
+};
 
 fn build(path: &str) -> Artifact {
     let compilation = cellc_compiler::compile(&FsFiles, path);
@@ -64,15 +66,15 @@ fn recheck(
     let object_pose = iso_from_schema(&witness.object);
     let from = obj.graph.nodes[arc.from as usize];
     let to = obj.graph.nodes[arc.to as usize];
-    let grasp = |g: u32| {
-        obj.grasps[g as usize]
+    let grasp = |g: GraspId| {
+        obj.grasps[g.index()]
             .pose
             .as_ref()
             .map(iso_from_schema)
             .unwrap_or_else(Iso::identity)
     };
     let center = Point::from(object_pose.translation.vector);
-    if !scene.workspaces[to.workspace as usize]
+    if !scene.workspaces[to.workspace.index()]
         .iter()
         .any(|b| cellc_runtime::math::contains_point(b, &center))
     {
@@ -81,9 +83,9 @@ fn recheck(
             to.workspace
         ));
     }
-    let mut arms: Vec<(u32, &[f64])> = Vec::new();
+    let mut arms: Vec<(EndEffectorId, &[f64])> = Vec::new();
     for config in &witness.configurations {
-        let Holder::Arm { robot, base, .. } = &scene.holders[config.end_effector as usize] else {
+        let Holder::Arm { robot, base, .. } = &scene.holders[config.end_effector.index()] else {
             return Err("a configuration of something that is not an arm".into());
         };
         let robot = &scene.robots[*robot];
@@ -111,13 +113,13 @@ fn recheck(
     }
     let surface = [from, to].into_iter().find(|n| {
         matches!(
-            scene.holders[n.end_effector as usize],
+            scene.holders[n.end_effector.index()],
             Holder::Surface { .. }
         )
     });
     let placement = match (arc.kind, surface) {
         (ArcKind::Transition, Some(s)) => {
-            let Holder::Surface { slab, .. } = &scene.holders[s.end_effector as usize] else {
+            let Holder::Surface { slab, .. } = &scene.holders[s.end_effector.index()] else {
                 unreachable!()
             };
             // Resting: on the top face, in the resting pose up to a turn about the vertical.
@@ -150,7 +152,7 @@ fn recheck(
         },
     };
     let mut scratch = SceneScratch::default();
-    match scene.collision(&arms, object as u32, placement, &mut scratch) {
+    match scene.collision(&arms, ObjectId(object as u32), placement, &mut scratch) {
         Ok(None) => Ok(()),
         Ok(Some((a, b))) => Err(format!("{a} collides with {b}")),
         Err(e) => Err(format!("query failed: {e:?}")),
@@ -176,7 +178,7 @@ fn every_witness_of_every_shipped_geometric_cell_passes_a_recheck() {
             // Every arc between geometric holders was decided: kept with a witness or pruned.
             for arc in &object.graph.arcs {
                 let holders = [arc.from, arc.to]
-                    .map(|n| &scene.holders[object.graph.nodes[n as usize].end_effector as usize]);
+                    .map(|n| &scene.holders[object.graph.nodes[n as usize].end_effector.index()]);
                 let geometric = holders.iter().any(|h| matches!(h, Holder::Arm { .. }));
                 assert!(
                     !geometric || arc.witness.is_some(),

@@ -39,7 +39,7 @@ fn behaviour(cell: &Cell, name: &str, seed: u64) -> (Vec<String>, String) {
     let plan = plan(cell, name, seed);
     let mut holders: Vec<String> = Vec::new();
     for s in &plan.states {
-        let h = a.end_effectors[s.end_effector as usize].name.clone();
+        let h = a.end_effectors[s.end_effector.index()].name.clone();
         if holders.last() != Some(&h) {
             holders.push(h);
         }
@@ -107,9 +107,9 @@ fn the_colander_is_handed_over_too() {
 /// several centimetres off the object. Returns the step's index.
 fn tamper_with_a_grasp(cell: &Cell, plan: &mut Plan, from: usize) -> usize {
     let scene = cell.scene().expect("geometric");
-    let is_arm = |e: u32| {
+    let is_arm = |e: cellc_schema::EndEffectorId| {
         matches!(
-            scene.holders[e as usize],
+            scene.holders[e.index()],
             cellc_runtime::scene::Holder::Arm { .. }
         )
     };

@@ -149,14 +149,14 @@ pub fn lower(cell: &Cell, graphs: &[ObjectGraph], sources: &SourceMap) -> schema
                     (cell.grasps[g].object == object).then(|| index_in_object[g.index()])
                 };
                 let placement = |p: &RequestPlacement| schema::RequestPlacement {
-                    end_effector: p.end_effector.0,
-                    grasp: p.grasp.and_then(grasp_index),
-                    workspace: p.workspace.map(|w| w.0),
+                    end_effector: schema::EndEffectorId(p.end_effector.0),
+                    grasp: p.grasp.and_then(grasp_index).map(schema::GraspId),
+                    workspace: p.workspace.map(|w| schema::WorkspaceId(w.0)),
                     pose: p.pose.as_ref().map(iso_to_schema),
                 };
                 schema::NamedRequest {
                     name: r.name.clone(),
-                    object: r.object.0,
+                    object: schema::ObjectId(r.object.0),
                     from: placement(&r.from),
                     to: placement(&r.to),
                     span: spans.get(r.origin.file, r.origin.span),
@@ -211,9 +211,9 @@ fn lower_object(
         .graph
         .node_weights()
         .map(|s| schema::Node {
-            end_effector: s.end_effector.0,
-            grasp: grasp_index[&s.grasp],
-            workspace: s.workspace.0,
+            end_effector: schema::EndEffectorId(s.end_effector.0),
+            grasp: schema::GraspId(grasp_index[&s.grasp]),
+            workspace: schema::WorkspaceId(s.workspace.0),
         })
         .collect();
     let arcs = g

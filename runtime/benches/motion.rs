@@ -15,6 +15,7 @@ use cellc_runtime::scene::ObjectPlacement;
 use cellc_runtime::scene::{Scene, SceneScratch};
 use cellc_runtime::termination::Termination;
 use cellc_runtime::validity::SceneValidity;
+use cellc_runtime::{EndEffectorId, ObjectId};
 use criterion::{criterion_group, criterion_main, Criterion};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
@@ -22,6 +23,10 @@ use rand_chacha::ChaCha8Rng;
 #[path = "../tests/support/motion_fixture.rs"]
 mod fixture;
 use fixture::*;
+
+/// The fixture's arms, in the order it declares them.
+const LEFT: EndEffectorId = EndEffectorId(0);
+const RIGHT: EndEffectorId = EndEffectorId(1);
 
 fn scene(arms: &[(&str, [f64; 4])], boxes: &[(&str, [f64; 3], [f64; 3])]) -> Scene {
     Scene::load(&artifact(arms, boxes), &Repo).expect("the test cell loads")
@@ -102,12 +107,12 @@ fn motions(c: &mut Criterion) {
         &[("left", arm)],
         &[("pillar", [0.4, -0.1, 0.0], [0.7, 0.1, 0.75])],
     );
-    let validity =
-        SceneValidity::new(&pillar, &[0], &[], 0, ObjectPlacement::Absent).expect("one arm");
+    let validity = SceneValidity::new(&pillar, &[LEFT], &[], ObjectId(0), ObjectPlacement::Absent)
+        .expect("one arm");
     let (start, goal) = (down(arm, [0.5, -0.35, 0.35]), down(arm, [0.5, 0.35, 0.35]));
     let one = MotionProblem {
         scene: &pillar,
-        arms: &[0],
+        arms: &[LEFT],
         start: &start,
         goal: &goal,
         validity: &validity,
@@ -117,15 +122,21 @@ fn motions(c: &mut Criterion) {
     let (l, r) = ([0.0, 0.0, 0.0, 0.0], [1.0, 0.0, 0.0, PI]);
     let facing = scene(&[("left", l), ("right", r)], &[]);
     let (a, b) = ([0.5, 0.25, 0.3], [0.5, -0.25, 0.3]);
-    let validity =
-        SceneValidity::new(&facing, &[0, 1], &[], 0, ObjectPlacement::Absent).expect("two arms");
+    let validity = SceneValidity::new(
+        &facing,
+        &[LEFT, RIGHT],
+        &[],
+        ObjectId(0),
+        ObjectPlacement::Absent,
+    )
+    .expect("two arms");
     let (start, goal) = (
         [down(l, a), down(r, b)].concat(),
         [down(l, b), down(r, a)].concat(),
     );
     let two = MotionProblem {
         scene: &facing,
-        arms: &[0, 1],
+        arms: &[LEFT, RIGHT],
         start: &start,
         goal: &goal,
         validity: &validity,

@@ -35,7 +35,7 @@ pub fn main() -> Result<(), Box<dyn std::error::Error>> {
     println!("{name}: {} in {} steps", plan.strategy, plan.steps.len());
     let mut simulator = cell.simulator(&plan);
     let run = cell.execute(plan, &mut simulator, &ExecuteOptions::default())?;
-    let holder = &cell.artifact().end_effectors[run.final_state.end_effector as usize].name;
+    let holder = &cell.artifact().end_effectors[run.final_state.end_effector.index()].name;
     println!("done: held by `{holder}` after {} steps", run.steps_done);
     Ok(())
 }

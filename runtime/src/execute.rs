@@ -8,7 +8,7 @@
 //! a surface, never from the pose written in a command. A grasp whose hand is not where
 //! the object is, or a put-down that leaves the object floating, fails the step.
 
-use cellc_schema::{Artifact, Node};
+use cellc_schema::{Artifact, EndEffectorId, GraspId, Node, ObjectId};
 
 use crate::math::{iso_from_schema, Iso};
 use crate::plan::planner::{Planner, WorldState};
@@ -27,7 +27,7 @@ pub enum StepError {
     /// A hand closed where the object is not: its grasp does not match the object's pose.
     GraspMissed {
         /// The grasping end-effector.
-        holder: u32,
+        holder: EndEffectorId,
         /// Distance between where the grasp puts the object and where it is, metres.
         position_error: f64,
         /// Orientation difference up to the object's symmetries, radians.
@@ -37,7 +37,7 @@ pub enum StepError {
     /// the surface's resting pose says.
     NotResting {
         /// The surface.
-        surface: u32,
+        surface: EndEffectorId,
         /// Height error above the surface, metres.
         height_error: f64,
         /// Orientation error up to a turn about the vertical, radians.
@@ -46,14 +46,14 @@ pub enum StepError {
     /// A command names a holder that does not hold the object.
     NotHolding {
         /// The end-effector the command names.
-        holder: u32,
+        holder: EndEffectorId,
         /// The one that holds the object.
-        actual: u32,
+        actual: EndEffectorId,
     },
     /// A motion ends elsewhere than the configuration its command states.
     MotionMismatch {
         /// The arm.
-        arm: u32,
+        arm: EndEffectorId,
         /// Largest joint difference, radians or metres.
         joint_error: f64,
     },
@@ -142,7 +142,7 @@ impl Default for SimulatorTolerance {
 pub struct Simulator<'a> {
     artifact: &'a Artifact,
     scene: Option<&'a Scene>,
-    object: u32,
+    object: ObjectId,
     state: Node,
     pose: Option<Iso>,
     /// Object pose in the holding arm's tip frame, while an arm holds it.
@@ -161,7 +161,7 @@ impl<'a> Simulator<'a> {
     pub fn new(
         artifact: &'a Artifact,
         scene: Option<&'a Scene>,
-        object: u32,
+        object: ObjectId,
         state: Node,
         pose: Option<Iso>,
     ) -> Simulator<'a> {
@@ -207,34 +207,34 @@ impl<'a> Simulator<'a> {
         self.pose
     }
 
-    fn is_arm(&self, e: u32) -> bool {
+    fn is_arm(&self, e: EndEffectorId) -> bool {
         self.scene
-            .is_some_and(|s| matches!(s.holders.get(e as usize), Some(Holder::Arm { .. })))
+            .is_some_and(|s| matches!(s.holders.get(e.index()), Some(Holder::Arm { .. })))
     }
 
-    fn tip(&self, e: u32) -> Option<Iso> {
+    fn tip(&self, e: EndEffectorId) -> Option<Iso> {
         let scene = self.scene?;
-        let Some(Holder::Arm { robot, base, .. }) = scene.holders.get(e as usize) else {
+        let Some(Holder::Arm { robot, base, .. }) = scene.holders.get(e.index()) else {
             return None;
         };
-        let q = self.arms.get(e as usize)?.as_ref()?;
+        let q = self.arms.get(e.index())?.as_ref()?;
         let robot = scene.robots.get(*robot)?;
         (q.len() == robot.n_joints()).then(|| robot.tip_pose(base, q))
     }
 
-    fn grasp_pose(&self, g: u32) -> Iso {
+    fn grasp_pose(&self, g: GraspId) -> Iso {
         self.artifact
             .objects
-            .get(self.object as usize)
-            .and_then(|o| o.grasps.get(g as usize))
+            .get(self.object.index())
+            .and_then(|o| o.grasps.get(g.index()))
             .and_then(|g| g.pose.as_ref())
             .map(iso_from_schema)
             .unwrap_or_else(Iso::identity)
     }
 
-    fn set_arms(&mut self, configurations: &[(u32, Vec<f64>)]) {
+    fn set_arms(&mut self, configurations: &[(EndEffectorId, Vec<f64>)]) {
         for (e, q) in configurations {
-            if let Some(slot) = self.arms.get_mut(*e as usize) {
+            if let Some(slot) = self.arms.get_mut(e.index()) {
                 *slot = Some(q.clone());
             }
         }
@@ -253,7 +253,7 @@ impl<'a> Simulator<'a> {
             let mut offset = 0;
             let mut configurations = Vec::new();
             for &e in &trajectory.arms {
-                let n = match scene.holders.get(e as usize) {
+                let n = match scene.holders.get(e.index()) {
                     Some(Holder::Arm { robot, .. }) => {
                         scene.robots.get(*robot).map_or(0, |r| r.n_joints())
                     }
@@ -270,13 +270,17 @@ impl<'a> Simulator<'a> {
 
     /// Reaches the configurations a command states: by the motion when there is one
     /// (which must end there), by jumping when the plan has no motions.
-    fn reach(&mut self, step: &Step, configurations: &[(u32, Vec<f64>)]) -> Result<(), StepError> {
+    fn reach(
+        &mut self,
+        step: &Step,
+        configurations: &[(EndEffectorId, Vec<f64>)],
+    ) -> Result<(), StepError> {
         if step.motion.is_none() {
             self.set_arms(configurations);
             return Ok(());
         }
         for (e, q) in configurations {
-            let Some(now) = self.arms.get(*e as usize).and_then(|q| q.as_ref()) else {
+            let Some(now) = self.arms.get(e.index()).and_then(|q| q.as_ref()) else {
                 continue;
             };
             let joint_error = now
@@ -295,7 +299,7 @@ impl<'a> Simulator<'a> {
     }
 
     /// An arm closes its hand with `grasp`: the object must be where that grasp puts it.
-    fn check_grasp(&self, holder: u32, grasp: u32) -> Result<Iso, StepError> {
+    fn check_grasp(&self, holder: EndEffectorId, grasp: GraspId) -> Result<Iso, StepError> {
         let (Some(tip), Some(pose)) = (self.tip(holder), self.pose) else {
             return Ok(Iso::identity());
         };
@@ -304,7 +308,7 @@ impl<'a> Simulator<'a> {
         let symmetries = self
             .artifact
             .objects
-            .get(self.object as usize)
+            .get(self.object.index())
             .map_or(&[][..], |o| o.symmetries.as_slice());
         let rotation_error =
             crate::symmetry::residual(&(expected.rotation.inverse() * pose.rotation), symmetries);
@@ -320,17 +324,17 @@ impl<'a> Simulator<'a> {
 
     /// The object is let go onto surface `surface` with its resting pose `rest`: it must
     /// lie on the top face in that resting pose (up to a turn about the vertical).
-    fn check_rest(&self, surface: u32, rest: u32) -> Result<(), StepError> {
+    fn check_rest(&self, surface: EndEffectorId, rest: GraspId) -> Result<(), StepError> {
         let (Some(scene), Some(pose)) = (self.scene, self.pose) else {
             return Ok(());
         };
-        let Some(Holder::Surface { slab, .. }) = scene.holders.get(surface as usize) else {
+        let Some(Holder::Surface { slab, .. }) = scene.holders.get(surface.index()) else {
             return Ok(());
         };
         let symmetries = self
             .artifact
             .objects
-            .get(self.object as usize)
+            .get(self.object.index())
             .map_or(&[][..], |o| o.symmetries.as_slice());
         let (height_error, rotation_error) =
             crate::plan::locate::rest_error(&pose, &self.grasp_pose(rest), slab.maxs.z, symmetries);
@@ -357,10 +361,10 @@ impl Executor for Simulator<'_> {
             });
         }
         self.follow(step);
-        let name = |e: u32| {
+        let name = |e: EndEffectorId| {
             self.artifact
                 .end_effectors
-                .get(e as usize)
+                .get(e.index())
                 .map_or("?", |x| x.name.as_str())
                 .to_string()
         };

@@ -3,7 +3,7 @@
 //! checks, workspaces as boxes.
 
 use cellc_schema::files::MAX_URDF_BYTES;
-use cellc_schema::{self as schema, sha256_hex, Artifact};
+use cellc_schema::{self as schema, sha256_hex, Artifact, EndEffectorId, ObjectId};
 use parry3d_f64::shape::SharedShape;
 
 use crate::collision::{
@@ -168,7 +168,7 @@ pub enum ObjectPlacement {
     /// Held by one arm with a grasp (object pose in the hand frame).
     Held {
         /// End-effector.
-        by: u32,
+        by: EndEffectorId,
         /// Grasp pose.
         grasp: Iso,
     },
@@ -176,31 +176,31 @@ pub enum ObjectPlacement {
     /// and may touch that surface.
     Placing {
         /// The arm.
-        by: u32,
+        by: EndEffectorId,
         /// Its grasp.
         grasp: Iso,
         /// The surface it goes onto.
-        on: u32,
+        on: EndEffectorId,
         /// Another arm's hand still on the object (it let go but could not retreat).
-        also: Option<u32>,
+        also: Option<EndEffectorId>,
     },
     /// Held by two arms at once (a handoff); the pose follows the first.
     Handoff {
         /// End-effector whose grasp places the object.
-        a: u32,
+        a: EndEffectorId,
         /// Its grasp.
         grasp_a: Iso,
         /// The other holder.
-        b: u32,
+        b: EndEffectorId,
     },
     /// Resting on a surface at `pose`, possibly held by an arm too (a pick or a place).
     Resting {
         /// The surface end-effector.
-        on: u32,
+        on: EndEffectorId,
         /// Object pose in the cell.
         pose: Iso,
         /// The arm holding it at the same time.
-        by: Option<u32>,
+        by: Option<EndEffectorId>,
     },
     /// Left out of the check (motions with the object elsewhere, or none moved yet).
     Absent,
@@ -211,9 +211,9 @@ pub enum ObjectPlacement {
 #[non_exhaustive]
 pub enum QueryError {
     /// The end-effector is not an arm of the scene.
-    NotAnArm(u32),
+    NotAnArm(EndEffectorId),
     /// The end-effector is not a surface of the scene.
-    NotASurface(u32),
+    NotASurface(EndEffectorId),
     /// The collision world refused the state.
     Collision(CollisionError),
     /// A configuration has the wrong number of joint values for the arms it is for.
@@ -417,8 +417,8 @@ impl Scene {
     /// Returns the names of the colliding pair.
     pub fn collision(
         &self,
-        arms: &[(u32, &[f64])],
-        object: u32,
+        arms: &[(EndEffectorId, &[f64])],
+        object: ObjectId,
         placement: ObjectPlacement,
         scratch: &mut SceneScratch,
     ) -> Result<Option<(String, String)>, QueryError> {
@@ -433,8 +433,8 @@ impl Scene {
     /// (the inner loops of motion planning ask this millions of times).
     pub fn is_free(
         &self,
-        arms: &[(u32, &[f64])],
-        object: u32,
+        arms: &[(EndEffectorId, &[f64])],
+        object: ObjectId,
         placement: ObjectPlacement,
         scratch: &mut SceneScratch,
     ) -> Result<bool, QueryError> {
@@ -446,8 +446,8 @@ impl Scene {
     /// The first colliding pair of the state [`Scene::collision`] describes, as body ids.
     fn first_collision(
         &self,
-        arms: &[(u32, &[f64])],
-        object: u32,
+        arms: &[(EndEffectorId, &[f64])],
+        object: ObjectId,
         placement: ObjectPlacement,
         scratch: &mut SceneScratch,
     ) -> Result<Option<Collision>, QueryError> {
@@ -461,8 +461,8 @@ impl Scene {
     /// [`CollisionWorld::free_radius`] (in the segment's parameter, at most `horizon`).
     pub(crate) fn free_radius(
         &self,
-        arms: &[(u32, &[f64])],
-        object: u32,
+        arms: &[(EndEffectorId, &[f64])],
+        object: ObjectId,
         placement: ObjectPlacement,
         bounds: &SweepBounds,
         horizon: f64,
@@ -474,16 +474,16 @@ impl Scene {
     }
 
     /// The world robot of end-effector `e`, for an arm.
-    pub(crate) fn world_robot(&self, e: u32) -> Option<usize> {
-        self.world_robot.get(e as usize).copied().flatten()
+    pub(crate) fn world_robot(&self, e: EndEffectorId) -> Option<usize> {
+        self.world_robot.get(e.index()).copied().flatten()
     }
 
     /// Builds the collision state the queries above describe (every arm's frames, the
     /// object placed) in `scratch` and asks `query` about it.
     fn with_configuration<T>(
         &self,
-        arms: &[(u32, &[f64])],
-        object: u32,
+        arms: &[(EndEffectorId, &[f64])],
+        object: ObjectId,
         placement: ObjectPlacement,
         scratch: &mut SceneScratch,
         query: impl FnOnce(&Configuration<'_>, &mut CollisionScratch) -> Result<T, CollisionError>,
@@ -496,7 +496,7 @@ impl Scene {
             };
             let q = arms
                 .iter()
-                .find(|(arm, _)| *arm as usize == e)
+                .find(|(arm, _)| arm.index() == e)
                 .map_or(home.as_slice(), |(_, q)| *q);
             self.robots[*robot].fk_frames(base, q, &mut scratch.frames[r]);
         }
@@ -504,7 +504,7 @@ impl Scene {
         scratch
             .objects
             .resize(self.object_shapes.len(), ObjectState::absent());
-        let robot_of = |e: u32| self.world_robot.get(e as usize).copied().flatten();
+        let robot_of = |e: EndEffectorId| self.world_robot(e);
         let state = match placement {
             ObjectPlacement::Held { by, grasp } => {
                 let r = robot_of(by).ok_or(QueryError::NotAnArm(by))?;
@@ -527,7 +527,7 @@ impl Scene {
                     .ok_or(QueryError::NotAnArm(by))?;
                 let surface = self
                     .world_fixed
-                    .get(on as usize)
+                    .get(on.index())
                     .copied()
                     .flatten()
                     .ok_or(QueryError::NotASurface(on))?;
@@ -551,7 +551,7 @@ impl Scene {
             ObjectPlacement::Resting { on, pose, by } => {
                 let surface = self
                     .world_fixed
-                    .get(on as usize)
+                    .get(on.index())
                     .copied()
                     .flatten()
                     .ok_or(QueryError::NotASurface(on))?;
@@ -564,7 +564,7 @@ impl Scene {
             }
             ObjectPlacement::Absent => ObjectState::absent(),
         };
-        if let Some(slot) = scratch.objects.get_mut(object as usize) {
+        if let Some(slot) = scratch.objects.get_mut(object.index()) {
             *slot = state;
         }
         // The frames as slices, listed without allocating for the usual handful of arms.

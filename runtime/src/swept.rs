@@ -37,6 +37,8 @@
 
 use parry3d_f64::shape::SharedShape;
 
+use cellc_schema::ObjectId;
+
 use crate::collision::{Mount, SweepBounds};
 use crate::math::{Iso, Point, Vec3};
 use crate::robot::Robot;
@@ -85,7 +87,7 @@ impl SweptBodies {
     pub(crate) fn new(
         scene: &Scene,
         slices: &[ArmSlice],
-        object: u32,
+        object: ObjectId,
         placement: &ObjectPlacement,
     ) -> SweptBodies {
         let mut swept = SweptBodies {
@@ -114,7 +116,7 @@ impl SweptBodies {
                     Mount::Frame { robot: r, frame } if r == world_robot => {
                         (frame, body.local, body.centre)
                     }
-                    Mount::Object { object: o } if o == object as usize => match &carried {
+                    Mount::Object { object: o } if o == object.index() => match &carried {
                         Some(in_hand) => (n, in_hand * body.local, in_hand * body.centre),
                         None => continue,
                     },

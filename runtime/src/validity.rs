@@ -13,6 +13,8 @@
 use std::fmt;
 use std::sync::OnceLock;
 
+use cellc_schema::{EndEffectorId, ObjectId};
+
 use crate::scene::{Holder, ObjectPlacement, QueryError, Scene, SceneScratch};
 use crate::swept::{SweptBodies, LOOKAHEAD};
 
@@ -73,7 +75,7 @@ pub enum StateFault {
     /// A joint is outside its limits or not finite.
     OutOfLimits {
         /// The arm.
-        end_effector: u32,
+        end_effector: EndEffectorId,
         /// Joint index in the arm's chain.
         joint: usize,
         /// The value.
@@ -104,18 +106,18 @@ pub enum LayoutError {
     /// The end-effector is not an arm of the scene.
     NotAnArm {
         /// End-effector.
-        end_effector: u32,
+        end_effector: EndEffectorId,
     },
     /// The end-effector is listed twice (among the moving arms, the stationary ones, or
     /// in both).
     RepeatedArm {
         /// End-effector.
-        end_effector: u32,
+        end_effector: EndEffectorId,
     },
     /// A stationary arm's joints have the wrong length.
     WrongLength {
         /// The arm.
-        end_effector: u32,
+        end_effector: EndEffectorId,
         /// Values expected.
         expected: usize,
         /// Values given.
@@ -124,7 +126,7 @@ pub enum LayoutError {
     /// A stationary arm's joint is outside its limits or not finite.
     OutOfLimits {
         /// The arm.
-        end_effector: u32,
+        end_effector: EndEffectorId,
         /// Joint index in the arm's chain.
         joint: usize,
         /// The value.
@@ -135,18 +137,21 @@ pub enum LayoutError {
 /// A moving arm's slice of the combined configuration.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct ArmSlice {
-    pub(crate) end_effector: u32,
+    pub(crate) end_effector: EndEffectorId,
     pub(crate) robot: usize,
     pub(crate) offset: usize,
     pub(crate) len: usize,
 }
 
 /// The slices of `arms` in the combined configuration, in order.
-pub(crate) fn arm_slices(scene: &Scene, arms: &[u32]) -> Result<Vec<ArmSlice>, LayoutError> {
+pub(crate) fn arm_slices(
+    scene: &Scene,
+    arms: &[EndEffectorId],
+) -> Result<Vec<ArmSlice>, LayoutError> {
     let mut slices = Vec::with_capacity(arms.len());
     let mut offset = 0;
     for (i, &end_effector) in arms.iter().enumerate() {
-        let Some(Holder::Arm { robot, .. }) = scene.holders.get(end_effector as usize) else {
+        let Some(Holder::Arm { robot, .. }) = scene.holders.get(end_effector.index()) else {
             return Err(LayoutError::NotAnArm { end_effector });
         };
         if arms[..i].contains(&end_effector) {
@@ -169,7 +174,7 @@ pub(crate) fn out_of_limits(
     scene: &Scene,
     slices: &[ArmSlice],
     q: &[f64],
-) -> Option<(u32, usize, f64)> {
+) -> Option<(EndEffectorId, usize, f64)> {
     for s in slices {
         let (lower, upper) = scene.robots[s.robot].limits();
         let values = &q[s.offset..s.offset + s.len];
@@ -196,8 +201,8 @@ pub struct SceneValidity<'a> {
     scene: &'a Scene,
     slices: Vec<ArmSlice>,
     dim: usize,
-    stationary: &'a [(u32, Vec<f64>)],
-    object: u32,
+    stationary: &'a [(EndEffectorId, Vec<f64>)],
+    object: ObjectId,
     placement: ObjectPlacement,
     /// The moving bodies' reach radii, computed on the first clearance query (most
     /// checkers, in verification, only ever judge single states).
@@ -213,15 +218,15 @@ impl<'a> SceneValidity<'a> {
     /// joints have the wrong length or leave its limits.
     pub fn new(
         scene: &'a Scene,
-        arms: &[u32],
-        stationary: &'a [(u32, Vec<f64>)],
-        object: u32,
+        arms: &[EndEffectorId],
+        stationary: &'a [(EndEffectorId, Vec<f64>)],
+        object: ObjectId,
         placement: ObjectPlacement,
     ) -> Result<SceneValidity<'a>, LayoutError> {
         let slices = arm_slices(scene, arms)?;
         for (i, (e, q)) in stationary.iter().enumerate() {
             let end_effector = *e;
-            let Some(Holder::Arm { robot, .. }) = scene.holders.get(end_effector as usize) else {
+            let Some(Holder::Arm { robot, .. }) = scene.holders.get(end_effector.index()) else {
                 return Err(LayoutError::NotAnArm { end_effector });
             };
             if arms.contains(e) || stationary[..i].iter().any(|(s, _)| s == e) {
@@ -279,7 +284,7 @@ impl<'a> SceneValidity<'a> {
     fn with_arms<T>(
         &self,
         q: &[f64],
-        query: impl FnOnce(&[(u32, &[f64])]) -> Result<T, QueryError>,
+        query: impl FnOnce(&[(EndEffectorId, &[f64])]) -> Result<T, QueryError>,
     ) -> Result<T, QueryError> {
         if q.len() != self.dim {
             return Err(QueryError::WrongLength {
@@ -288,12 +293,13 @@ impl<'a> SceneValidity<'a> {
             });
         }
         let n = self.slices.len() + self.stationary.len();
-        let mut inline: [(u32, &[f64]); INLINE_ARMS] = [(0, &[]); INLINE_ARMS];
-        let mut heap: Vec<(u32, &[f64])>;
-        let list: &mut [(u32, &[f64])] = if n <= INLINE_ARMS {
+        let mut inline: [(EndEffectorId, &[f64]); INLINE_ARMS] =
+            [(EndEffectorId(0), &[]); INLINE_ARMS];
+        let mut heap: Vec<(EndEffectorId, &[f64])>;
+        let list: &mut [(EndEffectorId, &[f64])] = if n <= INLINE_ARMS {
             &mut inline[..n]
         } else {
-            heap = vec![(0, &[][..]); n];
+            heap = vec![(EndEffectorId(0), &[][..]); n];
             &mut heap
         };
         for (slot, s) in list.iter_mut().zip(&self.slices) {

@@ -483,9 +483,9 @@ fn a_request_outside_the_graph_is_reported_without_panicking() {
     let mut un = unreachable(&d, &art, &Req::new(st("table", "g1", "w1"), vec![]));
     assert_eq!(explain(&art, &un), Err(NoStates::Goals));
     un.goals = vec![art.objects[0].graph.nodes[3]];
-    un.start.grasp = 99;
+    un.start.grasp = GraspId(99);
     assert_eq!(explain(&art, &un), Err(NoStates::Start));
-    un.object = 7;
+    un.object = ObjectId(7);
     assert_eq!(explain(&art, &un), Err(NoStates::Object(ObjectId(7))));
 }
 

@@ -18,6 +18,7 @@ use cellc_runtime::plan::Trajectory;
 use cellc_runtime::scene::{Holder, ObjectPlacement, QueryError, Scene, SceneScratch};
 use cellc_runtime::termination::Termination;
 use cellc_runtime::validity::{SceneValidity, StateFault, StateValidity};
+use cellc_runtime::{EndEffectorId, ObjectId};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
@@ -65,17 +66,17 @@ const DENSE: f64 = 0.005;
 #[derive(Clone)]
 struct Case<'a> {
     scene: &'a Scene,
-    arms: Vec<u32>,
+    arms: Vec<EndEffectorId>,
     start: Vec<f64>,
     goal: Vec<f64>,
-    stationary: Vec<(u32, Vec<f64>)>,
+    stationary: Vec<(EndEffectorId, Vec<f64>)>,
     placement: ObjectPlacement,
 }
 
 fn problem<'a>(scene: &'a Scene, arms: Vec<u32>, start: Vec<f64>, goal: Vec<f64>) -> Case<'a> {
     Case {
         scene,
-        arms,
+        arms: arms.into_iter().map(EndEffectorId).collect(),
         start,
         goal,
         stationary: Vec::new(),
@@ -90,7 +91,7 @@ impl Case<'_> {
             self.scene,
             &self.arms,
             &self.stationary,
-            0,
+            ObjectId(0),
             self.placement,
         )?)
     }
@@ -134,7 +135,7 @@ fn recheck(case: &Case<'_>, trajectory: &Trajectory) -> Result<(), TrajectoryFau
         case.scene,
         trajectory,
         &case.stationary,
-        0,
+        ObjectId(0),
         &case.placement,
         DENSE,
         &mut SceneScratch::default(),
@@ -325,7 +326,7 @@ fn stationary_arms_are_obstacles() {
     let t = plan(&p, 3).expect("a free straight line");
     assert!(is_straight(&t));
     // Parked in the middle, it is in the way.
-    p.stationary = vec![(1, down(FACING[1].1, [0.55, 0.0, 0.3]))];
+    p.stationary = vec![(EndEffectorId(1), down(FACING[1].1, [0.55, 0.0, 0.3]))];
     assert!(matches!(
         recheck(&p, &straight(&p)),
         Err(TrajectoryFault::Collision { .. })
@@ -350,7 +351,7 @@ fn held_object_follows_the_hand() {
     let empty = plan(&p, 4).expect("empty-handed, the straight line is free");
     assert!(is_straight(&empty));
     p.placement = ObjectPlacement::Held {
-        by: 0,
+        by: EndEffectorId(0),
         grasp: Iso::translation(0.0, 0.0, 0.25),
     };
     match recheck(&p, &straight(&p)) {
@@ -444,7 +445,7 @@ fn malformed_problems_are_errors() {
         plan(&problem(&scene, vec![0], q.clone(), far), 0),
         Err(MotionError::OutOfLimits {
             joints: Joints::Goal,
-            end_effector: 0,
+            end_effector: EndEffectorId(0),
             joint: 1,
             ..
         })
@@ -452,7 +453,9 @@ fn malformed_problems_are_errors() {
     // End-effector 1 is the pillar.
     assert_eq!(
         plan(&problem(&scene, vec![1], Vec::new(), Vec::new()), 0),
-        Err(MotionError::NotAnArm { end_effector: 1 })
+        Err(MotionError::NotAnArm {
+            end_effector: EndEffectorId(1)
+        })
     );
     assert_eq!(
         plan(
@@ -464,7 +467,9 @@ fn malformed_problems_are_errors() {
             ),
             0
         ),
-        Err(MotionError::RepeatedArm { end_effector: 0 })
+        Err(MotionError::RepeatedArm {
+            end_effector: EndEffectorId(0)
+        })
     );
     let mut rng = ChaCha8Rng::seed_from_u64(0);
     let bad = MotionOptions {
@@ -481,7 +486,7 @@ fn malformed_problems_are_errors() {
     // A held object's holder must be an arm.
     let mut p = problem(&scene, vec![0], q.clone(), q);
     p.placement = ObjectPlacement::Held {
-        by: 1,
+        by: EndEffectorId(1),
         grasp: Iso::identity(),
     };
     assert!(matches!(plan(&p, 0), Err(MotionError::Query(_))));
@@ -643,7 +648,7 @@ fn certified_segments_are_free_at_any_resolution() {
     let robot = &scene.robots[*robot];
     let mut case = problem(&scene, vec![0], Vec::new(), Vec::new());
     case.placement = ObjectPlacement::Held {
-        by: 0,
+        by: EndEffectorId(0),
         grasp: Iso::translation(0.0, 0.0, 0.25),
     };
     let validity = case.validity().expect("a valid layout");
@@ -672,11 +677,19 @@ fn certified_segments_are_free_at_any_resolution() {
         }
         accepted += 1;
         let t = Trajectory {
-            arms: vec![0],
+            arms: vec![EndEffectorId(0)],
             points: vec![(0.0, a.clone()), (1.0, b)],
         };
         let fine = options.collision_resolution / 50.0;
-        let checked = check_trajectory(&scene, &t, &[], 0, &case.placement, fine, &mut scratch);
+        let checked = check_trajectory(
+            &scene,
+            &t,
+            &[],
+            ObjectId(0),
+            &case.placement,
+            fine,
+            &mut scratch,
+        );
         assert_eq!(checked, Ok(()), "{:?}", t.points);
     }
     // Both answers are exercised.
@@ -704,7 +717,7 @@ proptest::proptest! {
         let mut scratch = SceneScratch::default();
         let free = |q: &[f64], scratch: &mut SceneScratch| {
             scene
-                .collision(&[(0, q)], 0, ObjectPlacement::Absent, scratch)
+                .collision(&[(EndEffectorId(0), q)], ObjectId(0), ObjectPlacement::Absent, scratch)
                 .expect("the query is well formed")
                 .is_none()
         };
@@ -732,7 +745,7 @@ proptest::proptest! {
             &scene,
             &t,
             &[],
-            0,
+            ObjectId(0),
             &ObjectPlacement::Absent,
             options.collision_resolution,
             &mut scratch,

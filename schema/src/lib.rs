@@ -84,8 +84,8 @@ pub struct Artifact {
 pub struct NamedRequest {
     /// Name.
     pub name: String,
-    /// Index into [`Artifact::objects`].
-    pub object: u32,
+    /// The object.
+    pub object: ObjectId,
     /// Where the object is.
     pub from: RequestPlacement,
     /// Where it must go.
@@ -97,12 +97,12 @@ pub struct NamedRequest {
 /// A placement in a request.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct RequestPlacement {
-    /// Index into [`Artifact::end_effectors`].
-    pub end_effector: u32,
-    /// Index into the object's grasps, when named.
-    pub grasp: Option<u32>,
-    /// Index into [`Artifact::workspaces`], when named.
-    pub workspace: Option<u32>,
+    /// The holder.
+    pub end_effector: EndEffectorId,
+    /// The object's grasp, when named.
+    pub grasp: Option<GraspId>,
+    /// The workspace, when named.
+    pub workspace: Option<WorkspaceId>,
     /// Object pose, when given.
     pub pose: Option<Pose>,
 }
@@ -141,8 +141,8 @@ pub struct Witness {
 /// Joint values of one arm.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct ArmConfiguration {
-    /// Index into [`Artifact::end_effectors`].
-    pub end_effector: u32,
+    /// The arm.
+    pub end_effector: EndEffectorId,
     /// One value per joint of its robot's chain.
     pub joints: Vec<f64>,
 }
@@ -154,8 +154,8 @@ pub struct ArmConfiguration {
 pub enum Infeasibility {
     /// No joint configuration reaches the needed pose.
     NoIkSolution {
-        /// The arm (index into [`Artifact::end_effectors`]) that could not reach.
-        end_effector: u32,
+        /// The arm that could not reach.
+        end_effector: EndEffectorId,
         /// Attempts made.
         tries: u32,
         /// Smallest position error reached, metres.
@@ -166,10 +166,10 @@ pub enum Infeasibility {
     /// No configuration of two arms holds the object at once in the workspace (the closed
     /// chain of a handoff does not close).
     NoClosedChain {
-        /// One arm (index into [`Artifact::end_effectors`]).
-        a: u32,
+        /// One arm.
+        a: EndEffectorId,
         /// The other.
-        b: u32,
+        b: EndEffectorId,
         /// Attempts made.
         tries: u32,
         /// Smallest loop-closure position error reached, metres.
@@ -465,15 +465,16 @@ pub struct DeclaredTransition {
     pub span: u32,
 }
 
-/// A state S(end-effector, grasp, workspace).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+/// A state S(end-effector, grasp, workspace). Ordered by end-effector, then grasp, then
+/// workspace, the order the graph rules list states in.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
 pub struct Node {
-    /// Index into [`Artifact::end_effectors`].
-    pub end_effector: u32,
-    /// Index into the object's `grasps`.
-    pub grasp: u32,
-    /// Index into [`Artifact::workspaces`].
-    pub workspace: u32,
+    /// Which end-effector holds the object.
+    pub end_effector: EndEffectorId,
+    /// Which of the object's grasps (or resting poses).
+    pub grasp: GraspId,
+    /// Which workspace.
+    pub workspace: WorkspaceId,
 }
 
 /// Move or transition.
@@ -528,5 +529,37 @@ impl Graph {
     /// Number of transition arcs.
     pub fn n_transitions(&self) -> usize {
         self.arcs.len() - self.n_moves()
+    }
+}
+
+/// Names of the artifact's elements by id, the one lookup every report uses. An id out of
+/// range (a bug, or an artifact edited by hand) reads `?` rather than panicking: reports
+/// run on what validation already accepted, but never trust that alone.
+impl Artifact {
+    /// The end-effector's name.
+    pub fn end_effector_name(&self, e: EndEffectorId) -> &str {
+        self.end_effectors
+            .get(e.index())
+            .map_or("?", |x| x.name.as_str())
+    }
+
+    /// The workspace's name.
+    pub fn workspace_name(&self, w: WorkspaceId) -> &str {
+        self.workspaces
+            .get(w.index())
+            .map_or("?", |x| x.name.as_str())
+    }
+
+    /// The object's name.
+    pub fn object_name(&self, o: ObjectId) -> &str {
+        self.objects.get(o.index()).map_or("?", |x| x.name.as_str())
+    }
+
+    /// The name of grasp (or resting pose) `g` of object `o`.
+    pub fn grasp_name(&self, o: ObjectId, g: GraspId) -> &str {
+        self.objects
+            .get(o.index())
+            .and_then(|x| x.grasps.get(g.index()))
+            .map_or("?", |x| x.name.as_str())
     }
 }

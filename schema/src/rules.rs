@@ -31,36 +31,9 @@ use crate::ids::{EndEffectorId, GraspId, WorkspaceId};
 use crate::{Artifact, Holder, Node, Object};
 
 /// A state S(end-effector, grasp, workspace): the object held by `end_effector` with
-/// `grasp` in `workspace`.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
-pub struct State {
-    /// Holder.
-    pub end_effector: EndEffectorId,
-    /// Grasp or resting pose (index into the object's grasps).
-    pub grasp: GraspId,
-    /// Workspace.
-    pub workspace: WorkspaceId,
-}
-
-impl From<Node> for State {
-    fn from(n: Node) -> State {
-        State {
-            end_effector: EndEffectorId(n.end_effector),
-            grasp: GraspId(n.grasp),
-            workspace: WorkspaceId(n.workspace),
-        }
-    }
-}
-
-impl From<State> for Node {
-    fn from(s: State) -> Node {
-        Node {
-            end_effector: s.end_effector.0,
-            grasp: s.grasp.0,
-            workspace: s.workspace.0,
-        }
-    }
-}
+/// `grasp` in `workspace`. The artifact's [`Node`] is the same value (typed ids that
+/// serialise as bare numbers), so the rules and the artifact share one definition.
+pub type State = Node;
 
 /// What the rules need to know of an end-effector.
 #[derive(Clone, Debug, PartialEq, Eq)]

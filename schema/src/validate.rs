@@ -63,7 +63,9 @@ impl Validator<'_> {
         out
     }
 
-    fn index(&mut self, field: &str, value: u32, len: usize, what: &str) -> Check {
+    /// `value` (a raw index or a typed id) must index a list of `len`.
+    fn index(&mut self, field: &str, value: impl Into<u32>, len: usize, what: &str) -> Check {
+        let value: u32 = value.into();
         if (value as usize) < len {
             Ok(())
         } else {
@@ -234,7 +236,7 @@ impl Validator<'_> {
             self.at(format!("requests[{i}]"), |v| {
                 v.span("span", r.span)?;
                 v.index("object", r.object, a.objects.len(), "objects")?;
-                let n_grasps = a.objects[r.object as usize].grasps.len();
+                let n_grasps = a.objects[r.object.index()].grasps.len();
                 v.at("from", |v| v.placement(&r.from, n_grasps))?;
                 v.at("to", |v| v.placement(&r.to, n_grasps))
             })?;
@@ -404,7 +406,7 @@ impl Validator<'_> {
                             a.end_effectors.len(),
                             "end-effectors",
                         )?;
-                        match &a.end_effectors[c.end_effector as usize].body {
+                        match &a.end_effectors[c.end_effector.index()].body {
                             Body::Arm { robot, .. } => v.joints("joints", *robot, &c.joints),
                             _ => Err(v.fail("a configuration of an end-effector that is no arm")),
                         }

@@ -64,7 +64,7 @@ pub fn dot(a: &Artifact, o: &Object) -> String {
     );
     for (w, ws) in a.workspaces.iter().enumerate() {
         let nodes: Vec<usize> = (0..o.graph.nodes.len())
-            .filter(|&n| o.graph.nodes[n].workspace as usize == w)
+            .filter(|&n| o.graph.nodes[n].workspace.index() == w)
             .collect();
         if nodes.is_empty() {
             continue;
@@ -83,11 +83,11 @@ pub fn dot(a: &Artifact, o: &Object) -> String {
             let node = o.graph.nodes[n];
             let ee = a
                 .end_effectors
-                .get(node.end_effector as usize)
+                .get(node.end_effector.index())
                 .map_or("?", |e| e.name.as_str());
             let grasp = o
                 .grasps
-                .get(node.grasp as usize)
+                .get(node.grasp.index())
                 .map_or("?", |g| g.name.as_str());
             let _ = writeln!(
                 out,
@@ -145,12 +145,12 @@ pub fn json(a: &Artifact, o: &Object) -> String {
                 id,
                 end_effector: a
                     .end_effectors
-                    .get(n.end_effector as usize)
+                    .get(n.end_effector.index())
                     .map_or("?", |e| &e.name),
-                grasp: o.grasps.get(n.grasp as usize).map_or("?", |g| &g.name),
+                grasp: o.grasps.get(n.grasp.index()).map_or("?", |g| &g.name),
                 workspace: a
                     .workspaces
-                    .get(n.workspace as usize)
+                    .get(n.workspace.index())
                     .map_or("?", |w| &w.name),
             })
             .collect(),

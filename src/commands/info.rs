@@ -3,7 +3,7 @@
 use std::fmt::Write;
 use std::process::ExitCode;
 
-use cellc_schema::{Artifact, Body, Holder};
+use cellc_schema::{Artifact, Body, EndEffectorId, Holder, WorkspaceId};
 
 /// Prints the summary of a cell (compiled now) or of an artifact file.
 pub fn run(path: &str) -> ExitCode {
@@ -16,10 +16,10 @@ pub fn run(path: &str) -> ExitCode {
     }
 }
 
-fn names(
+fn names<Id>(
     artifact: &Artifact,
-    indices: impl Iterator<Item = u32>,
-    of: impl Fn(&Artifact, u32) -> String,
+    indices: impl Iterator<Item = Id>,
+    of: impl Fn(&Artifact, Id) -> String,
 ) -> String {
     let list: Vec<String> = indices.map(|i| of(artifact, i)).collect();
     if list.is_empty() {
@@ -29,16 +29,12 @@ fn names(
     }
 }
 
-fn ee_name(a: &Artifact, i: u32) -> String {
-    a.end_effectors
-        .get(i as usize)
-        .map_or_else(|| format!("#{i}"), |e| e.name.clone())
+fn ee_name(a: &Artifact, e: EndEffectorId) -> String {
+    a.end_effector_name(e).to_string()
 }
 
-fn ws_name(a: &Artifact, i: u32) -> String {
-    a.workspaces
-        .get(i as usize)
-        .map_or_else(|| format!("#{i}"), |w| w.name.clone())
+fn ws_name(a: &Artifact, w: WorkspaceId) -> String {
+    a.workspace_name(w).to_string()
 }
 
 /// `1 node`, `2 nodes`.
@@ -77,7 +73,7 @@ pub fn describe(a: &Artifact) -> String {
                 .iter()
                 .enumerate()
                 .filter(|(_, e)| e.reaches.contains(&(i as u32)))
-                .map(|(j, _)| j as u32),
+                .map(|(j, _)| EndEffectorId(j as u32)),
             ee_name,
         );
         let label = w
@@ -117,7 +113,7 @@ pub fn describe(a: &Artifact) -> String {
             Body::Surface { .. } => ", surface".to_string(),
         };
         let mobility = if e.movable { "movable" } else { "fixed" };
-        let reaches = names(a, e.reaches.iter().copied(), ws_name);
+        let reaches = names(a, e.reaches.iter().copied().map(WorkspaceId), ws_name);
         let _ = writeln!(
             out,
             "  {} ({mobility}{kind}{body}): reaches {reaches}",
@@ -127,10 +123,10 @@ pub fn describe(a: &Artifact) -> String {
     let _ = writeln!(out, "\nobjects ({})", a.objects.len());
     for o in &a.objects {
         let g = &o.graph;
-        let mut holders: Vec<u32> = g.nodes.iter().map(|n| n.end_effector).collect();
+        let mut holders: Vec<EndEffectorId> = g.nodes.iter().map(|n| n.end_effector).collect();
         holders.sort();
         holders.dedup();
-        let mut workspaces: Vec<u32> = g.nodes.iter().map(|n| n.workspace).collect();
+        let mut workspaces: Vec<WorkspaceId> = g.nodes.iter().map(|n| n.workspace).collect();
         workspaces.sort();
         workspaces.dedup();
         let _ = writeln!(

@@ -54,10 +54,10 @@ pub fn run(args: &PlanArgs, fail_at: Option<usize>) -> ExitCode {
                 println!("replan {i}, from where the object was:");
                 print!("{}", describe(artifact, &name, replan));
             }
-            let object = &artifact.objects[run.plans[0].object as usize];
-            let holder = &artifact.end_effectors[run.final_state.end_effector as usize].name;
-            let grasp = &object.grasps[run.final_state.grasp as usize].name;
-            let ws = &artifact.workspaces[run.final_state.workspace as usize].name;
+            let object = &artifact.objects[run.plans[0].object.index()];
+            let holder = &artifact.end_effectors[run.final_state.end_effector.index()].name;
+            let grasp = &object.grasps[run.final_state.grasp.index()].name;
+            let ws = &artifact.workspaces[run.final_state.workspace.index()].name;
             println!(
                 "done: `{}` held by `{holder}` with `{grasp}` in `{ws}`",
                 object.name

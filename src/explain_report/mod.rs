@@ -14,7 +14,7 @@ use std::collections::BTreeSet;
 use cellc_lang::{Diagnostic, FileId, SourceMap, Span};
 use cellc_runtime::explain::{Cause, CutItem, CutKind, Explanation, GaveUp, NoStates};
 use cellc_runtime::plan::Unreachable;
-use cellc_schema::{Artifact, Body, EndEffectorId, Object, SpanId, WorkspaceId};
+use cellc_schema::{Artifact, Body, EndEffectorId, GraspId, Object, ObjectId, SpanId};
 
 use crate::runtime_codes as codes;
 use words::{count, q, short, Words};
@@ -40,7 +40,7 @@ pub fn unreachable(
     u: &Unreachable,
     sources: Option<&SourceMap>,
 ) -> Diagnostic {
-    let object = artifact.objects.get(u.object as usize);
+    let object = artifact.objects.get(u.object.index());
     let explained = cellc_runtime::explain::explain(artifact, u);
     let (mut d, labels) = match (&explained, object) {
         (Ok(explanation), Some(obj)) => {
@@ -159,7 +159,7 @@ pub fn unreachable(
 /// a request; a caller with inconsistent data might).
 fn no_states(
     object: Option<&Object>,
-    index: u32,
+    index: ObjectId,
     explained: &Result<Explanation, NoStates>,
 ) -> String {
     let name = object.map_or_else(String::new, |o| o.name.clone());
@@ -170,7 +170,10 @@ fn no_states(
         (Err(NoStates::Goals), Some(_)) => {
             format!("no goal state of the request is a state of `{name}`'s graph")
         }
-        _ => format!("the request names object #{index}, which the artifact does not have"),
+        _ => format!(
+            "the request names object #{}, which the artifact does not have",
+            index.0
+        ),
     }
 }
 
@@ -237,7 +240,7 @@ impl Words<'_> {
             (Cause::Connected, Some(arc)) => format!(
                 "the planner removes the arc of each step that fails and searches again, up to \
                  its limit of backtracks; to make the first one feasible: {}",
-                self.reason_hint(&arc.reason, WorkspaceId(self.node(arc.to).workspace))
+                self.reason_hint(&arc.reason, self.node(arc.to).workspace)
             ),
             (Cause::Connected, None) => {
                 "plan the request on the artifact it was made for".to_string()
@@ -245,7 +248,7 @@ impl Words<'_> {
             (_, Some(arc)) => format!(
                 "no edit of the cell's declarations joins the two sides, and the arcs that would \
                  are infeasible; to make the first one feasible: {}",
-                self.reason_hint(&arc.reason, WorkspaceId(self.node(arc.to).workspace))
+                self.reason_hint(&arc.reason, self.node(arc.to).workspace)
             ),
             (_, None) => {
                 "no single change joins the two sides: see the notes for where they are cut apart"
@@ -267,7 +270,7 @@ impl Words<'_> {
                 }
             }
         };
-        let grasp_span = |g: u32| self.obj.grasps.get(g as usize).map(|x| x.span);
+        let grasp_span = |g: GraspId| self.obj.grasps.get(g.index()).map(|x| x.span);
         let start = self.node(ex.start);
         let start_span = grasp_span(start.grasp);
         let goal_span = ex

@@ -102,9 +102,9 @@ impl<'a> Words<'a> {
     pub fn state_text(&self, n: Node) -> String {
         format!(
             "{} with {} in {}",
-            self.ee(EndEffectorId(n.end_effector)),
-            self.grasp(GraspId(n.grasp)),
-            self.ws(WorkspaceId(n.workspace))
+            self.ee(n.end_effector),
+            self.grasp(n.grasp),
+            self.ws(n.workspace)
         )
     }
 
@@ -116,9 +116,9 @@ impl<'a> Words<'a> {
         let mut wss = BTreeSet::new();
         for &g in goals {
             let n = self.node(g);
-            holders.insert(EndEffectorId(n.end_effector));
-            grasps.insert(GraspId(n.grasp));
-            wss.insert(WorkspaceId(n.workspace));
+            holders.insert(n.end_effector);
+            grasps.insert(n.grasp);
+            wss.insert(n.workspace);
         }
         let holders = list(holders.iter().map(|&e| self.ee(e)).collect(), "or");
         let wss = list(wss.iter().map(|&w| self.ws(w)).collect(), "or");
@@ -195,13 +195,13 @@ impl<'a> Words<'a> {
     /// "the transition `g1 -> g8` from `table` to `right_arm` in `w2`" or "the move of
     /// `right_arm` with `g7` from `w2` to `w3`".
     pub fn arc_text(&self, from: Node, to: Node, kind: ArcKind) -> String {
-        let ee = |n: Node| self.ee(EndEffectorId(n.end_effector));
-        let ws = |n: Node| self.ws(WorkspaceId(n.workspace));
+        let ee = |n: Node| self.ee(n.end_effector);
+        let ws = |n: Node| self.ws(n.workspace);
         match kind {
             ArcKind::Move => format!(
                 "the move of {} with {} from {} to {}",
                 ee(from),
-                self.grasp(GraspId(from.grasp)),
+                self.grasp(from.grasp),
                 ws(from),
                 ws(to)
             ),
@@ -219,8 +219,8 @@ impl<'a> Words<'a> {
     pub fn grasp_line(&self, from: Node, to: Node) -> String {
         q(&format!(
             "{} -> {}",
-            self.grasp_name(GraspId(from.grasp)),
-            self.grasp_name(GraspId(to.grasp))
+            self.grasp_name(from.grasp),
+            self.grasp_name(to.grasp)
         ))
     }
 
@@ -234,7 +234,7 @@ impl<'a> Words<'a> {
                 rotation_error,
             } => format!(
                 "{} cannot reach the pose, closest {} and {:.2} rad off over {} tries",
-                self.ee(EndEffectorId(*end_effector)),
+                self.ee(*end_effector),
                 metres(*position_error),
                 rotation_error,
                 tries
@@ -248,8 +248,8 @@ impl<'a> Words<'a> {
             } => format!(
                 "{} and {} cannot hold it at once, the closed chain staying {} and {:.2} rad \
                  open over {} tries",
-                self.ee(EndEffectorId(*a)),
-                self.ee(EndEffectorId(*b)),
+                self.ee(*a),
+                self.ee(*b),
                 metres(*position_error),
                 rotation_error,
                 tries
@@ -276,7 +276,7 @@ impl<'a> Words<'a> {
         match reason {
             Infeasibility::NoIkSolution { end_effector, .. } => format!(
                 "move {}'s base or {} closer together, or choose a grasp it can reach",
-                self.ee(EndEffectorId(*end_effector)),
+                self.ee(*end_effector),
                 self.ws(workspace)
             ),
             Infeasibility::NoClosedChain { .. } => "move the arms closer together, or choose \

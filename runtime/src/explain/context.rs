@@ -6,7 +6,8 @@ use std::collections::{BTreeMap, BTreeSet, HashMap, HashSet};
 
 use cellc_schema::rules::{Adjacency, CellRules, ObjectRules};
 use cellc_schema::{
-    Aabb, ArcKind, Artifact, Body, EndEffectorId, GraspId, Infeasibility, Node, Object, WorkspaceId,
+    Aabb, ArcKind, Artifact, Body, EndEffectorId, GraspId, Infeasibility, Node, Object, ObjectId,
+    WorkspaceId,
 };
 use petgraph::graph::{DiGraph, NodeIndex};
 use petgraph::visit::{EdgeFiltered, EdgeRef, Reversed};
@@ -41,7 +42,7 @@ pub(super) enum Link {
 pub(super) struct Ctx<'a> {
     pub art: &'a Artifact,
     pub obj: &'a Object,
-    pub object: u32,
+    pub object: ObjectId,
     pub nodes: &'a [Node],
     pub index: HashMap<Node, u32>,
     /// Active arcs (graph minus failed): (to, weight) per node, in the artifact's arc
@@ -52,9 +53,9 @@ pub(super) struct Ctx<'a> {
     pub graph: DiGraph<(), Link>,
     pub active: HashSet<(u32, u32)>,
     /// (giving end-effector, taking end-effector, workspace) of active transition arcs.
-    pub active_exchanges: HashSet<(u32, u32, u32)>,
+    pub active_exchanges: HashSet<(EndEffectorId, EndEffectorId, WorkspaceId)>,
     /// The same for pruned or failed transition arcs.
-    pub lost_exchanges: HashSet<(u32, u32, u32)>,
+    pub lost_exchanges: HashSet<(EndEffectorId, EndEffectorId, WorkspaceId)>,
     pub lost: Vec<Lost>,
     pub lost_pairs: HashSet<(u32, u32)>,
     pub lost_from: Vec<Vec<usize>>,
@@ -72,7 +73,7 @@ pub(super) struct Ctx<'a> {
     pub object_rules: ObjectRules,
     pub at_ws: Vec<Vec<u32>>,
     /// Declared transitions (from grasp, to grasp) -> their spans.
-    pub declared: BTreeMap<(u32, u32), Vec<u32>>,
+    pub declared: BTreeMap<(GraspId, GraspId), Vec<u32>>,
     pub start: u32,
     pub goals: Vec<u32>,
     pub is_goal: Vec<bool>,
@@ -88,7 +89,7 @@ pub(super) struct Ctx<'a> {
 impl<'a> Ctx<'a> {
     pub fn new(
         art: &'a Artifact,
-        object: u32,
+        object: ObjectId,
         obj: &'a Object,
         un: &Unreachable,
     ) -> Result<Ctx<'a>, NoStates> {
@@ -102,7 +103,7 @@ impl<'a> Ctx<'a> {
         let failed: HashMap<(u32, u32), &Infeasibility> = un
             .failed
             .iter()
-            .map(|(a, reason)| ((a.from, a.to), reason))
+            .map(|(a, reason)| ((a.from.0, a.to.0), reason))
             .collect();
         let mut fwd = vec![Vec::new(); n];
         let mut graph: DiGraph<(), Link> = DiGraph::new();
@@ -158,13 +159,16 @@ impl<'a> Ctx<'a> {
         );
         let mut at_ws = vec![Vec::new(); art.workspaces.len()];
         for (i, node) in nodes.iter().enumerate() {
-            if let Some(list) = at_ws.get_mut(node.workspace as usize) {
+            if let Some(list) = at_ws.get_mut(node.workspace.index()) {
                 list.push(i as u32);
             }
         }
-        let mut declared: BTreeMap<(u32, u32), Vec<u32>> = BTreeMap::new();
+        let mut declared: BTreeMap<(GraspId, GraspId), Vec<u32>> = BTreeMap::new();
         for t in &obj.transitions {
-            declared.entry((t.from, t.to)).or_default().push(t.span);
+            declared
+                .entry((GraspId(t.from), GraspId(t.to)))
+                .or_default()
+                .push(t.span);
         }
         let start = *index.get(&un.start).ok_or(NoStates::Start)?;
         let mut goals: Vec<u32> = un
@@ -302,10 +306,10 @@ impl<'a> Ctx<'a> {
     /// True when a change may make `e` reach `w` as an edit of the source: a declared
     /// workspace added to the `reaches` list of an end-effector without geometry, or an
     /// arm's reach box grown over a workspace that has boxes (declared or derived).
-    pub fn reach_editable(&self, e: u32, w: u32) -> bool {
+    pub fn reach_editable(&self, e: EndEffectorId, w: WorkspaceId) -> bool {
         let (Some(ee), Some(ws)) = (
-            self.art.end_effectors.get(e as usize),
-            self.art.workspaces.get(w as usize),
+            self.art.end_effectors.get(e.index()),
+            self.art.workspaces.get(w.index()),
         ) else {
             return false;
         };
@@ -318,11 +322,11 @@ impl<'a> Ctx<'a> {
 
     /// True when `adjacent a b` can be written: both workspaces are declared (a derived
     /// name disappears when the reach it comes from changes).
-    pub fn adjacency_editable(&self, a: u32, b: u32) -> bool {
-        let declared = |w: u32| {
+    pub fn adjacency_editable(&self, a: WorkspaceId, b: WorkspaceId) -> bool {
+        let declared = |w: WorkspaceId| {
             self.art
                 .workspaces
-                .get(w as usize)
+                .get(w.index())
                 .is_some_and(|x| !x.derived)
         };
         declared(a) && declared(b)
@@ -339,44 +343,44 @@ impl<'a> Ctx<'a> {
     }
 
     /// The workspaces `e` reaches, in order.
-    pub fn reach(&self, e: u32) -> impl Iterator<Item = u32> + '_ {
-        self.rules.reach(EndEffectorId(e)).iter().map(|w| w.0)
+    pub fn reach(&self, e: EndEffectorId) -> impl Iterator<Item = WorkspaceId> + '_ {
+        self.rules.reach(e).iter().copied()
     }
 
-    pub fn reaches(&self, e: u32, w: u32) -> bool {
-        self.rules.reaches(EndEffectorId(e), WorkspaceId(w))
+    pub fn reaches(&self, e: EndEffectorId, w: WorkspaceId) -> bool {
+        self.rules.reaches(e, w)
     }
 
-    pub fn is_movable(&self, e: u32) -> bool {
-        self.rules.is_movable(EndEffectorId(e))
+    pub fn is_movable(&self, e: EndEffectorId) -> bool {
+        self.rules.is_movable(e)
     }
 
     /// True when `e` is movable and may hold this object.
-    pub fn is_hand(&self, e: u32) -> bool {
-        self.is_movable(e) && !self.object_rules.grasps_of(EndEffectorId(e)).is_empty()
+    pub fn is_hand(&self, e: EndEffectorId) -> bool {
+        self.is_movable(e) && !self.object_rules.grasps_of(e).is_empty()
     }
 
-    pub fn is_adjacent(&self, a: u32, b: u32) -> bool {
-        self.rules.is_adjacent(WorkspaceId(a), WorkspaceId(b))
+    pub fn is_adjacent(&self, a: WorkspaceId, b: WorkspaceId) -> bool {
+        self.rules.is_adjacent(a, b)
     }
 
-    pub fn declares(&self, from: u32, to: u32) -> bool {
-        self.object_rules.declares(GraspId(from), GraspId(to))
+    pub fn declares(&self, from: GraspId, to: GraspId) -> bool {
+        self.object_rules.declares(from, to)
     }
 
-    pub fn ee_span(&self, e: u32) -> Option<u32> {
-        self.art.end_effectors.get(e as usize).map(|x| x.span)
+    pub fn ee_span(&self, e: EndEffectorId) -> Option<u32> {
+        self.art.end_effectors.get(e.index()).map(|x| x.span)
     }
 
-    pub fn ws_span(&self, w: u32) -> Option<u32> {
-        self.art.workspaces.get(w as usize).map(|x| x.span)
+    pub fn ws_span(&self, w: WorkspaceId) -> Option<u32> {
+        self.art.workspaces.get(w.index()).map(|x| x.span)
     }
 
     /// Distance from an end-effector's reach boxes to a workspace's boxes, when both have
     /// geometry.
-    pub fn reach_distance(&self, e: u32, w: u32) -> Option<f64> {
-        let reach = &self.art.end_effectors.get(e as usize)?.reach_boxes;
-        let boxes = &self.art.workspaces.get(w as usize)?.boxes;
+    pub fn reach_distance(&self, e: EndEffectorId, w: WorkspaceId) -> Option<f64> {
+        let reach = &self.art.end_effectors.get(e.index())?.reach_boxes;
+        let boxes = &self.art.workspaces.get(w.index())?.boxes;
         reach
             .iter()
             .flat_map(|a| boxes.iter().map(move |b| box_distance(a, b)))
@@ -387,16 +391,16 @@ impl<'a> Ctx<'a> {
 impl Ctx<'_> {
     /// The reach box of arm `e` nearest to workspace `w` (None: the arm has none), and the
     /// box it grows into to cover every box of `w`: the smallest one holding both.
-    pub fn grown_reach(&self, e: u32, w: u32) -> (Option<u32>, Aabb) {
+    pub fn grown_reach(&self, e: EndEffectorId, w: WorkspaceId) -> (Option<u32>, Aabb) {
         let reach: &[Aabb] = self
             .art
             .end_effectors
-            .get(e as usize)
+            .get(e.index())
             .map_or(&[], |x| x.reach_boxes.as_slice());
         let boxes: &[Aabb] = self
             .art
             .workspaces
-            .get(w as usize)
+            .get(w.index())
             .map_or(&[], |x| x.boxes.as_slice());
         let gap = |a: &Aabb| {
             boxes
@@ -440,7 +444,7 @@ fn lost_arcs(art: &Artifact, obj: &Object, un: &Unreachable) -> Vec<Lost> {
     }
     let mut seen_failed = HashSet::new();
     for (a, reason) in &un.failed {
-        let (f, t) = (a.from as usize, a.to as usize);
+        let (f, t) = (a.from.index(), a.to.index());
         if f >= n || t >= n || !seen_failed.insert((a.from, a.to)) {
             continue;
         }
@@ -448,7 +452,7 @@ fn lost_arcs(art: &Artifact, obj: &Object, un: &Unreachable) -> Vec<Lost> {
             .graph
             .arcs
             .iter()
-            .find(|x| x.from == a.from && x.to == a.to);
+            .find(|x| x.from == a.from.0 && x.to == a.to.0);
         let same_grasp =
             nodes[f].end_effector == nodes[t].end_effector && nodes[f].grasp == nodes[t].grasp;
         let kind = arc.map_or(
@@ -468,8 +472,8 @@ fn lost_arcs(art: &Artifact, obj: &Object, un: &Unreachable) -> Vec<Lost> {
             |x| x.weight,
         );
         lost.push(Lost {
-            from: a.from,
-            to: a.to,
+            from: a.from.0,
+            to: a.to.0,
             kind,
             weight,
             source: arc.map(|x| x.source),
@@ -489,7 +493,7 @@ fn lost_arcs(art: &Artifact, obj: &Object, un: &Unreachable) -> Vec<Lost> {
 /// connects, at worst with an extra `adjacent` line. With no move arc anywhere, a derived
 /// cell has no adjacency worth keeping either, so declaring one is harmless there too.
 fn infer_adjacency(art: &Artifact) -> Adjacency {
-    let movable = |e: u32| art.end_effectors.get(e as usize).is_some_and(|x| x.movable);
+    let movable = |e: EndEffectorId| art.end_effectors.get(e.index()).is_some_and(|x| x.movable);
     let mut declared = false;
     let mut any = false;
     let mut pairs = BTreeSet::new();
@@ -509,7 +513,7 @@ fn infer_adjacency(art: &Artifact) -> Adjacency {
         }
         // Derived adjacency would have made a move between any two states of one movable
         // hand and grasp.
-        let mut by_hand: BTreeMap<(u32, u32), Vec<u32>> = BTreeMap::new();
+        let mut by_hand: BTreeMap<(EndEffectorId, GraspId), Vec<u32>> = BTreeMap::new();
         for (i, n) in g.nodes.iter().enumerate() {
             if movable(n.end_effector) {
                 by_hand
@@ -525,12 +529,7 @@ fn infer_adjacency(art: &Artifact) -> Adjacency {
         });
     }
     if declared || !any {
-        Adjacency::Declared(
-            pairs
-                .into_iter()
-                .map(|(a, b)| (WorkspaceId(a), WorkspaceId(b)))
-                .collect(),
-        )
+        Adjacency::Declared(pairs.into_iter().collect())
     } else {
         Adjacency::Derived
     }
@@ -548,6 +547,6 @@ fn box_distance(a: &Aabb, b: &Aabb) -> f64 {
 }
 
 /// An unordered pair, smaller first.
-pub(super) fn ordered(a: u32, b: u32) -> (u32, u32) {
+pub(super) fn ordered<T: Ord + Copy>(a: T, b: T) -> (T, T) {
     (a.min(b), a.max(b))
 }

@@ -15,27 +15,27 @@ use super::{CutItem, CutKind, Gap, HeldWith, MAX_CUT};
 #[derive(Clone)]
 struct Pending {
     kind: CutKind,
-    workspaces: BTreeSet<u32>,
+    workspaces: BTreeSet<WorkspaceId>,
     /// (end-effector, grasps) on the start's side.
-    near: Vec<(u32, BTreeSet<u32>)>,
+    near: Vec<(EndEffectorId, BTreeSet<GraspId>)>,
     /// (end-effector, grasps) on the goal's side.
-    far: Vec<(u32, BTreeSet<u32>)>,
+    far: Vec<(EndEffectorId, BTreeSet<GraspId>)>,
     /// Indices into [`Ctx::lost`].
     lost: BTreeSet<usize>,
     /// Declared transitions the other way: (from grasp, to grasp).
-    reverse: BTreeSet<(u32, u32)>,
+    reverse: BTreeSet<(GraspId, GraspId)>,
 }
 
-/// Gaps keyed by (kind, near end-effector, far end-effector or first workspace,
-/// workspace).
-type Gaps = BTreeMap<(CutKind, u32, u32, u32), Pending>;
+/// Gaps keyed by (kind, near end-effector, far end-effector or first workspace (its
+/// index), workspace).
+type Gaps = BTreeMap<(CutKind, EndEffectorId, u32, WorkspaceId), Pending>;
 
-fn ees(set: &BTreeSet<u32>) -> Vec<EndEffectorId> {
-    set.iter().map(|&e| EndEffectorId(e)).collect()
+fn ees(set: &BTreeSet<EndEffectorId>) -> Vec<EndEffectorId> {
+    set.iter().copied().collect()
 }
 
-fn wss(set: &BTreeSet<u32>) -> Vec<WorkspaceId> {
-    set.iter().map(|&w| WorkspaceId(w)).collect()
+fn wss(set: &BTreeSet<WorkspaceId>) -> Vec<WorkspaceId> {
+    set.iter().copied().collect()
 }
 
 fn spans(list: impl IntoIterator<Item = u32>) -> Vec<SpanId> {
@@ -64,9 +64,9 @@ impl Ctx<'_> {
     /// Gaps between states of R and states of G that share a workspace.
     fn border_gaps(&self, gaps: &mut Gaps) {
         for (w, states) in self.at_ws.iter().enumerate() {
-            let w = w as u32;
-            let mut near: BTreeMap<u32, BTreeSet<u32>> = BTreeMap::new();
-            let mut far: BTreeMap<u32, BTreeSet<u32>> = BTreeMap::new();
+            let w = WorkspaceId(w as u32);
+            let mut near: BTreeMap<EndEffectorId, BTreeSet<GraspId>> = BTreeMap::new();
+            let mut far: BTreeMap<EndEffectorId, BTreeSet<GraspId>> = BTreeMap::new();
             for &i in states {
                 let n = self.node(i);
                 if self.in_r[i as usize] {
@@ -105,9 +105,9 @@ impl Ctx<'_> {
     fn transition_gap(
         &self,
         gaps: &mut Gaps,
-        w: u32,
-        near: (u32, BTreeSet<u32>),
-        far: (u32, BTreeSet<u32>),
+        w: WorkspaceId,
+        near: (EndEffectorId, BTreeSet<GraspId>),
+        far: (EndEffectorId, BTreeSet<GraspId>),
     ) {
         let (a, b) = (near.0, far.0);
         let mut lost = BTreeSet::new();
@@ -137,7 +137,7 @@ impl Ctx<'_> {
         } else {
             CutKind::InfeasibleTransition
         };
-        let gap = gaps.entry((kind, a, b, w)).or_insert_with(|| Pending {
+        let gap = gaps.entry((kind, a, b.0, w)).or_insert_with(|| Pending {
             kind,
             workspaces: BTreeSet::from([w]),
             near: vec![(a, BTreeSet::new())],
@@ -167,7 +167,7 @@ impl Ctx<'_> {
             return;
         };
         let gap = gaps
-            .entry((kind, x.end_effector, x.workspace, y.workspace))
+            .entry((kind, x.end_effector, x.workspace.0, y.workspace))
             .or_insert_with(|| Pending {
                 kind,
                 workspaces: BTreeSet::from([x.workspace, y.workspace]),
@@ -201,9 +201,9 @@ impl Ctx<'_> {
             // The near side: R if the arc leaves it (R is closed, so no arc joins any of
             // its grasps there to the other hand), otherwise what is not in G (G is closed
             // the other way).
-            let side = |e: u32, pick: &dyn Fn(usize) -> bool| -> BTreeSet<u32> {
+            let side = |e: EndEffectorId, pick: &dyn Fn(usize) -> bool| -> BTreeSet<GraspId> {
                 self.at_ws
-                    .get(w as usize)
+                    .get(w.index())
                     .into_iter()
                     .flatten()
                     .filter(|&&i| self.node(i).end_effector == e && pick(i as usize))
@@ -278,22 +278,22 @@ impl Ctx<'_> {
     }
 
     fn item(&self, g: &Pending) -> CutItem {
-        let near_ee: Vec<u32> = g.near.iter().map(|(e, _)| *e).collect();
-        let far_ee: Vec<u32> = g.far.iter().map(|(e, _)| *e).collect();
+        let near_ee: Vec<EndEffectorId> = g.near.iter().map(|(e, _)| *e).collect();
+        let far_ee: Vec<EndEffectorId> = g.far.iter().map(|(e, _)| *e).collect();
         let mut spans: Vec<u32> = near_ee
             .iter()
             .chain(&far_ee)
             .filter_map(|&e| self.ee_span(e))
             .collect();
-        let held = |side: &[(u32, BTreeSet<u32>)]| -> Vec<HeldWith> {
+        let held = |side: &[(EndEffectorId, BTreeSet<GraspId>)]| -> Vec<HeldWith> {
             side.iter()
                 .map(|(e, grasps)| HeldWith {
-                    end_effector: EndEffectorId(*e),
-                    grasps: grasps.iter().map(|&g| GraspId(g)).collect(),
+                    end_effector: *e,
+                    grasps: grasps.iter().copied().collect(),
                 })
                 .collect()
         };
-        let hand = EndEffectorId(near_ee.first().copied().unwrap_or(0));
+        let hand = near_ee.first().copied().unwrap_or(EndEffectorId(0));
         let gap = match g.kind {
             CutKind::NoTransition => {
                 for r in &g.reverse {
@@ -303,18 +303,14 @@ impl Ctx<'_> {
                     near: held(&g.near),
                     far: held(&g.far),
                     workspaces: wss(&g.workspaces),
-                    one_way: g
-                        .reverse
-                        .iter()
-                        .map(|&(a, b)| (GraspId(a), GraspId(b)))
-                        .collect(),
+                    one_way: g.reverse.iter().copied().collect(),
                 }
             }
             CutKind::InfeasibleTransition => {
                 spans.extend(g.lost.iter().filter_map(|&i| self.lost[i].source));
                 Gap::InfeasibleTransition {
-                    near: near_ee.iter().map(|&e| EndEffectorId(e)).collect(),
-                    far: far_ee.iter().map(|&e| EndEffectorId(e)).collect(),
+                    near: near_ee,
+                    far: far_ee,
                     workspaces: wss(&g.workspaces),
                     arcs: g.lost.iter().map(|&i| self.lost_arc(i)).collect(),
                 }
@@ -324,25 +320,16 @@ impl Ctx<'_> {
                 let (from, to) = self.move_ends(g);
                 Gap::InfeasibleMove {
                     hand,
-                    grasps: g
-                        .near
-                        .iter()
-                        .flat_map(|(_, s)| s)
-                        .map(|&x| GraspId(x))
-                        .collect(),
-                    from: WorkspaceId(from),
-                    to: WorkspaceId(to),
+                    grasps: g.near.iter().flat_map(|(_, s)| s).copied().collect(),
+                    from,
+                    to,
                     arcs: g.lost.iter().map(|&i| self.lost_arc(i)).collect(),
                 }
             }
             _ => {
                 let (from, to) = self.move_ends(g);
                 spans.extend([from, to].into_iter().filter_map(|w| self.ws_span(w)));
-                Gap::NotAdjacent {
-                    hand,
-                    from: WorkspaceId(from),
-                    to: WorkspaceId(to),
-                }
+                Gap::NotAdjacent { hand, from, to }
             }
         };
         spans.sort_unstable();
@@ -354,11 +341,11 @@ impl Ctx<'_> {
     }
 
     /// The two workspaces of a move gap, from the start's side to the goal's.
-    fn move_ends(&self, g: &Pending) -> (u32, u32) {
-        let ws: Vec<u32> = g.workspaces.iter().copied().collect();
-        let e = g.near.first().map_or(0, |(e, _)| *e);
+    fn move_ends(&self, g: &Pending) -> (WorkspaceId, WorkspaceId) {
+        let ws: Vec<WorkspaceId> = g.workspaces.iter().copied().collect();
+        let e = g.near.first().map_or(EndEffectorId(0), |(e, _)| *e);
         let grasp = g.near.first().and_then(|(_, s)| s.iter().next().copied());
-        let in_r = |w: u32| {
+        let in_r = |w: WorkspaceId| {
             grasp.is_some_and(|grasp| {
                 self.index
                     .get(&Node {
@@ -373,7 +360,7 @@ impl Ctx<'_> {
             [a, b] if in_r(*b) && !in_r(*a) => (*b, *a),
             [a, b] => (*a, *b),
             [a] => (*a, *a),
-            _ => (0, 0),
+            _ => (WorkspaceId(0), WorkspaceId(0)),
         }
     }
 
@@ -381,7 +368,8 @@ impl Ctx<'_> {
     /// side that no hand can reach, else pairs of end-effectors that reach no common
     /// workspace (pairs of hands first), else sides held by fixed end-effectors only.
     fn fallback_items(&self) -> Vec<CutItem> {
-        let side = |pick: &dyn Fn(usize) -> bool| -> (BTreeSet<u32>, BTreeSet<u32>) {
+        type Sides = (BTreeSet<EndEffectorId>, BTreeSet<WorkspaceId>);
+        let side = |pick: &dyn Fn(usize) -> bool| -> Sides {
             let picked = (0..self.nodes.len()).filter(|&i| pick(i));
             let holders = picked.clone().map(|i| self.nodes[i].end_effector).collect();
             let wss = picked.map(|i| self.nodes[i].workspace).collect();
@@ -399,7 +387,7 @@ impl Ctx<'_> {
         if !items.is_empty() {
             return items;
         }
-        let mut pairs: Vec<(u32, u32, u8)> = Vec::new();
+        let mut pairs: Vec<(EndEffectorId, EndEffectorId, u8)> = Vec::new();
         for &a in &near {
             for &b in &far {
                 let (ma, mb) = (self.is_movable(a), self.is_movable(b));
@@ -418,14 +406,11 @@ impl Ctx<'_> {
                 .iter()
                 .filter(|p| p.2 == most)
                 .map(|&(a, b, _)| CutItem {
-                    gap: Gap::NoCommonWorkspace {
-                        near: EndEffectorId(a),
-                        far: EndEffectorId(b),
-                    },
+                    gap: Gap::NoCommonWorkspace { near: a, far: b },
                     spans: spans([self.ee_span(a), self.ee_span(b)].into_iter().flatten()),
                 }),
         );
-        let all: Vec<u32> = near.union(&far).copied().collect();
+        let all: Vec<EndEffectorId> = near.union(&far).copied().collect();
         let all_spans = || spans(all.iter().filter_map(|&e| self.ee_span(e)));
         if items.is_empty() && all.iter().all(|&e| !self.is_movable(e)) {
             items.push(CutItem {
@@ -440,8 +425,8 @@ impl Ctx<'_> {
         }
         if items.is_empty() {
             // The last resort: where each side is, and who holds it where both do.
-            let shared: BTreeSet<u32> = near_ws.intersection(&far_ws).copied().collect();
-            let holders_there: BTreeSet<u32> = (0..self.nodes.len())
+            let shared: BTreeSet<WorkspaceId> = near_ws.intersection(&far_ws).copied().collect();
+            let holders_there: BTreeSet<EndEffectorId> = (0..self.nodes.len())
                 .filter(|&i| {
                     (self.in_r[i] || self.in_g[i]) && shared.contains(&self.nodes[i].workspace)
                 })
@@ -467,16 +452,18 @@ impl Ctx<'_> {
     /// object from them or bring it to them.
     fn no_hand(
         &self,
-        near: &BTreeSet<u32>,
-        far: &BTreeSet<u32>,
-        workspaces: &BTreeSet<u32>,
+        near: &BTreeSet<EndEffectorId>,
+        far: &BTreeSet<EndEffectorId>,
+        workspaces: &BTreeSet<WorkspaceId>,
     ) -> Option<CutItem> {
-        let holders: Vec<u32> = near.union(far).copied().collect();
+        let holders: Vec<EndEffectorId> = near.union(far).copied().collect();
         if holders.is_empty() || holders.iter().any(|&e| self.is_movable(e)) {
             return None;
         }
-        let hand_reaches = |w: u32| {
-            (0..self.art.end_effectors.len() as u32).any(|e| self.is_hand(e) && self.reaches(e, w))
+        let hand_reaches = |w: WorkspaceId| {
+            (0..self.art.end_effectors.len() as u32)
+                .map(EndEffectorId)
+                .any(|e| self.is_hand(e) && self.reaches(e, w))
         };
         if workspaces.iter().any(|&w| hand_reaches(w)) {
             return None;

@@ -96,7 +96,7 @@ pub(super) fn contact_pairs(art: &Artifact, nodes: &[Node], lost: &[Lost]) -> Co
             if x == y || allowed(a, b) {
                 return None;
             }
-            let holders = [l.from, l.to].map(|i| nodes[i as usize].end_effector as usize);
+            let holders = [l.from, l.to].map(|i| nodes[i as usize].end_effector.index());
             let stands_by = [&x, &y]
                 .iter()
                 .any(|body| arm(&body.owner).is_some_and(|e| !holders.contains(&e)));

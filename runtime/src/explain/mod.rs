@@ -415,7 +415,7 @@ pub struct LostArc {
 /// `unreachable.reachable`, so that the cut and the verification of suggestions reason
 /// about one and the same graph.
 pub fn explain(artifact: &Artifact, unreachable: &Unreachable) -> Result<Explanation, NoStates> {
-    let object = ObjectId(unreachable.object);
+    let object = unreachable.object;
     let obj = artifact
         .objects
         .get(object.index())
@@ -428,7 +428,7 @@ impl Ctx<'_> {
     fn explain(&self) -> Explanation {
         let n = self.nodes.len() as u32;
         let mut out = Explanation {
-            object: ObjectId(self.object),
+            object: self.object,
             cause: Cause::Connected,
             start: NodeId(self.start),
             goals: self.goals.iter().map(|&g| NodeId(g)).collect(),
@@ -457,7 +457,8 @@ impl Ctx<'_> {
     fn side(&self, states: impl Iterator<Item = u32>) -> Side {
         use std::collections::{BTreeMap, BTreeSet};
         let states: Vec<u32> = states.collect();
-        let mut per: BTreeMap<u32, (BTreeSet<u32>, BTreeSet<u32>)> = BTreeMap::new();
+        let mut per: BTreeMap<EndEffectorId, (BTreeSet<GraspId>, BTreeSet<WorkspaceId>)> =
+            BTreeMap::new();
         for &i in &states {
             let n = self.node(i);
             let entry = per.entry(n.end_effector).or_default();
@@ -469,9 +470,9 @@ impl Ctx<'_> {
             holdings: per
                 .into_iter()
                 .map(|(e, (g, w))| Holding {
-                    end_effector: EndEffectorId(e),
-                    grasps: g.into_iter().map(GraspId).collect(),
-                    workspaces: w.into_iter().map(WorkspaceId).collect(),
+                    end_effector: e,
+                    grasps: g.into_iter().collect(),
+                    workspaces: w.into_iter().collect(),
                 })
                 .collect(),
         }

@@ -16,11 +16,11 @@ use crate::plan::search::{cheapest_exit, Visit};
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
 pub(super) enum Key {
     /// Unordered grasp pair (smaller first), declared both ways.
-    Transition(u32, u32),
+    Transition(GraspId, GraspId),
     /// Unordered workspace pair.
-    Adjacency(u32, u32),
+    Adjacency(WorkspaceId, WorkspaceId),
     /// (end-effector, workspace).
-    Reach(u32, u32),
+    Reach(EndEffectorId, WorkspaceId),
     /// `allow contact` for a group of pairs of bodies (see [`Ctx::contact_group`]): every
     /// arc lost for their collisions comes back.
     Contact(u32),
@@ -90,20 +90,15 @@ impl Ctx<'_> {
         let mut rules = Cow::Borrowed(&self.rules);
         for &key in changes {
             match key {
-                Key::Reach(e, w) => rules
-                    .to_mut()
-                    .extend_reach(EndEffectorId(e), WorkspaceId(w)),
-                Key::Adjacency(a, b) => rules
-                    .to_mut()
-                    .declare_adjacency(WorkspaceId(a), WorkspaceId(b)),
+                Key::Reach(e, w) => rules.to_mut().extend_reach(e, w),
+                Key::Adjacency(a, b) => rules.to_mut().declare_adjacency(a, b),
                 Key::Transition(..) | Key::Contact(_) => {}
             }
         }
         let base = self.nodes.len() as u32;
         for &key in changes {
             if let Key::Reach(e, w) = key {
-                for state in rules.states_at(&self.object_rules, EndEffectorId(e), WorkspaceId(w)) {
-                    let n = Node::from(state);
+                for n in rules.states_at(&self.object_rules, e, w) {
                     if !self.index.contains_key(&n) && !ov.index.contains_key(&n) {
                         ov.index.insert(n, base + ov.nodes.len() as u32);
                         ov.nodes.push(n);
@@ -113,13 +108,12 @@ impl Ctx<'_> {
         }
         for (ci, &key) in changes.iter().enumerate() {
             let edits = match key {
-                Key::Transition(a, b) if a != b => vec![
-                    Edit::Transition(GraspId(a), GraspId(b)),
-                    Edit::Transition(GraspId(b), GraspId(a)),
-                ],
-                Key::Transition(a, _) => vec![Edit::Transition(GraspId(a), GraspId(a))],
-                Key::Adjacency(a, b) => vec![Edit::Adjacency(WorkspaceId(a), WorkspaceId(b))],
-                Key::Reach(e, w) => vec![Edit::Reach(EndEffectorId(e), WorkspaceId(w))],
+                Key::Transition(a, b) if a != b => {
+                    vec![Edit::Transition(a, b), Edit::Transition(b, a)]
+                }
+                Key::Transition(a, _) => vec![Edit::Transition(a, a)],
+                Key::Adjacency(a, b) => vec![Edit::Adjacency(a, b)],
+                Key::Reach(e, w) => vec![Edit::Reach(e, w)],
                 Key::Contact(g) => {
                     for (i, l) in self.lost.iter().enumerate() {
                         if self.contact_key(i) == Some(g) {
@@ -136,7 +130,6 @@ impl Ctx<'_> {
             };
             for edit in edits {
                 for (x, y) in rules.added_by(&self.object_rules, edit) {
-                    let (x, y) = (Node::from(x), Node::from(y));
                     // A move changes workspace, a transition never does.
                     let weight = if x.workspace != y.workspace {
                         self.art.weights.move_weight

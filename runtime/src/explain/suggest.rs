@@ -47,7 +47,7 @@ impl Candidate {
 #[derive(Clone, Debug, PartialEq, Eq, PartialOrd, Ord)]
 enum Idea {
     /// A new exchange between two hands in a workspace: (giver, taker, workspace).
-    Exchange(u32, u32, u32),
+    Exchange(EndEffectorId, EndEffectorId, WorkspaceId),
     /// Anything else is its own idea (an allowed contact brings back every arc its
     /// collision removed, so one pair of bodies is one idea already).
     Keys(Vec<Key>),
@@ -113,7 +113,7 @@ impl Ctx<'_> {
         }
         // Extending a reach means moving or replacing a robot: a last resort, shown only
         // when no declaration connects.
-        let reach = Key::Reach(0, 0).class();
+        let reach = Key::Reach(EndEffectorId(0), WorkspaceId(0)).class();
         if found.iter().any(|c| c.class() < reach) {
             found.retain(|c| c.class() < reach);
         }
@@ -143,11 +143,11 @@ impl Ctx<'_> {
         let mut found = Vec::new();
         let mut in_g = vec![false; self.obj.grasps.len()];
         for (i, node) in self.nodes.iter().enumerate() {
-            if let Some(slot) = in_g.get_mut(node.grasp as usize) {
+            if let Some(slot) = in_g.get_mut(node.grasp.index()) {
                 *slot |= self.in_g[i];
             }
         }
-        let touches_g = |g: u32| in_g.get(g as usize).copied().unwrap_or(false);
+        let touches_g = |g: GraspId| in_g.get(g.index()).copied().unwrap_or(false);
         // A declaration helps only if one of its arcs leaves R (so it joins a state of R
         // to a state outside R in one workspace) and one enters G.
         let mut pairs = BTreeSet::new();
@@ -155,7 +155,7 @@ impl Ctx<'_> {
             if !self.in_r[u] {
                 continue;
             }
-            for &v in self.at_ws.get(nu.workspace as usize).into_iter().flatten() {
+            for &v in self.at_ws.get(nu.workspace.index()).into_iter().flatten() {
                 let nv = self.node(v);
                 if self.in_r[v as usize]
                     || !self.may_exchange(nu.end_effector, nv.end_effector)
@@ -172,9 +172,10 @@ impl Ctx<'_> {
         }
         if self.rules.declares_adjacency() {
             let n_ws = self.art.workspaces.len() as u32;
-            for a in 0..n_ws {
-                for b in a + 1..n_ws {
-                    let spanned = (0..self.art.end_effectors.len() as u32)
+            for a in (0..n_ws).map(WorkspaceId) {
+                for b in (a.0 + 1..n_ws).map(WorkspaceId) {
+                    let spanned = self
+                        .end_effector_ids()
                         .any(|e| self.is_hand(e) && self.reaches(e, a) && self.reaches(e, b));
                     if spanned && !self.is_adjacent(a, b) && self.adjacency_editable(a, b) {
                         found.extend(self.try_keys(vec![Key::Adjacency(a, b)]));
@@ -196,15 +197,15 @@ impl Ctx<'_> {
         // transition in the new workspace, and G likewise.
         let mut sides: HashMap<(bool, u32), (bool, bool)> = HashMap::new();
         for (i, n) in self.nodes.iter().enumerate() {
-            for key in [(true, n.end_effector), (false, n.workspace)] {
+            for key in [(true, n.end_effector.0), (false, n.workspace.0)] {
                 let entry = sides.entry(key).or_default();
                 entry.0 |= self.in_r[i];
                 entry.1 |= self.in_g[i];
             }
         }
         let side = |key| sides.get(&key).copied().unwrap_or_default();
-        let helps = |e: u32, w: u32| {
-            let (hand, here) = (side((true, e)), side((false, w)));
+        let helps = |e: EndEffectorId, w: WorkspaceId| {
+            let (hand, here) = (side((true, e.0)), side((false, w.0)));
             (hand.0 || here.0) && (hand.1 || here.1)
         };
         let reach = self
@@ -220,22 +221,27 @@ impl Ctx<'_> {
     /// True when a declared transition could pass the object from `a` to `b` (another
     /// end-effector, not both fixed), as the graph rules allow it between grasps declared
     /// for kinds.
-    pub fn may_exchange(&self, a: u32, b: u32) -> bool {
-        self.rules
-            .may_exchange(EndEffectorId(a), EndEffectorId(b), false)
+    pub fn may_exchange(&self, a: EndEffectorId, b: EndEffectorId) -> bool {
+        self.rules.may_exchange(a, b, false)
+    }
+
+    /// Every end-effector of the cell, in order.
+    pub fn end_effector_ids(&self) -> impl Iterator<Item = EndEffectorId> {
+        (0..self.art.end_effectors.len() as u32).map(EndEffectorId)
     }
 
     /// (movable end-effector, workspace it does not reach and could be made to reach by an
     /// edit), nearest first when the cell has geometry.
-    fn reach_candidates(&self) -> Vec<(u32, u32)> {
+    fn reach_candidates(&self) -> Vec<(EndEffectorId, WorkspaceId)> {
         let n_ws = self.art.workspaces.len() as u32;
-        let mut out: Vec<(f64, u32, u32)> = Vec::new();
-        for e in 0..self.art.end_effectors.len() as u32 {
+        let mut out: Vec<(f64, EndEffectorId, WorkspaceId)> = Vec::new();
+        for e in self.end_effector_ids() {
             if !self.is_hand(e) {
                 continue;
             }
-            let candidates =
-                (0..n_ws).filter(|&w| !self.reaches(e, w) && self.reach_editable(e, w));
+            let candidates = (0..n_ws)
+                .map(WorkspaceId)
+                .filter(|&w| !self.reaches(e, w) && self.reach_editable(e, w));
             for w in candidates {
                 let d = self.reach_distance(e, w).unwrap_or(0.0);
                 out.push((d, e, w));
@@ -306,7 +312,7 @@ impl Ctx<'_> {
                 None => self.node(i),
             }
         };
-        let mut extra_at_ws: BTreeMap<u32, Vec<u32>> = BTreeMap::new();
+        let mut extra_at_ws: BTreeMap<WorkspaceId, Vec<u32>> = BTreeMap::new();
         for (k, node) in ov.nodes.iter().enumerate() {
             extra_at_ws
                 .entry(node.workspace)
@@ -346,7 +352,7 @@ impl Ctx<'_> {
             let hu = nu.end_effector;
             let here = self
                 .at_ws
-                .get(nu.workspace as usize)
+                .get(nu.workspace.index())
                 .into_iter()
                 .flatten()
                 .chain(extra_at_ws.get(&nu.workspace).into_iter().flatten());
@@ -448,9 +454,9 @@ impl Ctx<'_> {
             let mut out: Vec<Exchange> = Vec::new();
             for (x, y) in used {
                 let exchange = Exchange {
-                    giver: EndEffectorId(x.end_effector),
-                    taker: EndEffectorId(y.end_effector),
-                    workspace: WorkspaceId(x.workspace),
+                    giver: x.end_effector,
+                    taker: y.end_effector,
+                    workspace: x.workspace,
                 };
                 if x.workspace == y.workspace
                     && x.end_effector != y.end_effector
@@ -472,48 +478,48 @@ impl Ctx<'_> {
                     .get(&(to, from))
                     .and_then(|s| s.first().copied());
                 vec![Change::AddTransition {
-                    from_grasp: GraspId(from),
-                    to_grasp: GraspId(to),
+                    from_grasp: from,
+                    to_grasp: to,
                     reverse_of: reverse_of.map(SpanId),
                     exchanges: exchanges(),
                 }]
             }
             Key::Adjacency(a, b) => vec![Change::AddAdjacency {
-                a: WorkspaceId(a),
-                b: WorkspaceId(b),
-                carrier: used.first().map(|(x, _)| EndEffectorId(x.end_effector)),
+                a,
+                b,
+                carrier: used.first().map(|(x, _)| x.end_effector),
             }],
             Key::Reach(e, w) => {
-                let meets: BTreeSet<u32> = exchanges()
+                let meets: BTreeSet<EndEffectorId> = exchanges()
                     .iter()
-                    .filter(|x| x.workspace.0 == w)
-                    .map(|x| if x.giver.0 == e { x.taker.0 } else { x.giver.0 })
+                    .filter(|x| x.workspace == w)
+                    .map(|x| if x.giver == e { x.taker } else { x.giver })
                     .collect();
-                let meets = meets.into_iter().map(EndEffectorId).collect();
+                let meets = meets.into_iter().collect();
                 let arm = self
                     .art
                     .end_effectors
-                    .get(e as usize)
+                    .get(e.index())
                     .is_some_and(|x| matches!(x.body, Body::Arm { .. }));
                 if !arm {
                     return vec![Change::ExtendReaches {
-                        end_effector: EndEffectorId(e),
-                        workspace: WorkspaceId(w),
+                        end_effector: e,
+                        workspace: w,
                         meets,
                     }];
                 }
                 let (reach_box, grown) = self.grown_reach(e, w);
                 vec![Change::GrowReach {
-                    end_effector: EndEffectorId(e),
+                    end_effector: e,
                     reach_box,
                     grown,
                     region: self
                         .art
                         .workspaces
-                        .get(w as usize)
+                        .get(w.index())
                         .map(|x| x.boxes.clone())
                         .unwrap_or_default(),
-                    workspace: WorkspaceId(w),
+                    workspace: w,
                     distance: self.reach_distance(e, w),
                     meets,
                 }]

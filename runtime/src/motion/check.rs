@@ -6,6 +6,8 @@ use std::fmt;
 use super::problem::query_text;
 use super::segment::{sample, steps};
 use super::MotionOptions;
+use cellc_schema::{EndEffectorId, ObjectId};
+
 use crate::plan::Trajectory;
 use crate::scene::{ObjectPlacement, QueryError, Scene, SceneScratch};
 use crate::validity::{LayoutError, SceneValidity, StateFault, StateValidity};
@@ -28,7 +30,7 @@ pub enum TrajectoryFault {
         /// Seconds from the start.
         time: f64,
         /// The arm.
-        end_effector: u32,
+        end_effector: EndEffectorId,
         /// Joint index in the arm's chain.
         joint: usize,
         /// The value.
@@ -52,7 +54,7 @@ pub enum TrajectoryFault {
     /// listed twice.
     BadArm {
         /// End-effector.
-        end_effector: u32,
+        end_effector: EndEffectorId,
     },
     /// The scene could not answer a collision query.
     Query {
@@ -126,8 +128,8 @@ impl std::error::Error for TrajectoryFault {}
 pub fn check_trajectory(
     scene: &Scene,
     trajectory: &Trajectory,
-    stationary: &[(u32, Vec<f64>)],
-    object: u32,
+    stationary: &[(EndEffectorId, Vec<f64>)],
+    object: ObjectId,
     placement: &ObjectPlacement,
     resolution: f64,
     scratch: &mut SceneScratch,

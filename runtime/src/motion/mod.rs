@@ -80,6 +80,8 @@ mod timing;
 
 use std::fmt;
 
+use cellc_schema::EndEffectorId;
+
 use crate::plan::Trajectory;
 use crate::scene::{QueryError, Scene, SceneScratch};
 use crate::termination::Termination;
@@ -102,7 +104,7 @@ pub struct MotionProblem<'a> {
     pub scene: &'a Scene,
     /// End-effectors (arms) that move together; their joints are concatenated in this
     /// order in `start`, `goal` and the trajectory's points.
-    pub arms: &'a [u32],
+    pub arms: &'a [EndEffectorId],
     /// Start joints, concatenated.
     pub start: &'a [f64],
     /// Goal joints, concatenated.

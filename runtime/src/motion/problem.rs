@@ -3,6 +3,8 @@
 
 use std::fmt;
 
+use cellc_schema::EndEffectorId;
+
 use crate::scene::QueryError;
 use crate::validity::LayoutError;
 
@@ -99,12 +101,12 @@ pub enum MotionError {
     /// An end-effector in `arms` or `stationary` is not an arm of the scene.
     NotAnArm {
         /// End-effector.
-        end_effector: u32,
+        end_effector: EndEffectorId,
     },
     /// An end-effector appears twice among `arms` and `stationary`.
     RepeatedArm {
         /// End-effector.
-        end_effector: u32,
+        end_effector: EndEffectorId,
     },
     /// A configuration has the wrong number of values.
     WrongLength {
@@ -120,7 +122,7 @@ pub enum MotionError {
         /// Which configuration.
         joints: Joints,
         /// The arm.
-        end_effector: u32,
+        end_effector: EndEffectorId,
         /// Joint index in the arm's chain.
         joint: usize,
         /// The value.

@@ -3,6 +3,8 @@
 
 use super::segment::{max_diff, sample, steps};
 use super::MotionOptions;
+use cellc_schema::EndEffectorId;
+
 use crate::plan::Trajectory;
 
 /// A rest-to-rest trapezoidal profile of the path parameter `s` from 0 to 1: the fastest
@@ -68,7 +70,7 @@ impl Profile {
 pub(super) fn time_path(
     path: &[f64],
     dim: usize,
-    arms: &[u32],
+    arms: &[EndEffectorId],
     options: &MotionOptions,
 ) -> Trajectory {
     let m = path.len().checked_div(dim).unwrap_or(1);

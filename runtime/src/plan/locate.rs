@@ -9,7 +9,9 @@
 //! (the object pose alone does not say how a hand holds it) unless the hand has one grasp.
 //! When nothing matches, the error lists the nearest candidates and how far off they are.
 
-use cellc_schema::{Artifact, Holder as GraspHolder, Node};
+use cellc_schema::{
+    Artifact, EndEffectorId, GraspId, Holder as GraspHolder, Node, ObjectId, WorkspaceId,
+};
 
 use crate::math::{iso_from_schema, Iso, Point, Quat, Vec3};
 use crate::scene::{Holder, Scene};
@@ -176,28 +178,32 @@ impl std::fmt::Display for LocateError {
 }
 
 /// Grasps of `object` that end-effector `e` can hold.
-pub(crate) fn grasps_of(artifact: &Artifact, object: u32, e: u32) -> Vec<u32> {
-    let kind = artifact.end_effectors[e as usize].kind;
-    artifact.objects[object as usize]
+pub(crate) fn grasps_of(artifact: &Artifact, object: ObjectId, e: EndEffectorId) -> Vec<GraspId> {
+    let kind = artifact.end_effectors[e.index()].kind;
+    artifact.objects[object.index()]
         .grasps
         .iter()
         .enumerate()
         .filter(|(_, g)| match g.holder {
-            GraspHolder::EndEffector(h) => h == e,
+            GraspHolder::EndEffector(h) => h == e.0,
             GraspHolder::Kind(k) => Some(k) == kind,
         })
-        .map(|(i, _)| i as u32)
+        .map(|(i, _)| GraspId(i as u32))
         .collect()
 }
 
 /// The workspace containing `position`, or the nearest ones.
-fn workspace_at(artifact: &Artifact, scene: &Scene, position: &Point) -> Result<u32, LocateError> {
+fn workspace_at(
+    artifact: &Artifact,
+    scene: &Scene,
+    position: &Point,
+) -> Result<WorkspaceId, LocateError> {
     if let Some(w) = scene.workspaces.iter().position(|boxes| {
         boxes
             .iter()
             .any(|b| crate::math::contains_point(b, position))
     }) {
-        return Ok(w as u32);
+        return Ok(WorkspaceId(w as u32));
     }
     let mut nearest: Vec<NearMiss> = scene
         .workspaces
@@ -273,31 +279,31 @@ pub(crate) fn rest_error(
 pub fn locate(
     artifact: &Artifact,
     scene: &Scene,
-    object: u32,
+    object: ObjectId,
     placement: &Placement,
     options: &PlanOptions,
 ) -> Result<Node, LocateError> {
-    let e = placement.holder.0;
-    let holder_name = || artifact.end_effectors[e as usize].name.clone();
+    let e = placement.holder;
+    let holder_name = || artifact.end_effectors[e.index()].name.clone();
     let grasps = grasps_of(artifact, object, e);
     if grasps.is_empty() {
         return Err(LocateError::NothingToHoldBy {
             holder: holder_name(),
-            object: artifact.objects[object as usize].name.clone(),
-            surface: matches!(scene.holders[e as usize], Holder::Surface { .. }),
+            object: artifact.objects[object.index()].name.clone(),
+            surface: matches!(scene.holders[e.index()], Holder::Surface { .. }),
         });
     }
-    let names = |gs: &[u32]| -> Vec<String> {
+    let names = |gs: &[GraspId]| -> Vec<String> {
         gs.iter()
             .map(|&g| {
-                artifact.objects[object as usize].grasps[g as usize]
+                artifact.objects[object.index()].grasps[g.index()]
                     .name
                     .clone()
             })
             .collect()
     };
     let w = match (placement.workspace, &placement.pose) {
-        (Some(w), _) => w.0,
+        (Some(w), _) => w,
         (None, Some(pose)) => workspace_at(artifact, scene, &Point::from(pose.translation.vector))?,
         (None, None) => {
             return Err(LocateError::NoWhere {
@@ -305,13 +311,13 @@ pub fn locate(
             })
         }
     };
-    if !artifact.end_effectors[e as usize].reaches.contains(&w) {
+    if !artifact.end_effectors[e.index()].reaches.contains(&w.0) {
         return Err(LocateError::NotReached {
             holder: holder_name(),
-            workspace: artifact.workspaces[w as usize].name.clone(),
+            workspace: artifact.workspaces[w.index()].name.clone(),
         });
     }
-    let node = |g: u32| Node {
+    let node = |g: GraspId| Node {
         end_effector: e,
         grasp: g,
         workspace: w,
@@ -320,21 +326,21 @@ pub fn locate(
         return grasps
             .iter()
             .copied()
-            .find(|&h| h == g.0)
+            .find(|&h| h == g)
             .map(node)
             .ok_or_else(|| LocateError::UnknownGrasp {
                 holder: holder_name(),
-                name: grasp_name(artifact, object, g.0),
+                name: grasp_name(artifact, object, g),
                 known: names(&grasps),
             });
     }
-    match (&scene.holders[e as usize], &placement.pose) {
+    match (&scene.holders[e.index()], &placement.pose) {
         (Holder::Surface { slab, .. }, Some(pose)) => {
-            let obj = &artifact.objects[object as usize];
-            let mut misses: Vec<(u32, f64, f64)> = grasps
+            let obj = &artifact.objects[object.index()];
+            let mut misses: Vec<(GraspId, f64, f64)> = grasps
                 .iter()
                 .map(|&g| {
-                    let rest = obj.grasps[g as usize]
+                    let rest = obj.grasps[g.index()]
                         .pose
                         .as_ref()
                         .map(iso_from_schema)
@@ -356,12 +362,12 @@ pub fn locate(
                 }
                 _ => Err(LocateError::NoGrasp {
                     holder: holder_name(),
-                    workspace: artifact.workspaces[w as usize].name.clone(),
+                    workspace: artifact.workspaces[w.index()].name.clone(),
                     nearest: misses
                         .iter()
                         .take(3)
                         .map(|&(g, dp, dr)| NearMiss {
-                            name: obj.grasps[g as usize].name.clone(),
+                            name: obj.grasps[g.index()].name.clone(),
                             position_error: dp,
                             rotation_error: dr,
                         })
@@ -383,7 +389,7 @@ pub fn locate(
 pub fn goal_states(
     artifact: &Artifact,
     scene: Option<&Scene>,
-    object: u32,
+    object: ObjectId,
     goal: &Goal,
     options: &PlanOptions,
 ) -> Result<Vec<Node>, LocateError> {
@@ -393,9 +399,9 @@ pub fn goal_states(
             None => abstract_states(artifact, object, p),
         },
         Goal::Workspace { workspace, holder } => {
-            let w = workspace.0;
-            let e = holder.map(|h| h.0);
-            Ok(artifact.objects[object as usize]
+            let w = *workspace;
+            let e = *holder;
+            Ok(artifact.objects[object.index()]
                 .graph
                 .nodes
                 .iter()
@@ -410,18 +416,17 @@ pub fn goal_states(
 /// states in the named workspace, narrowed to the grasp when one is named.
 fn abstract_states(
     artifact: &Artifact,
-    object: u32,
+    object: ObjectId,
     p: &Placement,
 ) -> Result<Vec<Node>, LocateError> {
-    let e = p.holder.0;
-    let holder_name = || artifact.end_effectors[e as usize].name.clone();
+    let e = p.holder;
+    let holder_name = || artifact.end_effectors[e.index()].name.clone();
     let Some(w) = p.workspace else {
         return Err(LocateError::NoWhere {
             holder: holder_name(),
         });
     };
-    let w = w.0;
-    let obj = &artifact.objects[object as usize];
+    let obj = &artifact.objects[object.index()];
     let candidates: Vec<Node> = obj
         .graph
         .nodes
@@ -433,37 +438,37 @@ fn abstract_states(
         Some(g) => candidates
             .iter()
             .copied()
-            .find(|n| n.grasp == g.0)
+            .find(|n| n.grasp == g)
             .map(|n| vec![n])
             .ok_or_else(|| LocateError::UnknownGrasp {
                 holder: holder_name(),
-                name: grasp_name(artifact, object, g.0),
+                name: grasp_name(artifact, object, g),
                 known: candidates
                     .iter()
-                    .map(|n| obj.grasps[n.grasp as usize].name.clone())
+                    .map(|n| obj.grasps[n.grasp.index()].name.clone())
                     .collect(),
             }),
         None if candidates.is_empty() => Err(LocateError::NotReached {
             holder: holder_name(),
-            workspace: artifact.workspaces[w as usize].name.clone(),
+            workspace: artifact.workspaces[w.index()].name.clone(),
         }),
         None => Ok(candidates),
     }
 }
 
 /// The name of grasp `g` of `object`, for messages (`#g` if the id is out of range).
-fn grasp_name(artifact: &Artifact, object: u32, g: u32) -> String {
-    artifact.objects[object as usize]
+fn grasp_name(artifact: &Artifact, object: ObjectId, g: GraspId) -> String {
+    artifact.objects[object.index()]
         .grasps
-        .get(g as usize)
-        .map_or_else(|| format!("#{g}"), |x| x.name.clone())
+        .get(g.index())
+        .map_or_else(|| format!("#{}", g.0), |x| x.name.clone())
 }
 
 /// The one state of a placement in an abstract cell: the holder, the workspace and (when
 /// the holder has several grasps there) the grasp must be named.
 pub fn locate_abstract(
     artifact: &Artifact,
-    object: u32,
+    object: ObjectId,
     p: &Placement,
 ) -> Result<Node, LocateError> {
     match abstract_states(artifact, object, p)?.as_slice() {
@@ -473,7 +478,7 @@ pub fn locate_abstract(
             grasps: many
                 .iter()
                 .map(|n| {
-                    artifact.objects[object as usize].grasps[n.grasp as usize]
+                    artifact.objects[object.index()].grasps[n.grasp.index()]
                         .name
                         .clone()
                 })

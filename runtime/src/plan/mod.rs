@@ -14,7 +14,7 @@ pub mod planner;
 pub mod search;
 pub mod strategy;
 
-use cellc_schema::{EndEffectorId, GraspId, Infeasibility, Node, ObjectId, WorkspaceId};
+use cellc_schema::{EndEffectorId, GraspId, Infeasibility, Node, NodeId, ObjectId, WorkspaceId};
 
 use crate::math::Iso;
 
@@ -42,9 +42,9 @@ impl Placement {
     /// caller that already works on the graph names a placement.
     pub fn at_state(node: Node) -> Placement {
         Placement {
-            holder: EndEffectorId(node.end_effector),
-            grasp: Some(GraspId(node.grasp)),
-            workspace: Some(WorkspaceId(node.workspace)),
+            holder: node.end_effector,
+            grasp: Some(node.grasp),
+            workspace: Some(node.workspace),
             pose: None,
         }
     }
@@ -147,13 +147,13 @@ pub struct Request {
 /// The typed request of a request the cell declares.
 pub fn named_request(named: &cellc_schema::NamedRequest, options: PlanOptions) -> Request {
     let placement = |p: &cellc_schema::RequestPlacement| Placement {
-        holder: EndEffectorId(p.end_effector),
-        grasp: p.grasp.map(GraspId),
-        workspace: p.workspace.map(WorkspaceId),
+        holder: p.end_effector,
+        grasp: p.grasp,
+        workspace: p.workspace,
         pose: p.pose.as_ref().map(crate::math::iso_from_schema),
     };
     Request {
-        object: ObjectId(named.object),
+        object: named.object,
         start: placement(&named.from),
         goal: Goal::Placement(placement(&named.to)),
         options,
@@ -161,13 +161,13 @@ pub fn named_request(named: &cellc_schema::NamedRequest, options: PlanOptions) -
 }
 
 /// Joint values of every arm at a moment: (end-effector, joints).
-pub type ArmConfigurations = Vec<(u32, Vec<f64>)>;
+pub type ArmConfigurations = Vec<(EndEffectorId, Vec<f64>)>;
 
 /// A time-parametrised joint trajectory of one or several arms moving together.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Trajectory {
     /// The arms, in the order their joints are concatenated in each point.
-    pub arms: Vec<u32>,
+    pub arms: Vec<EndEffectorId>,
     /// Samples: time from the start of the motion (s) and the concatenated joints.
     pub points: Vec<(f64, Vec<f64>)>,
 }
@@ -178,9 +178,9 @@ pub enum Command {
     /// The holder carries the object into another workspace (same grasp).
     Move {
         /// End-effector.
-        holder: u32,
+        holder: EndEffectorId,
         /// Workspace reached.
-        workspace: u32,
+        workspace: WorkspaceId,
         /// Object pose at the end (`None` in abstract cells).
         object: Option<Iso>,
         /// Arm configurations at the end.
@@ -189,11 +189,11 @@ pub enum Command {
     /// The receiving end-effector takes hold of the object.
     Grasp {
         /// End-effector.
-        holder: u32,
-        /// Grasp (index into the object's grasps).
-        grasp: u32,
+        holder: EndEffectorId,
+        /// Grasp taken.
+        grasp: GraspId,
         /// Workspace.
-        workspace: u32,
+        workspace: WorkspaceId,
         /// Object pose during the exchange (`None` in abstract cells).
         object: Option<Iso>,
         /// Configurations of the arms involved.
@@ -202,11 +202,11 @@ pub enum Command {
     /// The giving end-effector lets go.
     Ungrasp {
         /// End-effector.
-        holder: u32,
+        holder: EndEffectorId,
         /// The grasp it had.
-        grasp: u32,
+        grasp: GraspId,
         /// Workspace.
-        workspace: u32,
+        workspace: WorkspaceId,
         /// Object pose (`None` in abstract cells).
         object: Option<Iso>,
     },
@@ -230,7 +230,7 @@ pub struct Step {
 #[derive(Clone, Debug)]
 pub struct MotionContext {
     /// Arms not moving, at these joint values.
-    pub stationary: Vec<(u32, Vec<f64>)>,
+    pub stationary: ArmConfigurations,
     /// The object during the motion.
     pub placement: crate::scene::ObjectPlacement,
 }
@@ -249,8 +249,8 @@ pub struct PlanGoal {
 /// A planned request.
 #[derive(Clone, Debug)]
 pub struct Plan {
-    /// Object index in the artifact.
-    pub object: u32,
+    /// The object moved.
+    pub object: ObjectId,
     /// Where the object was when planning started (its pose, when known).
     pub start_pose: Option<Iso>,
     /// What the plan achieves.
@@ -276,29 +276,39 @@ pub const NO_MOTION: &str = "no collision-free motion";
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct ArcRef {
     /// Tail node.
-    pub from: u32,
+    pub from: NodeId,
     /// Head node.
-    pub to: u32,
+    pub to: NodeId,
+}
+
+impl ArcRef {
+    /// The endpoints of an arc of the artifact's graph.
+    pub fn of(arc: &cellc_schema::Arc) -> ArcRef {
+        ArcRef {
+            from: NodeId(arc.from),
+            to: NodeId(arc.to),
+        }
+    }
 }
 
 /// Why a request has no plan, with what explanations need.
 #[derive(Clone, Debug)]
 pub struct Unreachable {
-    /// Object index.
-    pub object: u32,
+    /// The object.
+    pub object: ObjectId,
     /// Start state.
     pub start: Node,
     /// Every state that would satisfy the goal.
     pub goals: Vec<Node>,
     /// Node indices reachable from the start (after removing failed arcs).
-    pub reachable: Vec<u32>,
+    pub reachable: Vec<NodeId>,
     /// Arcs removed during this request because a step failed, with why.
     pub failed: Vec<(ArcRef, Infeasibility)>,
 }
 
 impl Command {
     /// The end-effector that acts.
-    pub fn holder(&self) -> u32 {
+    pub fn holder(&self) -> EndEffectorId {
         match self {
             Command::Move { holder, .. }
             | Command::Grasp { holder, .. }

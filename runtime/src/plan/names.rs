@@ -51,19 +51,18 @@ pub fn grasp(
     holder: EndEffectorId,
     name: &str,
 ) -> Result<GraspId, LocateError> {
-    let holdable = super::locate::grasps_of(artifact, object.0, holder.0);
+    let holdable = super::locate::grasps_of(artifact, object, holder);
     let grasps = &artifact.objects[object.index()].grasps;
     holdable
         .iter()
         .copied()
-        .find(|&g| grasps[g as usize].name == name)
-        .map(GraspId)
+        .find(|&g| grasps[g.index()].name == name)
         .ok_or_else(|| LocateError::UnknownGrasp {
             holder: artifact.end_effectors[holder.index()].name.clone(),
             name: name.to_string(),
             known: holdable
                 .iter()
-                .map(|&g| grasps[g as usize].name.clone())
+                .map(|&g| grasps[g.index()].name.clone())
                 .collect(),
         })
 }

@@ -3,7 +3,7 @@
 
 use std::collections::HashSet;
 
-use cellc_schema::{ArcKind, Graph};
+use cellc_schema::{ArcKind, Graph, NodeId};
 use petgraph::graph::{DiGraph, EdgeIndex, NodeIndex};
 use petgraph::visit::EdgeFiltered;
 
@@ -22,8 +22,8 @@ pub struct SearchGraph {
 /// A path: node indices, the arcs between them (indices into `Graph::arcs`), its cost.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Path {
-    /// Node indices, start first.
-    pub nodes: Vec<u32>,
+    /// Nodes, start first.
+    pub nodes: Vec<NodeId>,
     /// Arc indices, one fewer than nodes.
     pub arcs: Vec<usize>,
     /// Sum of arc weights.
@@ -80,26 +80,31 @@ impl SearchGraph {
 
     /// The cheapest path from `start` to any of `goals`, not using `removed` arcs. Ties are
     /// broken by petgraph's deterministic order (arc order of the artifact).
-    pub fn shortest(&self, start: u32, goals: &[u32], removed: &HashSet<ArcRef>) -> Option<Path> {
-        let goal_set: HashSet<u32> = goals.iter().copied().collect();
+    pub fn shortest(
+        &self,
+        start: NodeId,
+        goals: &[NodeId],
+        removed: &HashSet<ArcRef>,
+    ) -> Option<Path> {
+        let goal_set: HashSet<NodeId> = goals.iter().copied().collect();
         let filtered = EdgeFiltered::from_fn(
             &self.graph,
             |e: petgraph::graph::EdgeReference<'_, (f64, usize)>| {
                 use petgraph::visit::EdgeRef;
                 !removed.contains(&ArcRef {
-                    from: e.source().index() as u32,
-                    to: e.target().index() as u32,
+                    from: node_id(e.source()),
+                    to: node_id(e.target()),
                 })
             },
         );
         let (cost, nodes) = petgraph::algo::astar(
             &filtered,
-            NodeIndex::new(start as usize),
-            |n| goal_set.contains(&(n.index() as u32)),
+            NodeIndex::new(start.index()),
+            |n| goal_set.contains(&node_id(n)),
             |e| self.weight(e.weight()),
             |_| 0.0,
         )?;
-        let nodes: Vec<u32> = nodes.iter().map(|n| n.index() as u32).collect();
+        let nodes: Vec<NodeId> = nodes.into_iter().map(node_id).collect();
         let arcs = nodes
             .windows(2)
             .map(|w| self.cheapest_arc(w[0], w[1], removed))
@@ -111,14 +116,14 @@ impl SearchGraph {
     /// goal: the object must leave it and come back).
     pub fn shortest_leaving(
         &self,
-        start: u32,
-        goals: &[u32],
+        start: NodeId,
+        goals: &[NodeId],
         removed: &HashSet<ArcRef>,
     ) -> Option<Path> {
         use petgraph::visit::EdgeRef;
         let mut best: Option<Path> = None;
-        for e in self.graph.edges(NodeIndex::new(start as usize)) {
-            let next = e.target().index() as u32;
+        for e in self.graph.edges(NodeIndex::new(start.index())) {
+            let next = node_id(e.target());
             let (weight, arc) = (self.weight(e.weight()), e.weight().1);
             if removed.contains(&ArcRef {
                 from: start,
@@ -141,31 +146,34 @@ impl SearchGraph {
         best
     }
 
-    fn cheapest_arc(&self, from: u32, to: u32, removed: &HashSet<ArcRef>) -> Option<usize> {
+    fn cheapest_arc(&self, from: NodeId, to: NodeId, removed: &HashSet<ArcRef>) -> Option<usize> {
         if removed.contains(&ArcRef { from, to }) {
             return None;
         }
         self.graph
-            .edges_connecting(NodeIndex::new(from as usize), NodeIndex::new(to as usize))
+            .edges_connecting(NodeIndex::new(from.index()), NodeIndex::new(to.index()))
             .map(|e| (self.weight(e.weight()), e.weight().1))
             .min_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)))
             .map(|(_, i)| i)
     }
 
     /// Every node reachable from `start` without `removed` arcs (for explanations).
-    pub fn reachable(&self, start: u32, removed: &HashSet<ArcRef>) -> Vec<u32> {
+    pub fn reachable(&self, start: NodeId, removed: &HashSet<ArcRef>) -> Vec<NodeId> {
         let mut seen = vec![false; self.graph.node_count()];
         let mut stack = vec![start];
         let mut out = Vec::new();
         while let Some(n) = stack.pop() {
-            if std::mem::replace(&mut seen[n as usize], true) {
+            if seen
+                .get_mut(n.index())
+                .is_none_or(|s| std::mem::replace(s, true))
+            {
                 continue;
             }
             out.push(n);
-            for e in self.graph.edges(NodeIndex::new(n as usize)) {
+            for e in self.graph.edges(NodeIndex::new(n.index())) {
                 use petgraph::visit::EdgeRef;
-                let to = e.target().index() as u32;
-                if !removed.contains(&ArcRef { from: n, to }) && !seen[to as usize] {
+                let to = node_id(e.target());
+                if !removed.contains(&ArcRef { from: n, to }) && !seen[to.index()] {
                     stack.push(to);
                 }
             }
@@ -180,10 +188,16 @@ impl SearchGraph {
     }
 }
 
+/// A petgraph node as the artifact's node id (the graph is built with one petgraph node
+/// per artifact node, in order).
+fn node_id(n: NodeIndex) -> NodeId {
+    NodeId(n.index() as u32)
+}
+
 /// The paper's simplification: a run of consecutive moves of one end-effector becomes one
 /// move to the run's last workspace. Returns the kept node indices (start, the end of
 /// each move run, and both ends of every transition).
-pub fn simplify(graph: &Graph, path: &Path) -> Vec<u32> {
+pub fn simplify(graph: &Graph, path: &Path) -> Vec<NodeId> {
     let mut kept = vec![path.nodes[0]];
     for (i, &arc) in path.arcs.iter().enumerate() {
         let is_move = graph.arcs[arc].kind == ArcKind::Move;

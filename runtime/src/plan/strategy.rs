@@ -4,7 +4,7 @@
 
 use std::fmt;
 
-use cellc_schema::{Artifact, Node};
+use cellc_schema::{Artifact, EndEffectorId, Node};
 
 /// What a plan amounts to.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -70,16 +70,16 @@ impl fmt::Display for Strategy {
 /// Classifies a simplified state path.
 pub fn classify(artifact: &Artifact, states: &[Node]) -> Strategy {
     // The sequence of holders, repeats merged (a move keeps its holder).
-    let mut holders: Vec<u32> = Vec::new();
+    let mut holders: Vec<EndEffectorId> = Vec::new();
     for s in states {
         if holders.last() != Some(&s.end_effector) {
             holders.push(s.end_effector);
         }
     }
-    let movable = |e: u32| {
+    let movable = |e: EndEffectorId| {
         artifact
             .end_effectors
-            .get(e as usize)
+            .get(e.index())
             .is_some_and(|e| e.movable)
     };
     if states.len() <= 1 || (holders.len() == 1 && states.windows(2).all(|w| w[0] == w[1])) {
@@ -101,7 +101,7 @@ pub fn classify(artifact: &Artifact, states: &[Node]) -> Strategy {
             regrasps += 1;
         }
     }
-    let mut movers: Vec<u32> = holders.iter().copied().filter(|&h| movable(h)).collect();
+    let mut movers: Vec<EndEffectorId> = holders.iter().copied().filter(|&h| movable(h)).collect();
     movers.sort_unstable();
     movers.dedup();
     let movers = movers.len() as u32;

@@ -1,7 +1,9 @@
 //! One arm reaching one object pose (the IK solve, the state check, the witness), and
 //! what the failed attempts of a check report.
 
-use cellc_schema::{self as schema, Artifact, Infeasibility, Witness};
+use cellc_schema::{
+    self as schema, Artifact, EndEffectorId, GraspId, Infeasibility, ObjectId, Witness,
+};
 use nalgebra as na;
 use rand::Rng;
 use rand_chacha::ChaCha8Rng;
@@ -35,8 +37,8 @@ pub(super) fn sample_point(boxes: &[Aabb], rng: &mut ChaCha8Rng) -> Option<Point
 }
 
 /// The pose of grasp (or resting pose) `g` of `object`; the identity when it has none.
-pub(super) fn grasp_pose(artifact: &Artifact, object: u32, g: u32) -> Iso {
-    artifact.objects[object as usize].grasps[g as usize]
+pub(super) fn grasp_pose(artifact: &Artifact, object: ObjectId, g: GraspId) -> Iso {
+    artifact.objects[object.index()].grasps[g.index()]
         .pose
         .as_ref()
         .map(iso_from_schema)
@@ -46,7 +48,7 @@ pub(super) fn grasp_pose(artifact: &Artifact, object: u32, g: u32) -> Iso {
 /// Keeps the smallest IK errors seen, for the reason of a failed check.
 #[derive(Default)]
 pub(super) struct BestIk {
-    end_effector: u32,
+    end_effector: EndEffectorId,
     tries: u32,
     position_error: f64,
     rotation_error: f64,
@@ -54,7 +56,7 @@ pub(super) struct BestIk {
 }
 
 impl BestIk {
-    pub(super) fn record(&mut self, end_effector: u32, error: &IkError) {
+    pub(super) fn record(&mut self, end_effector: EndEffectorId, error: &IkError) {
         let IkError::NotConverged {
             tries,
             position_error,
@@ -77,7 +79,7 @@ impl BestIk {
 pub(super) struct Outcome {
     pub(super) best_ik: BestIk,
     /// For a handoff, the other arm: the failure is the closed chain's, not one arm's.
-    pub(super) partner: Option<u32>,
+    pub(super) partner: Option<EndEffectorId>,
     pub(super) last_collision: Option<(String, String)>,
 }
 
@@ -123,8 +125,8 @@ impl Outcome {
 }
 
 /// The robot, base and home of an arm.
-pub(super) fn arm(scene: &Scene, e: u32) -> Option<(&Robot, Iso, &[f64])> {
-    match &scene.holders[e as usize] {
+pub(super) fn arm(scene: &Scene, e: EndEffectorId) -> Option<(&Robot, Iso, &[f64])> {
+    match &scene.holders[e.index()] {
         Holder::Arm { robot, base, home } => Some((&scene.robots[*robot], *base, home.as_slice())),
         _ => None,
     }
@@ -134,8 +136,8 @@ pub(super) fn arm(scene: &Scene, e: u32) -> Option<(&Robot, Iso, &[f64])> {
 /// collision check and the witness, shared by holds and rests.
 pub(super) struct Attempt<'s> {
     pub(super) scene: &'s Scene,
-    pub(super) object: u32,
-    pub(super) e: u32,
+    pub(super) object: ObjectId,
+    pub(super) e: EndEffectorId,
     pub(super) robot: &'s Robot,
     pub(super) base: Iso,
     pub(super) home: &'s [f64],
@@ -190,9 +192,9 @@ impl Attempt<'_> {
 /// never as free; so would a joint outside its limits, which the solvers never return.
 pub(super) fn invalidity(
     scene: &Scene,
-    arms: &[u32],
+    arms: &[EndEffectorId],
     q: &[f64],
-    object: u32,
+    object: ObjectId,
     placement: ObjectPlacement,
     scratch: &mut SceneScratch,
 ) -> Option<(String, String)> {

@@ -31,7 +31,10 @@ mod witness;
 
 use std::collections::BTreeMap;
 
-use cellc_schema::{self as schema, ArcKind, Artifact, Infeasibility, Witness};
+use cellc_schema::{
+    self as schema, ArcKind, Artifact, EndEffectorId, GraspId, Infeasibility, ObjectId, Witness,
+    WorkspaceId,
+};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
@@ -91,33 +94,38 @@ pub struct VerifyReport {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
 enum Check {
     /// Arm `e` holds the object with grasp `g` somewhere in workspace `w`.
-    Hold { object: u32, e: u32, g: u32, w: u32 },
+    Hold {
+        object: ObjectId,
+        e: EndEffectorId,
+        g: GraspId,
+        w: WorkspaceId,
+    },
     /// Arms (or an arm and a conveyor) `a` with `ga` and `b` with `gb` hold it at once in
     /// `w`; stored with (a, ga) <= (b, gb) so both directions share it.
     Handoff {
-        object: u32,
-        a: u32,
-        ga: u32,
-        b: u32,
-        gb: u32,
-        w: u32,
+        object: ObjectId,
+        a: EndEffectorId,
+        ga: GraspId,
+        b: EndEffectorId,
+        gb: GraspId,
+        w: WorkspaceId,
     },
     /// Arm `arm` with `g` and surface `surface` with resting pose `r` in `w`.
     Rest {
-        object: u32,
-        arm: u32,
-        g: u32,
-        surface: u32,
-        r: u32,
-        w: u32,
+        object: ObjectId,
+        arm: EndEffectorId,
+        g: GraspId,
+        surface: EndEffectorId,
+        r: GraspId,
+        w: WorkspaceId,
     },
     /// Arm `e` changing its own grasp from `from` to `to` in `w`.
     Regrasp {
-        object: u32,
-        e: u32,
-        from: u32,
-        to: u32,
-        w: u32,
+        object: ObjectId,
+        e: EndEffectorId,
+        from: GraspId,
+        to: GraspId,
+        w: WorkspaceId,
     },
 }
 
@@ -135,7 +143,7 @@ pub fn verify(
     for (o, object) in artifact.objects.iter().enumerate() {
         let mut per_arc = Vec::with_capacity(object.graph.arcs.len());
         for arc in &object.graph.arcs {
-            let check = check_of(scene, o as u32, object, arc);
+            let check = check_of(scene, ObjectId(o as u32), object, arc);
             if let Some(c) = check {
                 checks.insert(c, ());
             }
@@ -201,10 +209,15 @@ pub fn verify(
 
 /// The question an arc asks, or `None` when it has nothing geometric to check (abstract
 /// holders).
-fn check_of(scene: &Scene, object: u32, obj: &schema::Object, arc: &schema::Arc) -> Option<Check> {
+fn check_of(
+    scene: &Scene,
+    object: ObjectId,
+    obj: &schema::Object,
+    arc: &schema::Arc,
+) -> Option<Check> {
     let from = obj.graph.nodes[arc.from as usize];
     let to = obj.graph.nodes[arc.to as usize];
-    let holder = |e: u32| &scene.holders[e as usize];
+    let holder = |e: EndEffectorId| &scene.holders[e.index()];
     match arc.kind {
         ArcKind::Move => match holder(to.end_effector) {
             Holder::Arm { .. } => Some(Check::Hold {
@@ -268,7 +281,7 @@ fn check_of(scene: &Scene, object: u32, obj: &schema::Object, arc: &schema::Arc)
 fn rng_for(seed: u64, check: &Check) -> ChaCha8Rng {
     let mut h: u64 = seed ^ 0x9E37_79B9_7F4A_7C15;
     let words: Vec<u32> = match *check {
-        Check::Hold { object, e, g, w } => vec![1, object, e, g, w],
+        Check::Hold { object, e, g, w } => vec![1, object.0, e.0, g.0, w.0],
         Check::Handoff {
             object,
             a,
@@ -276,7 +289,7 @@ fn rng_for(seed: u64, check: &Check) -> ChaCha8Rng {
             b,
             gb,
             w,
-        } => vec![2, object, a, ga, b, gb, w],
+        } => vec![2, object.0, a.0, ga.0, b.0, gb.0, w.0],
         Check::Rest {
             object,
             arm,
@@ -284,14 +297,14 @@ fn rng_for(seed: u64, check: &Check) -> ChaCha8Rng {
             surface,
             r,
             w,
-        } => vec![3, object, arm, g, surface, r, w],
+        } => vec![3, object.0, arm.0, g.0, surface.0, r.0, w.0],
         Check::Regrasp {
             object,
             e,
             from,
             to,
             w,
-        } => vec![4, object, e, from, to, w],
+        } => vec![4, object.0, e.0, from.0, to.0, w.0],
     };
     for word in words {
         // SplitMix64 steps: a cheap, well-mixed hash of the check's identity.

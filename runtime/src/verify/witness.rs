@@ -2,7 +2,9 @@
 //! handoff with the closed-chain solver, a rest by sampling resting poses on the surface,
 //! and a regrasp within one hand by refusing it.
 
-use cellc_schema::{self as schema, Artifact, Infeasibility, Witness};
+use cellc_schema::{
+    self as schema, Artifact, EndEffectorId, GraspId, Infeasibility, ObjectId, Witness, WorkspaceId,
+};
 use rand::Rng;
 use rand_chacha::ChaCha8Rng;
 
@@ -71,7 +73,13 @@ struct Answer<'a> {
 
 impl Answer<'_> {
     /// Arm `e` holding the object with grasp `g` somewhere in workspace `w`.
-    fn hold(&mut self, object: u32, e: u32, g: u32, w: u32) -> Result<Witness, Infeasibility> {
+    fn hold(
+        &mut self,
+        object: ObjectId,
+        e: EndEffectorId,
+        g: GraspId,
+        w: WorkspaceId,
+    ) -> Result<Witness, Infeasibility> {
         let (artifact, scene, options) = (self.artifact, self.scene, self.options);
         let (rng, outcome, scratch) = (&mut self.rng, &mut self.outcome, &mut *self.scratch);
         let Some((robot, base, home)) = arm(scene, e) else {
@@ -88,7 +96,7 @@ impl Answer<'_> {
                 robot.sample_configuration(rng, &mut q);
                 let object_pose = robot.tip_pose(&base, &q) * grasp;
                 let center = Point::from(object_pose.translation.vector);
-                if !scene.workspaces[w as usize]
+                if !scene.workspaces[w.index()]
                     .iter()
                     .any(|b| crate::math::contains_point(b, &center))
                 {
@@ -122,7 +130,7 @@ impl Answer<'_> {
             grasp,
         };
         for _ in 0..options.placements {
-            let Some(center) = sample_point(&scene.workspaces[w as usize], rng) else {
+            let Some(center) = sample_point(&scene.workspaces[w.index()], rng) else {
                 break;
             };
             // Objects are carried upright, turned about the vertical at random.
@@ -144,10 +152,10 @@ impl Answer<'_> {
     /// Arms `a` and `b`, each with its grasp, holding the object at once in `w`.
     fn handoff(
         &mut self,
-        object: u32,
-        (a, ga): (u32, u32),
-        (b, gb): (u32, u32),
-        w: u32,
+        object: ObjectId,
+        (a, ga): (EndEffectorId, GraspId),
+        (b, gb): (EndEffectorId, GraspId),
+        w: WorkspaceId,
     ) -> Result<Witness, Infeasibility> {
         let (artifact, scene, options) = (self.artifact, self.scene, self.options);
         let (rng, outcome, scratch) = (&mut self.rng, &mut self.outcome, &mut *self.scratch);
@@ -158,11 +166,11 @@ impl Answer<'_> {
                 detail: "a holder is not an arm".into(),
             });
         };
-        let boxes = &scene.workspaces[w as usize];
+        let boxes = &scene.workspaces[w.index()];
         outcome.partner = Some(b);
         // A symmetric object may be held by B in a grasp turned by a symmetry: a ball
         // passed between two hands with the same grasp is held from opposite sides.
-        let all_turns = crate::symmetry::candidates(&artifact.objects[object as usize].symmetries);
+        let all_turns = crate::symmetry::candidates(&artifact.objects[object.index()].symmetries);
         // With the same grasp on both sides, the unturned grasp puts both hands in one
         // place: only turns that send the second hand round to the other side (over
         // 120°) can work, so only those are tried.
@@ -246,10 +254,10 @@ impl Answer<'_> {
     /// it rests as `r`, in `w`.
     fn rest(
         &mut self,
-        object: u32,
-        (e, g): (u32, u32),
-        (surface, r): (u32, u32),
-        w: u32,
+        object: ObjectId,
+        (e, g): (EndEffectorId, GraspId),
+        (surface, r): (EndEffectorId, GraspId),
+        w: WorkspaceId,
     ) -> Result<Witness, Infeasibility> {
         let (artifact, scene, options) = (self.artifact, self.scene, self.options);
         let (rng, outcome, scratch) = (&mut self.rng, &mut self.outcome, &mut *self.scratch);
@@ -258,7 +266,7 @@ impl Answer<'_> {
                 detail: "the holder is not an arm".into(),
             });
         };
-        let Holder::Surface { slab, .. } = &scene.holders[surface as usize] else {
+        let Holder::Surface { slab, .. } = &scene.holders[surface.index()] else {
             return Err(Infeasibility::NoPlacement {
                 detail: "the support is not a surface".into(),
             });
@@ -267,12 +275,12 @@ impl Answer<'_> {
         let grasp = grasp_pose(artifact, object, g);
         // The object rests on the top face, anywhere and turned any way about the
         // vertical, as long as its centre lies in the workspace.
-        let regions = RestRegions::new(slab, &scene.workspaces[w as usize], &rest);
+        let regions = RestRegions::new(slab, &scene.workspaces[w.index()], &rest);
         if regions.is_empty() {
             let center_z = regions.center_height();
-            let surface_name = &artifact.end_effectors[surface as usize].name;
-            let rest_name = &artifact.objects[object as usize].grasps[r as usize].name;
-            let ws = &artifact.workspaces[w as usize].name;
+            let surface_name = &artifact.end_effectors[surface.index()].name;
+            let rest_name = &artifact.objects[object.index()].grasps[r.index()].name;
+            let ws = &artifact.workspaces[w.index()].name;
             return Err(Infeasibility::NoPlacement {
                 detail: format!(
                     "resting as `{rest_name}` on `{surface_name}`, the object's centre ({center_z:.3} m high) is never inside `{ws}`"
@@ -311,10 +319,16 @@ impl Answer<'_> {
 /// would hold the object between letting go and taking it again. The compiler keeps
 /// such transitions (imported databases list them) and warns; verification refuses
 /// them, so no plan relies on an arc without a witness.
-fn regrasp(artifact: &Artifact, object: u32, e: u32, from: u32, to: u32) -> Infeasibility {
-    let arm = &artifact.end_effectors[e as usize].name;
-    let grasps = &artifact.objects[object as usize].grasps;
-    let (from, to) = (&grasps[from as usize].name, &grasps[to as usize].name);
+fn regrasp(
+    artifact: &Artifact,
+    object: ObjectId,
+    e: EndEffectorId,
+    from: GraspId,
+    to: GraspId,
+) -> Infeasibility {
+    let arm = &artifact.end_effectors[e.index()].name;
+    let grasps = &artifact.objects[object.index()].grasps;
+    let (from, to) = (&grasps[from.index()].name, &grasps[to.index()].name);
     Infeasibility::NoPlacement {
         detail: format!(
             "`{arm}` cannot pass the object to itself: nothing holds it while the grasp changes from `{from}` to `{to}`"

@@ -20,8 +20,9 @@ use cellc_schema::rules::{
 };
 use cellc_schema::{
     Aabb, Arc, ArcKind, Artifact, Body, DeclaredTransition, EndEffector, EndEffectorId, Graph,
-    Grasp, GraspId, Holder, HolderClass, HolderKind, Infeasibility, Node, Object, PrunedArc,
-    SourceFile, SourceSpan, Verification, Weights, Workspace, WorkspaceId, FORMAT, FORMAT_VERSION,
+    Grasp, GraspId, Holder, HolderClass, HolderKind, Infeasibility, Node, NodeId, Object, ObjectId,
+    PrunedArc, SourceFile, SourceSpan, Verification, Weights, Workspace, WorkspaceId, FORMAT,
+    FORMAT_VERSION,
 };
 
 /// A state by names: (end-effector, grasp, workspace).
@@ -287,18 +288,14 @@ impl Desc {
                 .map(|t| (GraspId(t.from), GraspId(t.to)))
                 .collect(),
         );
-        let nodes: Vec<Node> = rules
-            .states(&object_rules)
-            .into_iter()
-            .map(Node::from)
-            .collect();
+        let nodes: Vec<Node> = rules.states(&object_rules);
         let mut arcs = Vec::new();
         rules.for_each_arc(&object_rules, |from, to, provenance| {
             let (kind, weight, source, via) = match provenance {
                 Provenance::Move { adjacency } => (
                     ArcKind::Move,
                     0.1,
-                    grasps[nodes[from as usize].grasp as usize].span,
+                    grasps[nodes[from as usize].grasp.index()].span,
                     adjacency.map(|i| adjacency_spans[i]),
                 ),
                 Provenance::Transition { transition } => {
@@ -320,7 +317,7 @@ impl Desc {
             let (Some(from), Some(to)) = (self.node(&nodes, a), self.node(&nodes, b)) else {
                 continue;
             };
-            if let Some(i) = arcs.iter().position(|x| x.from == from && x.to == to) {
+            if let Some(i) = arcs.iter().position(|x| x.from == from.0 && x.to == to.0) {
                 pruned.push(PrunedArc {
                     arc: arcs.remove(i),
                     reason: reason.clone(),
@@ -390,13 +387,13 @@ impl Desc {
         }
     }
 
-    pub fn node(&self, nodes: &[Node], (e, g, w): &St) -> Option<u32> {
+    pub fn node(&self, nodes: &[Node], (e, g, w): &St) -> Option<NodeId> {
         let n = Node {
-            end_effector: self.ee(e)? as u32,
-            grasp: self.grasp(g)? as u32,
-            workspace: self.ws(w)? as u32,
+            end_effector: EndEffectorId(self.ee(e)? as u32),
+            grasp: GraspId(self.grasp(g)? as u32),
+            workspace: WorkspaceId(self.ws(w)? as u32),
         };
-        nodes.iter().position(|x| *x == n).map(|i| i as u32)
+        nodes.iter().position(|x| *x == n).map(|i| NodeId(i as u32))
     }
 }
 
@@ -436,22 +433,23 @@ impl Req {
 
 /// This file's own search: node indices reachable from `start` over the arcs minus the
 /// failed ones.
-pub fn reachable(art: &Artifact, start: u32, failed: &[(ArcRef, Infeasibility)]) -> Vec<u32> {
+pub fn reachable(art: &Artifact, start: NodeId, failed: &[(ArcRef, Infeasibility)]) -> Vec<NodeId> {
     let g = &art.objects[0].graph;
     let mut seen = vec![false; g.nodes.len()];
     let mut queue = VecDeque::from([start]);
-    seen[start as usize] = true;
+    seen[start.index()] = true;
     while let Some(u) = queue.pop_front() {
-        for a in g.arcs.iter().filter(|a| a.from == u) {
-            let gone = failed.iter().any(|(f, _)| f.from == a.from && f.to == a.to);
+        for a in g.arcs.iter().filter(|a| a.from == u.0) {
+            let gone = failed.iter().any(|(f, _)| *f == ArcRef::of(a));
             if !gone && !seen[a.to as usize] {
                 seen[a.to as usize] = true;
-                queue.push_back(a.to);
+                queue.push_back(NodeId(a.to));
             }
         }
     }
     (0..g.nodes.len() as u32)
         .filter(|&i| seen[i as usize])
+        .map(NodeId)
         .collect()
 }
 
@@ -463,21 +461,21 @@ pub fn connects(d: &Desc, req: &Req) -> Option<bool> {
     let nodes = &art.objects[0].graph.nodes;
     let start = d.node(nodes, &req.start)?;
     let failed = req.failed_refs(d, &art);
-    let goals: Vec<u32> = req.goals.iter().filter_map(|g| d.node(nodes, g)).collect();
-    let leads = |from: u32| {
+    let goals: Vec<NodeId> = req.goals.iter().filter_map(|g| d.node(nodes, g)).collect();
+    let leads = |from: NodeId| {
         let reach = reachable(&art, from, &failed);
         goals.iter().any(|g| reach.contains(g))
     };
     if !goals.contains(&start) {
         return Some(leads(start));
     }
-    let gone = |a: &Arc| failed.iter().any(|(f, _)| f.from == a.from && f.to == a.to);
+    let gone = |a: &Arc| failed.iter().any(|(f, _)| *f == ArcRef::of(a));
     Some(
         art.objects[0]
             .graph
             .arcs
             .iter()
-            .any(|a| a.from == start && !gone(a) && leads(a.to)),
+            .any(|a| a.from == start.0 && !gone(a) && leads(NodeId(a.to))),
     )
 }
 
@@ -491,11 +489,11 @@ pub fn unreachable(d: &Desc, art: &Artifact, req: &Req) -> Unreachable {
         .goals
         .iter()
         .filter_map(|g| d.node(nodes, g))
-        .map(|i| nodes[i as usize])
+        .map(|i| nodes[i.index()])
         .collect();
     Unreachable {
-        object: 0,
-        start: nodes[start as usize],
+        object: ObjectId(0),
+        start: nodes[start.index()],
         goals,
         reachable: reach,
         failed,

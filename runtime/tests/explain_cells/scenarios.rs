@@ -3,7 +3,7 @@
 //! surfaces without hands, and random small cells.
 
 use super::{s, st, Desc, Req, St};
-use cellc_schema::Infeasibility;
+use cellc_schema::{EndEffectorId, Infeasibility};
 
 /// The paper's Fig. 3 cell, with its transitions (directed, as listed in method.md).
 pub fn fig3(keep: impl Fn(&str, &str) -> bool) -> Desc {
@@ -162,9 +162,9 @@ pub fn random_cell(seed: u64) -> (Desc, Req) {
     let state = |i: u32| -> St {
         let n = g.nodes[i as usize];
         (
-            art.end_effectors[n.end_effector as usize].name.clone(),
-            art.objects[0].grasps[n.grasp as usize].name.clone(),
-            art.workspaces[n.workspace as usize].name.clone(),
+            art.end_effectors[n.end_effector.index()].name.clone(),
+            art.objects[0].grasps[n.grasp.index()].name.clone(),
+            art.workspaces[n.workspace.index()].name.clone(),
         )
     };
     for a in &g.arcs {
@@ -232,14 +232,14 @@ pub fn fig3_right_arm_isolated() -> (Desc, Req) {
 pub fn fig3_handoffs_pruned() -> (Desc, Req) {
     let mut d = fig3(|_, _| true);
     let ik = Infeasibility::NoIkSolution {
-        end_effector: 2,
+        end_effector: EndEffectorId(2),
         tries: 300,
         position_error: 0.21,
         rotation_error: 0.1,
     };
     let chain = Infeasibility::NoClosedChain {
-        a: 1,
-        b: 2,
+        a: EndEffectorId(1),
+        b: EndEffectorId(2),
         tries: 300,
         position_error: 0.05,
         rotation_error: 0.2,
@@ -331,7 +331,7 @@ pub fn one_hand_move_failed() -> (Desc, Req) {
         st("right", "g7", "w2"),
         st("right", "g7", "w3"),
         Infeasibility::NoIkSolution {
-            end_effector: 0,
+            end_effector: EndEffectorId(0),
             tries: 100,
             position_error: 0.21,
             rotation_error: 0.0,

@@ -2,7 +2,7 @@
 //! for this request where the object lies or must be placed, and the resting pose a
 //! put-down shares with the next pick.
 
-use cellc_schema::{Infeasibility, Node};
+use cellc_schema::{GraspId, Infeasibility, Node, ObjectId};
 use rand_chacha::ChaCha8Rng;
 
 use super::{Exchange, Failure, Planner, SCREENING};
@@ -19,23 +19,23 @@ impl Planner<'_> {
     /// (`picker`, arc `pick`) that both arms reach collision-free with their grasps.
     pub(super) fn shared_rest_pose(
         &self,
-        object: u32,
+        object: ObjectId,
         giver: (Node, usize),
         picker: (Node, usize),
         rng: &mut ChaCha8Rng,
         stop: &Termination,
     ) -> Option<Iso> {
         let scene = self.scene.filter(|s| s.has_kinematics())?;
-        let graph = &self.artifact.objects[object as usize].graph;
+        let graph = &self.artifact.objects[object.index()].graph;
         let (giver, put) = giver;
         let (picker, pick) = picker;
         let rest_node = graph.nodes[graph.arcs[put].to as usize];
-        let Holder::Surface { slab, .. } = &scene.holders[rest_node.end_effector as usize] else {
+        let Holder::Surface { slab, .. } = &scene.holders[rest_node.end_effector.index()] else {
             return None;
         };
-        let obj = &self.artifact.objects[object as usize];
-        let pose_of = |g: u32| {
-            obj.grasps[g as usize]
+        let obj = &self.artifact.objects[object.index()];
+        let pose_of = |g: GraspId| {
+            obj.grasps[g.index()]
                 .pose
                 .as_ref()
                 .map(iso_from_schema)
@@ -45,7 +45,7 @@ impl Planner<'_> {
         let turns = crate::symmetry::candidates(&obj.symmetries);
         let works = |pose: &Iso, rng: &mut ChaCha8Rng| -> bool {
             [giver, picker].iter().all(|arm| {
-                let Holder::Arm { robot, base, home } = &scene.holders[arm.end_effector as usize]
+                let Holder::Arm { robot, base, home } = &scene.holders[arm.end_effector.index()]
                 else {
                     return false;
                 };
@@ -86,7 +86,7 @@ impl Planner<'_> {
             }
         }
         // Sampled resting poses: anywhere on the top face with the centre in the workspace.
-        let workspace = &scene.workspaces[rest_node.workspace as usize];
+        let workspace = &scene.workspaces[rest_node.workspace.index()];
         let regions = RestRegions::new(slab, workspace, &rest);
         for _ in 0..100 {
             if stop.should_stop() {
@@ -101,8 +101,12 @@ impl Planner<'_> {
     }
 
     /// The object pose and arm configurations of a witnessed arc.
-    pub(super) fn witness_of(&self, object: u32, arc: usize) -> (Option<Iso>, ArmConfigurations) {
-        let graph = &self.artifact.objects[object as usize].graph;
+    pub(super) fn witness_of(
+        &self,
+        object: ObjectId,
+        arc: usize,
+    ) -> (Option<Iso>, ArmConfigurations) {
+        let graph = &self.artifact.objects[object.index()].graph;
         match graph.arcs[arc]
             .witness
             .and_then(|w| graph.witnesses.get(w as usize))
@@ -124,7 +128,7 @@ impl Planner<'_> {
     #[allow(clippy::too_many_arguments)]
     pub(super) fn exchange(
         &self,
-        object: u32,
+        object: ObjectId,
         arc: usize,
         from: Node,
         to: Node,
@@ -133,17 +137,14 @@ impl Planner<'_> {
         rng: &mut ChaCha8Rng,
         stop: &Termination,
     ) -> Result<Exchange, Failure> {
-        let graph = &self.artifact.objects[object as usize].graph;
-        let arc_ref = ArcRef {
-            from: graph.arcs[arc].from,
-            to: graph.arcs[arc].to,
-        };
+        let graph = &self.artifact.objects[object.index()].graph;
+        let arc_ref = ArcRef::of(&graph.arcs[arc]);
         let Some(scene) = self.scene.filter(|s| s.has_kinematics()) else {
             return Ok(Exchange::default());
         };
         let surface_and_arm = match (
-            &scene.holders[from.end_effector as usize],
-            &scene.holders[to.end_effector as usize],
+            &scene.holders[from.end_effector.index()],
+            &scene.holders[to.end_effector.index()],
         ) {
             (Holder::Surface { .. }, Holder::Arm { .. }) => Some((from, to)),
             (Holder::Arm { .. }, Holder::Surface { .. }) => Some((to, from)),
@@ -155,14 +156,13 @@ impl Planner<'_> {
             _ => None,
         };
         if let (Some((surface, arm)), Some(pose)) = (surface_and_arm, specific_pose) {
-            let obj = &self.artifact.objects[object as usize];
-            let grasp = obj.grasps[arm.grasp as usize]
+            let obj = &self.artifact.objects[object.index()];
+            let grasp = obj.grasps[arm.grasp.index()]
                 .pose
                 .as_ref()
                 .map(iso_from_schema)
                 .unwrap_or_else(Iso::identity);
-            let Holder::Arm { robot, base, home } = &scene.holders[arm.end_effector as usize]
-            else {
+            let Holder::Arm { robot, base, home } = &scene.holders[arm.end_effector.index()] else {
                 return Err(Failure {
                     arc: arc_ref,
                     reason: Infeasibility::NoPlacement {

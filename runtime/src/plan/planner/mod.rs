@@ -11,7 +11,7 @@ mod realise;
 
 use std::collections::HashSet;
 
-use cellc_schema::{Artifact, Infeasibility, Node};
+use cellc_schema::{Artifact, Infeasibility, Node, NodeId, ObjectId};
 
 use super::locate::{goal_states, locate, locate_abstract};
 use super::search::{simplify, SearchGraph};
@@ -123,7 +123,7 @@ impl<'a> Planner<'a> {
     /// Plans a request from scratch (arms at home).
     pub fn plan(&self, request: &Request) -> Result<Plan, PlanError> {
         super::names::check_request(self.artifact, request).map_err(PlanError::Locate)?;
-        let object = request.object.0;
+        let object = request.object;
         let scene = self.scene.filter(|s| s.has_kinematics());
         let start = match scene {
             Some(scene) => locate(
@@ -162,7 +162,7 @@ impl<'a> Planner<'a> {
     /// Plans from a given state towards `goal` (used again when execution fails part way).
     pub fn plan_from(
         &self,
-        object: u32,
+        object: ObjectId,
         start: Node,
         goal: &PlanGoal,
         state: WorldState,
@@ -171,10 +171,16 @@ impl<'a> Planner<'a> {
         let goals = goal.states.as_slice();
         let goal_pose = goal.pose;
         let start_pose = state.object;
-        let graph = &self.artifact.objects[object as usize].graph;
-        let index_of = |n: &Node| graph.nodes.iter().position(|m| m == n).map(|i| i as u32);
+        let graph = &self.artifact.objects[object.index()].graph;
+        let index_of = |n: &Node| {
+            graph
+                .nodes
+                .iter()
+                .position(|m| m == n)
+                .map(|i| NodeId(i as u32))
+        };
         let start_index = index_of(&start);
-        let goal_indices: Vec<u32> = goals.iter().filter_map(index_of).collect();
+        let goal_indices: Vec<NodeId> = goals.iter().filter_map(index_of).collect();
         let mut removed: HashSet<ArcRef> = HashSet::new();
         let mut failed: Vec<(ArcRef, Infeasibility)> = Vec::new();
         let unreachable = |removed: &HashSet<ArcRef>, failed: Vec<(ArcRef, Infeasibility)>| {
@@ -183,7 +189,7 @@ impl<'a> Planner<'a> {
                 start,
                 goals: goals.to_vec(),
                 reachable: start_index
-                    .map(|s| self.search[object as usize].reachable(s, removed))
+                    .map(|s| self.search[object.index()].reachable(s, removed))
                     .unwrap_or_default(),
                 failed,
             }))
@@ -209,14 +215,14 @@ impl<'a> Planner<'a> {
         }
         let reweighted = options
             .weights
-            .map(|w| self.search[object as usize].reweighted(w));
+            .map(|w| self.search[object.index()].reweighted(w));
         loop {
             if stop.should_stop() {
                 return Err(PlanError::TimeBudget {
                     searches: backtracks,
                 });
             }
-            let search = reweighted.as_ref().unwrap_or(&self.search[object as usize]);
+            let search = reweighted.as_ref().unwrap_or(&self.search[object.index()]);
             let found = if must_move && goal_indices.contains(&start_index) {
                 search.shortest_leaving(start_index, &goal_indices, &removed)
             } else {
@@ -236,7 +242,7 @@ impl<'a> Planner<'a> {
             match realised {
                 Ok(steps) => {
                     let kept = simplify(graph, &path);
-                    let states: Vec<Node> = kept.iter().map(|&i| graph.nodes[i as usize]).collect();
+                    let states: Vec<Node> = kept.iter().map(|&i| graph.nodes[i.index()]).collect();
                     return Ok(Plan {
                         object,
                         start_pose,
@@ -275,7 +281,7 @@ struct Exchange {
 
 fn apply(state: &mut WorldState, configurations: &ArmConfigurations, object: Option<Iso>) {
     for (e, q) in configurations {
-        if let Some(slot) = state.arms.get_mut(*e as usize) {
+        if let Some(slot) = state.arms.get_mut(e.index()) {
             *slot = Some(q.clone());
         }
     }

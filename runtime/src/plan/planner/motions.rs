@@ -1,12 +1,12 @@
 //! The joint motion that leads to each command of a realised path.
 
-use cellc_schema::{Infeasibility, Node};
+use cellc_schema::{EndEffectorId, GraspId, Infeasibility, Node, ObjectId};
 use rand_chacha::ChaCha8Rng;
 
 use super::{step_arc, Failure, Planner, WorldState};
 use crate::math::{iso_from_schema, Iso};
 use crate::motion::{MotionError, MotionProblem};
-use crate::plan::{Command, Step};
+use crate::plan::{ArmConfigurations, Command, Step};
 use crate::scene::{Holder, ObjectPlacement, SceneScratch};
 use crate::termination::Termination;
 use crate::validity::SceneValidity;
@@ -18,7 +18,7 @@ impl Planner<'_> {
     /// that cannot be found fails the arc of its command, so the search tries another way.
     pub(super) fn add_motions(
         &self,
-        object: u32,
+        object: ObjectId,
         start_state: Node,
         steps: &mut [Step],
         start: &WorldState,
@@ -28,24 +28,26 @@ impl Planner<'_> {
         let Some(scene) = self.scene.filter(|s| s.has_kinematics()) else {
             return Ok(());
         };
-        let obj = &self.artifact.objects[object as usize];
-        let grasp_pose = |g: u32| {
+        let obj = &self.artifact.objects[object.index()];
+        let grasp_pose = |g: GraspId| {
             obj.grasps
-                .get(g as usize)
+                .get(g.index())
                 .and_then(|g| g.pose.as_ref())
                 .map(iso_from_schema)
                 .unwrap_or_else(Iso::identity)
         };
-        let is_arm = |e: u32| matches!(scene.holders.get(e as usize), Some(Holder::Arm { .. }));
+        let is_arm =
+            |e: EndEffectorId| matches!(scene.holders.get(e.index()), Some(Holder::Arm { .. }));
         let mut arms = start.arms.clone();
         let mut object_pose = start.object;
         // Who holds the object now, and with which grasp.
-        let mut holder: Option<(u32, u32)> = Some((start_state.end_effector, start_state.grasp));
+        let mut holder: Option<(EndEffectorId, GraspId)> =
+            Some((start_state.end_effector, start_state.grasp));
         let mut scratch = SceneScratch::default();
         // A carry begins where a pick left the object (still touching that surface) and
         // may end where a put-down needs it (touching the next one): at those ends the
         // object touches a surface, which the carry's checks must allow.
-        let put_down_after: Vec<Option<u32>> = (0..steps.len())
+        let put_down_after: Vec<Option<EndEffectorId>> = (0..steps.len())
             .map(|i| match steps.get(i + 1).map(|s| &s.command) {
                 Some(Command::Grasp { holder, .. }) if !is_arm(*holder) => Some(*holder),
                 _ => None,
@@ -53,8 +55,8 @@ impl Planner<'_> {
             .collect();
         // An arm that let go but could not retreat still has its hand on the object: the
         // next carry may touch it while it moves the object away.
-        let mut lingering: Option<u32> = None;
-        let mut lifted_from: Option<u32> =
+        let mut lingering: Option<EndEffectorId> = None;
+        let mut lifted_from: Option<EndEffectorId> =
             (!is_arm(start_state.end_effector)).then_some(start_state.end_effector);
         for (index, step) in steps.iter_mut().enumerate() {
             let (targets, placement, fail_arc) = match &step.command {
@@ -137,7 +139,7 @@ impl Planner<'_> {
                     if !is_arm(*giver) {
                         continue;
                     }
-                    let Holder::Arm { home, .. } = &scene.holders[*giver as usize] else {
+                    let Holder::Arm { home, .. } = &scene.holders[giver.index()] else {
                         continue;
                     };
                     // It starts with its hand on the object it just let go of: that contact
@@ -158,11 +160,11 @@ impl Planner<'_> {
                     (vec![(*giver, home.clone())], placement, None)
                 }
             };
-            let moving: Vec<(u32, Vec<f64>, Vec<f64>)> = targets
+            let moving: Vec<(EndEffectorId, Vec<f64>, Vec<f64>)> = targets
                 .iter()
                 .filter(|(e, _)| is_arm(*e))
                 .filter_map(|(e, goal)| {
-                    let now = arms.get(*e as usize)?.clone()?;
+                    let now = arms.get(e.index())?.clone()?;
                     let changes = now.iter().zip(goal).any(|(a, b)| (a - b).abs() > 1e-9);
                     changes.then(|| (*e, now, goal.clone()))
                 })
@@ -170,13 +172,13 @@ impl Planner<'_> {
             if moving.is_empty() {
                 continue;
             }
-            let stationary: Vec<(u32, Vec<f64>)> = arms
+            let stationary: ArmConfigurations = arms
                 .iter()
                 .enumerate()
-                .filter_map(|(e, q)| Some((e as u32, q.clone()?)))
+                .filter_map(|(e, q)| Some((EndEffectorId(e as u32), q.clone()?)))
                 .filter(|(e, _)| !moving.iter().any(|m| m.0 == *e))
                 .collect();
-            let moving_arms: Vec<u32> = moving.iter().map(|m| m.0).collect();
+            let moving_arms: Vec<EndEffectorId> = moving.iter().map(|m| m.0).collect();
             let from: Vec<f64> = moving.iter().flat_map(|m| m.1.iter().copied()).collect();
             let to: Vec<f64> = moving.iter().flat_map(|m| m.2.iter().copied()).collect();
             let motion = SceneValidity::new(scene, &moving_arms, &stationary, object, placement)
@@ -194,7 +196,7 @@ impl Planner<'_> {
             match motion {
                 Ok(trajectory) => {
                     for (e, _, goal) in &moving {
-                        arms[*e as usize] = Some(goal.clone());
+                        arms[e.index()] = Some(goal.clone());
                     }
                     if !matches!(step.command, Command::Ungrasp { .. }) {
                         lingering = None;

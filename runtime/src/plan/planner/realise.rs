@@ -1,7 +1,7 @@
 //! A path made into commands: exchanges first (following the object), then the moves
 //! between them, then (optionally) the joint motions.
 
-use cellc_schema::ArcKind;
+use cellc_schema::{ArcKind, ObjectId};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
@@ -15,14 +15,14 @@ impl Planner<'_> {
     /// Turns a path into commands, or says which arc failed.
     pub(super) fn realise(
         &self,
-        object: u32,
+        object: ObjectId,
         path: &Path,
         goal_pose: Option<Iso>,
         state: &WorldState,
         options: &PlanOptions,
         stop: &Termination,
     ) -> Result<Vec<Step>, Failure> {
-        let graph = &self.artifact.objects[object as usize].graph;
+        let graph = &self.artifact.objects[object.index()].graph;
         let kept = simplify(graph, path);
         // The arc that ends at each kept node (after the first): the last arc of a run of
         // moves, or the transition.
@@ -36,7 +36,7 @@ impl Planner<'_> {
             position += 1;
         }
         let mut rng =
-            ChaCha8Rng::seed_from_u64(options.seed ^ u64::from(object).wrapping_mul(0x9E37_79B9));
+            ChaCha8Rng::seed_from_u64(options.seed ^ u64::from(object.0).wrapping_mul(0x9E37_79B9));
         let state_at_start = state.clone();
         let mut state = state.clone();
         let mut steps = Vec::new();
@@ -114,10 +114,7 @@ impl Planner<'_> {
                             configurations,
                         },
                         motion: None,
-                        arc: Some(ArcRef {
-                            from: arc.from,
-                            to: arc.to,
-                        }),
+                        arc: Some(ArcRef::of(arc)),
                         motion_context: None,
                     });
                 }
@@ -136,10 +133,7 @@ impl Planner<'_> {
                             configurations: exchange.configurations.clone(),
                         },
                         motion: None,
-                        arc: Some(ArcRef {
-                            from: arc.from,
-                            to: arc.to,
-                        }),
+                        arc: Some(ArcRef::of(arc)),
                         motion_context: None,
                     });
                     steps.push(Step {
@@ -150,17 +144,14 @@ impl Planner<'_> {
                             object: exchange.object,
                         },
                         motion: None,
-                        arc: Some(ArcRef {
-                            from: arc.from,
-                            to: arc.to,
-                        }),
+                        arc: Some(ArcRef::of(arc)),
                         motion_context: None,
                     });
                 }
             }
         }
         if options.motions {
-            let start = graph.nodes[path.nodes[0] as usize];
+            let start = graph.nodes[path.nodes[0].index()];
             self.add_motions(object, start, &mut steps, &state_at_start, &mut rng, stop)?;
         }
         Ok(steps)
