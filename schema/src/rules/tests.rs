@@ -486,7 +486,10 @@ fn counting_stops_at_the_limit() {
         object: None,
     };
     assert_eq!(rules.adjacent_pairs(1000), Err(pairs));
-    assert_eq!(rules.count(std::slice::from_ref(&obj), limits), Err(exceeded));
+    assert_eq!(
+        rules.count(std::slice::from_ref(&obj), limits),
+        Err(exceeded)
+    );
     // The same reach along a declared chain: the moves of the first holder and grasp
     // cross the limit, in the first object.
     let chain = (0..n - 1).map(|w| (ws(w), ws(w + 1))).collect();
