@@ -1,7 +1,7 @@
 //! Verification findings as diagnostics: pruned arcs as warnings that point at the
 //! declarations that made them (each reason worded as the explanations of unreachable
-//! goals word it: [`infeasibility`]), and scene problems (stale or broken robot models) as
-//! runtime errors.
+//! goals word it, by `explain_report::words::infeasibility`), and scene problems (stale or
+//! broken robot models) as runtime errors.
 
 use std::collections::BTreeMap;
 
