@@ -1,12 +1,15 @@
 //! Verification findings as diagnostics: pruned arcs as warnings that point at the
-//! declarations that made them, and scene problems (stale or broken robot models) as
-//! runtime errors.
+//! declarations that made them (each reason worded as the explanations of unreachable
+//! goals word it, by `explain_report::words::infeasibility`), and scene problems (stale or
+//! broken robot models) as runtime errors.
 
 use std::collections::BTreeMap;
 
 use cellc_lang::{Code, Diagnostic, FileId, Span};
 use cellc_runtime::scene::SceneError;
 use cellc_schema::{ArcKind, Artifact, EndEffectorId, GraspId, Infeasibility, Object};
+
+use crate::explain_report::words::infeasibility;
 
 /// Codes of verification and of loading a scene.
 pub mod codes {
@@ -111,44 +114,12 @@ fn describe_arc(artifact: &Artifact, object: &Object, arc: &cellc_schema::Arc) -
     }
 }
 
-fn describe_reason(artifact: &Artifact, reason: &Infeasibility) -> String {
-    match reason {
-        Infeasibility::NoIkSolution {
-            end_effector,
-            tries,
-            position_error,
-            rotation_error,
-        } => format!(
-            "`{}` cannot reach the pose (closest: {:.3} m, {:.1} deg off, after {tries} tries)",
-            ee(artifact, *end_effector),
-            position_error,
-            rotation_error.to_degrees()
-        ),
-        Infeasibility::NoClosedChain {
-            a,
-            b,
-            tries,
-            position_error,
-            rotation_error,
-        } => format!(
-            "`{}` and `{}` cannot hold the object at once (closest: {:.3} m, {:.1} deg apart, after {tries} tries)",
-            ee(artifact, *a),
-            ee(artifact, *b),
-            position_error,
-            rotation_error.to_degrees()
-        ),
-        Infeasibility::Collision { a, b } => format!("`{a}` collides with `{b}`"),
-        Infeasibility::NoPlacement { detail } => detail.clone(),
-        _ => "infeasible".to_string(),
-    }
-}
-
 /// One warning per (object, declaration, reason kind), listing the arcs it removed.
 pub fn pruned_warnings(artifact: &Artifact) -> Vec<Diagnostic> {
     let mut groups: BTreeMap<(usize, u32, String), Vec<(String, String)>> = BTreeMap::new();
     for (o, object) in artifact.objects.iter().enumerate() {
         for pruned in &object.graph.pruned {
-            let reason = describe_reason(artifact, &pruned.reason);
+            let reason = infeasibility(artifact, &pruned.reason);
             let kind = match &pruned.reason {
                 Infeasibility::NoIkSolution { .. } | Infeasibility::NoClosedChain { .. } => "ik",
                 Infeasibility::Collision { .. } => "collision",

@@ -183,7 +183,7 @@ fn pruned_handoffs_are_explained_with_their_reasons() {
     );
     assert!(
         cut.iter()
-            .any(|t| t.contains("`left_arm` and `right_arm` cannot hold it at once")),
+            .any(|t| t.contains("`left_arm` and `right_arm` cannot hold the object at once")),
         "{cut:?}"
     );
     assert!(d

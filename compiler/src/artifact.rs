@@ -11,7 +11,7 @@ use cellc_schema as schema;
 use cellc_schema::math::{aabb_to_schema, iso_to_schema};
 use cellc_schema::sha256_hex;
 
-use crate::budget::{Adjacency, MAX_GRAPH_SIZE};
+use crate::budget::MAX_GRAPH_SIZE;
 use crate::graph::{ArcSource, ObjectGraph};
 use crate::ids::Id;
 use crate::model::*;
@@ -105,7 +105,7 @@ pub fn lower(cell: &Cell, graphs: &[ObjectGraph], sources: &SourceMap) -> schema
             index_in_object[g.index()] = i as u32;
         }
     }
-    let transitions = crate::budget::transitions_by_object(cell);
+    let transitions = crate::graph::transitions_by_object(cell);
     let objects = graphs
         .iter()
         .map(|g| lower_object(cell, g, &transitions[g.object.index()], &mut spans))
@@ -290,8 +290,8 @@ fn lower_object(
 /// Every adjacent pair of workspaces, each once, in order. Artifacts are lowered from
 /// cells whose graphs were built, so the pairs are within [`MAX_GRAPH_SIZE`].
 fn adjacent_pairs(cell: &Cell) -> Vec<(u32, u32)> {
-    Adjacency::of(cell)
-        .pairs(cell, MAX_GRAPH_SIZE)
+    crate::graph::cell_rules(cell)
+        .adjacent_pairs(MAX_GRAPH_SIZE)
         .unwrap_or_default()
         .into_iter()
         .map(|(a, b)| (a.0, b.0))

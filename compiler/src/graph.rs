@@ -9,7 +9,9 @@
 
 use std::collections::HashMap;
 
-use cellc_schema::rules::{self, Adjacency, CellRules, EndEffectorFacts, GraspFacts, ObjectRules};
+use cellc_schema::rules::{
+    Adjacency, CellRules, EndEffectorFacts, GraspFacts, ObjectRules, Provenance,
+};
 use cellc_schema::{EndEffectorId as EeIndex, GraspId as GraspIndex, WorkspaceId as WsIndex};
 use petgraph::graph::{DiGraph, NodeIndex};
 
@@ -85,6 +87,36 @@ impl ObjectGraph {
     }
 }
 
+/// The shared graph rules fed with a resolved cell, once: what [`crate::budget::check`]
+/// counts and [`build`] builds, so the two cannot disagree.
+#[derive(Clone, Debug)]
+pub struct GraphRules {
+    /// The cell-level rules: end-effectors with their reach, and adjacency.
+    pub cell: CellRules,
+    /// Each object's rules (its grasps, their holders, its transitions), in object order.
+    pub objects: Vec<ObjectRules>,
+    /// Per object, the cell's transition (index into [`Cell::transitions`]) behind each
+    /// transition of its rules.
+    transitions: Vec<Vec<usize>>,
+}
+
+/// The graph rules of a resolved cell: [`cell_rules`], and per object its grasps (a
+/// kind's grasp held by every end-effector of the kind) and transitions.
+pub fn rules_of(cell: &Cell) -> GraphRules {
+    let holders = cell.holders();
+    let by_object = transitions_by_object(cell);
+    let (objects, transitions) = cell
+        .objects
+        .iter()
+        .map(|(object, obj)| object_rules(cell, &holders, &by_object[object.index()], obj))
+        .unzip();
+    GraphRules {
+        cell: cell_rules(cell),
+        objects,
+        transitions,
+    }
+}
+
 /// The cell-level graph rules of a resolved cell: end-effectors with their reach, and the
 /// declared adjacency (or, when the cell declares none, adjacency derived from reach).
 pub fn cell_rules(cell: &Cell) -> CellRules {
@@ -109,26 +141,13 @@ pub fn cell_rules(cell: &Cell) -> CellRules {
     CellRules::new(cell.workspaces.len(), end_effectors, adjacency)
 }
 
-/// Builds the graph of every object, in object order. Callers check the size first
-/// ([`crate::budget::check`]): building costs what the graphs hold.
-pub fn build(cell: &Cell) -> Vec<ObjectGraph> {
-    let rules = cell_rules(cell);
-    let holders = cell.holders();
-    let by_object = crate::budget::transitions_by_object(cell);
-    cell.objects
-        .iter()
-        .map(|(object, obj)| build_object(cell, &rules, &holders, &by_object, object, obj))
-        .collect()
-}
-
-fn build_object(
+/// One object's rules, with the cell's transition behind each of its own.
+fn object_rules(
     cell: &Cell,
-    rules: &CellRules,
     holders: &Holders,
-    by_object: &[Vec<usize>],
-    object: ObjectId,
+    own: &[usize],
     obj: &Object,
-) -> ObjectGraph {
+) -> (ObjectRules, Vec<usize>) {
     // The rules index an object's own grasps; the cell's transitions are global.
     let local: HashMap<GraspId, u32> = obj
         .grasps
@@ -146,19 +165,46 @@ fn build_object(
         .collect();
     let mut declared = Vec::new();
     let mut transitions = Vec::new();
-    // Cells list transitions globally; only this object's are looked at (objects x
-    // transitions would be quadratic).
-    for &t in &by_object[object.index()] {
+    for &t in own {
         let transition = &cell.transitions[t];
         if let (Some(&from), Some(&to)) = (local.get(&transition.from), local.get(&transition.to)) {
             declared.push(t);
             transitions.push((GraspIndex(from), GraspIndex(to)));
         }
     }
-    let object_rules = ObjectRules::new(cell.end_effectors.len(), grasps, transitions);
+    let rules = ObjectRules::new(cell.end_effectors.len(), grasps, transitions);
+    (rules, declared)
+}
+
+/// Each object's transitions (indices into [`Cell::transitions`]), in declaration order:
+/// cells list transitions globally, and looking at every transition for every object
+/// would be quadratic.
+pub(crate) fn transitions_by_object(cell: &Cell) -> Vec<Vec<usize>> {
+    let mut transitions: Vec<Vec<usize>> = vec![Vec::new(); cell.objects.len()];
+    for (t, transition) in cell.transitions.iter().enumerate() {
+        let object = cell.grasps[transition.from].object;
+        if cell.grasps[transition.to].object == object {
+            transitions[object.index()].push(t);
+        }
+    }
+    transitions
+}
+
+/// Builds the graph of every object, in object order. Callers count the graphs first
+/// ([`crate::budget::check`] on the same `rules`): building costs what the graphs hold.
+pub fn build(cell: &Cell, rules: &GraphRules) -> Vec<ObjectGraph> {
+    cell.objects
+        .iter()
+        .map(|(object, obj)| build_object(cell, rules, object, obj))
+        .collect()
+}
+
+fn build_object(cell: &Cell, rules: &GraphRules, object: ObjectId, obj: &Object) -> ObjectGraph {
+    let object_rules = &rules.objects[object.index()];
+    let declared = &rules.transitions[object.index()];
     let mut graph = DiGraph::new();
     let mut index = HashMap::new();
-    for s in rules.states(&object_rules) {
+    for s in rules.cell.states(object_rules) {
         let state = State {
             end_effector: EndEffectorId(s.end_effector.0),
             grasp: obj.grasps[s.grasp.index()],
@@ -167,25 +213,27 @@ fn build_object(
         index.insert(state, graph.add_node(state));
     }
     let weights = cell.weights;
-    rules.for_each_arc(&object_rules, |from, to, provenance| {
-        let arc = match provenance {
-            rules::Provenance::Move { adjacency } => StateArc {
-                weight: weights.move_weight,
-                source: ArcSource::Move { adjacency },
-            },
-            rules::Provenance::Transition { transition } => StateArc {
-                weight: weights.transition_weight,
-                source: ArcSource::Transition {
-                    transition: declared[transition],
+    rules
+        .cell
+        .for_each_arc(object_rules, |from, to, provenance| {
+            let arc = match provenance {
+                Provenance::Move { adjacency } => StateArc {
+                    weight: weights.move_weight,
+                    source: ArcSource::Move { adjacency },
                 },
-            },
-        };
-        graph.add_edge(
-            NodeIndex::new(from as usize),
-            NodeIndex::new(to as usize),
-            arc,
-        );
-    });
+                Provenance::Transition { transition } => StateArc {
+                    weight: weights.transition_weight,
+                    source: ArcSource::Transition {
+                        transition: declared[transition],
+                    },
+                },
+            };
+            graph.add_edge(
+                NodeIndex::new(from as usize),
+                NodeIndex::new(to as usize),
+                arc,
+            );
+        });
     ObjectGraph {
         object,
         graph,

@@ -72,9 +72,10 @@ pub fn compile(files: &dyn Files, path: &str) -> Compilation {
         // them in other words, so they wait until the cell is clean.
         if !diagnostics.iter().any(Diagnostic::is_error) {
             // Counted before built: a cell can ask for billions of arcs.
-            match budget::check(&resolved) {
+            let rules = graph::rules_of(&resolved);
+            match budget::check(&resolved, &rules) {
                 Ok(_) => {
-                    graphs = graph::build(&resolved);
+                    graphs = graph::build(&resolved, &rules);
                     checks::check_graphs(&resolved, &graphs, &mut diagnostics);
                     expect::check(&resolved, &graphs, &mut diagnostics);
                 }

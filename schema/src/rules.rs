@@ -1,11 +1,13 @@
 //! The graph rules: which states and arcs an object-state graph has (the paper's Sec. IV-A).
 //!
-//! They live here, once, because two phases need them: the compiler builds every graph
-//! with [`CellRules::states`] and [`CellRules::for_each_arc`], and the runtime's
-//! explanation of an unreachable goal asks the same rules which arcs a change to the cell
-//! would add ([`CellRules::added_by`], on a copy edited with [`CellRules::extend_reach`]
-//! and [`CellRules::declare_adjacency`]). A suggestion is therefore checked against the
-//! graph the compiler would really build after the change.
+//! They live here, once, because two phases need them: the compiler counts every graph
+//! with [`CellRules::count`] (refusing a cell over its limits before anything is built),
+//! then builds it with [`CellRules::states`] and [`CellRules::for_each_arc`]; both read
+//! the same rule-by-rule pieces (`arcs.rs`), so the count is what the build makes. The
+//! runtime's explanation of an unreachable goal asks the same rules which arcs a change
+//! to the cell would add ([`CellRules::added_by`], on a copy edited with
+//! [`CellRules::extend_reach`] and [`CellRules::declare_adjacency`]). A suggestion is
+//! therefore checked against the graph the compiler would really build after the change.
 //!
 //! The rules read plain data: end-effectors (movable or fixed, the workspaces each
 //! reaches), how workspaces are adjacent, and per object its grasps (who may hold each)
@@ -24,8 +26,6 @@
 //!
 //! No arc changes grasp and workspace at once. Every arc says what made it
 //! ([`Provenance`]), so findings about arcs can point at source lines.
-
-use std::collections::BTreeMap;
 
 use crate::ids::{EndEffectorId, GraspId, WorkspaceId};
 use crate::{Artifact, Holder, Node, Object};
@@ -81,10 +81,6 @@ pub struct GraspFacts {
     pub explicit: bool,
 }
 
-/// A move within one end-effector's reach: (position of a, position of b, the
-/// declaration that makes a and b adjacent, if declared).
-type MovePair = (u32, u32, Option<usize>);
-
 /// What made an arc.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Provenance {
@@ -117,8 +113,12 @@ pub enum Edit {
 pub struct ObjectRules {
     grasps: Vec<GraspFacts>,
     transitions: Vec<(GraspId, GraspId)>,
-    /// The grasps each end-effector may hold, in grasp order.
-    held: Vec<Vec<GraspId>>,
+    /// The holder of every (holder, grasp) pair, sorted by holder then grasp: the grasps
+    /// one end-effector may hold are a run of `held`. Sparse, so that an object costs its
+    /// grasps and not the cell's end-effectors (counting many objects stays linear).
+    holding: Vec<EndEffectorId>,
+    /// The grasp of each pair in `holding`.
+    held: Vec<GraspId>,
     /// The distinct declared transitions, sorted.
     declared: Vec<(GraspId, GraspId)>,
     /// Per grasp, the indices into `declared` of the transitions it takes part in.
@@ -134,15 +134,15 @@ impl ObjectRules {
         mut grasps: Vec<GraspFacts>,
         transitions: Vec<(GraspId, GraspId)>,
     ) -> ObjectRules {
-        let mut held = vec![Vec::new(); n_end_effectors];
+        let mut pairs = Vec::new();
         for (g, grasp) in grasps.iter_mut().enumerate() {
             grasp.holders.retain(|e| e.index() < n_end_effectors);
             grasp.holders.sort_unstable();
             grasp.holders.dedup();
-            for e in &grasp.holders {
-                held[e.index()].push(GraspId(g as u32));
-            }
+            pairs.extend(grasp.holders.iter().map(|&e| (e, GraspId(g as u32))));
         }
+        pairs.sort_unstable();
+        let (holding, held) = pairs.into_iter().unzip();
         let mut declared = transitions.clone();
         declared.sort_unstable();
         declared.dedup();
@@ -159,6 +159,7 @@ impl ObjectRules {
         ObjectRules {
             grasps,
             transitions,
+            holding,
             held,
             declared,
             declared_by_grasp,
@@ -210,7 +211,9 @@ impl ObjectRules {
 
     /// The grasps `e` may hold, in grasp order.
     pub fn grasps_of(&self, e: EndEffectorId) -> &[GraspId] {
-        self.held.get(e.index()).map_or(&[], |x| x.as_slice())
+        let start = self.holding.partition_point(|&x| x < e);
+        let end = start + self.holding[start..].partition_point(|&x| x == e);
+        &self.held[start..end]
     }
 
     /// The declared transitions, in declaration order.
@@ -239,8 +242,10 @@ pub struct CellRules {
     /// Adjacency derived from reach (possibly with declared pairs on top, after
     /// [`CellRules::declare_adjacency`]).
     derived: bool,
-    /// Declared pairs (smaller first) -> index of the first declaration.
-    declared: BTreeMap<(WorkspaceId, WorkspaceId), usize>,
+    /// Per workspace, the workspaces declared adjacent to it, sorted, each with the index
+    /// of the first declaration of the pair: neighbour lists, never a matrix (a cell of
+    /// 10^5 workspaces has 10^10 pairs, and only the declared few are stored).
+    neighbours: Vec<Vec<(WorkspaceId, usize)>>,
     /// Declarations made so far (the index the next one gets).
     n_declared: usize,
 }
@@ -262,19 +267,29 @@ impl CellRules {
                 reachers[w.index()].push(EndEffectorId(e as u32));
             }
         }
-        let mut rules = CellRules {
+        let mut neighbours = vec![Vec::new(); n_workspaces];
+        let mut n_declared = 0;
+        if let Adjacency::Declared(pairs) = &adjacency {
+            n_declared = pairs.len();
+            for (i, &(a, b)) in pairs.iter().enumerate() {
+                if a != b && a.index() < n_workspaces && b.index() < n_workspaces {
+                    neighbours[a.index()].push((b, i));
+                    neighbours[b.index()].push((a, i));
+                }
+            }
+            for list in &mut neighbours {
+                // By neighbour, then declaration: the first of a repeated pair stays.
+                list.sort_unstable();
+                list.dedup_by_key(|(w, _)| *w);
+            }
+        }
+        CellRules {
             end_effectors,
             reachers,
             derived: matches!(adjacency, Adjacency::Derived),
-            declared: BTreeMap::new(),
-            n_declared: 0,
-        };
-        if let Adjacency::Declared(pairs) = adjacency {
-            for (a, b) in pairs {
-                rules.declare_adjacency(a, b);
-            }
+            neighbours,
+            n_declared,
         }
-        rules
     }
 
     /// The end-effector facts of an artifact.
@@ -333,7 +348,7 @@ impl CellRules {
         if a == b {
             return None;
         }
-        if let Some(&i) = self.declared.get(&(a.min(b), a.max(b))) {
+        if let Some(i) = self.declaration(a, b) {
             return Some(Some(i));
         }
         let derived = self.derived
@@ -342,6 +357,18 @@ impl CellRules {
                 .iter()
                 .any(|&e| self.is_movable(e) && self.reaches(e, b));
         derived.then_some(None)
+    }
+
+    /// The first declaration of `adjacent a b` (either way round), if any.
+    fn declaration(&self, a: WorkspaceId, b: WorkspaceId) -> Option<usize> {
+        let near = self.neighbours.get(a.index())?;
+        let at = near.binary_search_by_key(&b, |&(w, _)| w).ok()?;
+        Some(near[at].1)
+    }
+
+    /// The workspaces declared adjacent to `w`, sorted, with their first declarations.
+    fn neighbours(&self, w: WorkspaceId) -> &[(WorkspaceId, usize)] {
+        self.neighbours.get(w.index()).map_or(&[], |x| x.as_slice())
     }
 
     /// True when `a` and `b` are adjacent.
@@ -383,126 +410,23 @@ impl CellRules {
     pub fn declare_adjacency(&mut self, a: WorkspaceId, b: WorkspaceId) {
         let index = self.n_declared;
         self.n_declared += 1;
-        if a != b {
-            self.declared.entry((a.min(b), a.max(b))).or_insert(index);
+        if a == b || a.index() >= self.n_workspaces() || b.index() >= self.n_workspaces() {
+            return;
         }
-    }
-
-    /// Every state of an object, in graph order: by grasp, then holder, then reached
-    /// workspace.
-    pub fn states(&self, object: &ObjectRules) -> Vec<State> {
-        let mut states = Vec::new();
-        for g in 0..object.n_grasps() {
-            let grasp = GraspId(g as u32);
-            for &e in object.holders(grasp) {
-                states.extend(self.reach(e).iter().map(|&w| State {
-                    end_effector: e,
-                    grasp,
-                    workspace: w,
-                }));
+        for (x, y) in [(a, b), (b, a)] {
+            let near = &mut self.neighbours[x.index()];
+            if let Err(at) = near.binary_search_by_key(&y, |&(w, _)| w) {
+                near.insert(at, (y, index));
             }
         }
-        states
-    }
-
-    /// Calls `arc(from, to, provenance)` for every arc of an object's graph, with `from`
-    /// and `to` indices into [`CellRules::states`]: the moves first (by grasp, holder,
-    /// workspace pair), then the transitions (by declaration, workspace, giver, taker).
-    /// This is the order the compiler writes.
-    pub fn for_each_arc(&self, object: &ObjectRules, mut arc: impl FnMut(u32, u32, Provenance)) {
-        // first[g][k]: the node of S(holders(g)[k], g, reach[0]); the states of one holder
-        // and grasp are consecutive in reach order, so a state's node is found by two
-        // binary searches instead of hashing every arc's endpoints.
-        let mut first: Vec<Vec<u32>> = Vec::with_capacity(object.n_grasps());
-        let mut next = 0u32;
-        for g in 0..object.n_grasps() {
-            let holders = object.holders(GraspId(g as u32));
-            first.push(
-                holders
-                    .iter()
-                    .map(|&e| {
-                        let at = next;
-                        next += self.reach(e).len() as u32;
-                        at
-                    })
-                    .collect(),
-            );
-        }
-        let node = |e: EndEffectorId, g: GraspId, w: WorkspaceId| -> Option<u32> {
-            let k = object.holders(g).binary_search(&e).ok()?;
-            let position = self.reach(e).binary_search(&w).ok()?;
-            Some(first[g.index()][k] + position as u32)
-        };
-        // The adjacent pairs of each movable end-effector's reach (as positions), found
-        // once rather than once per grasp.
-        let mut pairs: Vec<Option<Vec<MovePair>>> = vec![None; self.end_effectors.len()];
-        for (g, firsts) in first.iter().enumerate() {
-            let grasp = GraspId(g as u32);
-            for (&e, &at) in object.holders(grasp).iter().zip(firsts) {
-                if !self.is_movable(e) {
-                    continue;
-                }
-                let pairs = pairs[e.index()].get_or_insert_with(|| self.adjacent_pairs(e));
-                for &(i, j, adjacency) in pairs.iter() {
-                    arc(at + i, at + j, Provenance::Move { adjacency });
-                }
-            }
-        }
-        for (t, &(from, to)) in object.transitions().iter().enumerate() {
-            let explicit = object.explicit_pair(from, to);
-            let (givers, takers) = (object.holders(from), object.holders(to));
-            for (w, here) in self.reachers.iter().enumerate() {
-                let w = WorkspaceId(w as u32);
-                for &ei in here.iter().filter(|e| givers.binary_search(e).is_ok()) {
-                    for &ej in here.iter().filter(|e| takers.binary_search(e).is_ok()) {
-                        if !self.may_exchange(ei, ej, explicit) {
-                            continue;
-                        }
-                        if let (Some(a), Some(b)) = (node(ei, from, w), node(ej, to, w)) {
-                            arc(a, b, Provenance::Transition { transition: t });
-                        }
-                    }
-                }
-            }
-        }
-    }
-
-    /// (position of a, position of b, adjacency) for every ordered pair of adjacent
-    /// workspaces `e` reaches, in reach order.
-    fn adjacent_pairs(&self, e: EndEffectorId) -> Vec<MovePair> {
-        let reach = self.reach(e);
-        let mut out = Vec::new();
-        if self.derived {
-            // `e` itself makes every two of its workspaces adjacent (declared pairs only
-            // add their provenance): all ordered pairs, as many as the moves it makes.
-            for (i, &a) in reach.iter().enumerate() {
-                for (j, &b) in reach.iter().enumerate() {
-                    if a != b {
-                        let declared = self.declared.get(&(a.min(b), a.max(b))).copied();
-                        out.push((i as u32, j as u32, declared));
-                    }
-                }
-            }
-            return out;
-        }
-        // Declared adjacency: only the declared pairs, both ends in reach (a reach of 10^5
-        // workspaces with a chain of `adjacent` lines costs the chain, not 10^10 lookups).
-        for (&(a, b), &d) in &self.declared {
-            if a == b {
-                continue;
-            }
-            if let (Ok(i), Ok(j)) = (reach.binary_search(&a), reach.binary_search(&b)) {
-                out.push((i as u32, j as u32, Some(d)));
-                out.push((j as u32, i as u32, Some(d)));
-            }
-        }
-        // In reach order, as the arcs have always been listed.
-        out.sort_unstable_by_key(|&(i, j, _)| (i, j));
-        out
     }
 }
 
+mod arcs;
+mod count;
 mod edits;
+
+pub use count::{Exceeded, Limit, Limits};
 
 #[cfg(test)]
 mod tests;

@@ -1,13 +1,15 @@
 //! Unreachable goals as diagnostics: what the start can reach, what the goal needs, the
 //! cut between them and what to change, labelled at the cell's source lines. The analysis
 //! is the runtime's (`cellc_runtime::explain`, a structured value with no sentences); this
-//! module is where it becomes words: `words.rs` names and phrases, `cut.rs` the gaps,
+//! module is where it becomes words: `words.rs` names and phrases (among them the one
+//! wording of why an arc is infeasible, which the W0006 warnings of
+//! [`crate::verify_report`] use too), `cut.rs` the gaps,
 //! `suggestions.rs` the changes (and, given the sources, the edits that make them, from
 //! [`crate::fixes`]), and here the message, the labels and the notes.
 
 mod cut;
 mod suggestions;
-mod words;
+pub(crate) mod words;
 
 use std::collections::BTreeSet;
 

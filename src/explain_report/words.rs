@@ -37,10 +37,7 @@ impl<'a> Words<'a> {
     }
 
     pub fn ee(&self, e: EndEffectorId) -> String {
-        self.art
-            .end_effectors
-            .get(e.index())
-            .map_or_else(|| format!("`end-effector #{}`", e.0), |x| q(&x.name))
+        ee_name(self.art, e)
     }
 
     pub fn ws(&self, w: WorkspaceId) -> String {
@@ -224,54 +221,13 @@ impl<'a> Words<'a> {
         ))
     }
 
-    /// Why an arc is infeasible, in words.
+    /// Why an arc is infeasible, in words ([`infeasibility`]).
     pub fn reason_text(&self, reason: &Infeasibility) -> String {
-        match reason {
-            Infeasibility::NoIkSolution {
-                end_effector,
-                tries,
-                position_error,
-                rotation_error,
-            } => format!(
-                "{} cannot reach the pose, closest {} and {:.2} rad off over {} tries",
-                self.ee(*end_effector),
-                metres(*position_error),
-                rotation_error,
-                tries
-            ),
-            Infeasibility::NoClosedChain {
-                a,
-                b,
-                tries,
-                position_error,
-                rotation_error,
-            } => format!(
-                "{} and {} cannot hold it at once, the closed chain staying {} and {:.2} rad \
-                 open over {} tries",
-                self.ee(*a),
-                self.ee(*b),
-                metres(*position_error),
-                rotation_error,
-                tries
-            ),
-            Infeasibility::Collision { a, b } => {
-                format!("{} collides with {}", q(a), q(b))
-            }
-            // A blocked motion says so itself (`no collision-free motion: ...`), once.
-            Infeasibility::NoPlacement { detail } if detail.starts_with(NO_MOTION) => {
-                let error = detail[NO_MOTION.len()..].trim_start_matches(": ");
-                if error.starts_with(NO_MOTION) {
-                    error.to_string()
-                } else {
-                    detail.clone()
-                }
-            }
-            Infeasibility::NoPlacement { detail } => format!("no placement: {detail}"),
-            _ => "it was found infeasible".to_string(),
-        }
+        infeasibility(self.art, reason)
     }
 
-    /// What would make an infeasible arc feasible.
+    /// What would make an infeasible arc into `workspace` feasible (the help when nothing
+    /// is suggested).
     pub fn reason_hint(&self, reason: &Infeasibility, workspace: WorkspaceId) -> String {
         match reason {
             Infeasibility::NoIkSolution { end_effector, .. } => format!(
@@ -309,6 +265,61 @@ impl<'a> Words<'a> {
             (true, false) => format!("{a} can put it on {b} in {w}"),
             _ => format!("{b} can take it from {a} in {w}"),
         }
+    }
+}
+
+/// An end-effector's name in backticks (its index, for one the artifact does not have).
+pub fn ee_name(art: &Artifact, e: EndEffectorId) -> String {
+    art.end_effectors
+        .get(e.index())
+        .map_or_else(|| format!("`end-effector #{}`", e.0), |x| q(&x.name))
+}
+
+/// Why an arc is infeasible (the runtime's reason it was pruned at build time, or failed
+/// during a request), in words: the one wording of the W0006 warnings and of the R0004
+/// explanations. One clause without parentheses, so that it reads alone (a label), after
+/// a colon and inside the parentheses the explanations list reasons in: "`right` cannot
+/// reach the pose, closest 0.21 m and 12.0 deg off over 40 tries".
+pub fn infeasibility(art: &Artifact, reason: &Infeasibility) -> String {
+    match reason {
+        Infeasibility::NoIkSolution {
+            end_effector,
+            tries,
+            position_error,
+            rotation_error,
+        } => format!(
+            "{} cannot reach the pose, closest {} and {:.1} deg off over {tries} tries",
+            ee_name(art, *end_effector),
+            metres(*position_error),
+            rotation_error.to_degrees()
+        ),
+        Infeasibility::NoClosedChain {
+            a,
+            b,
+            tries,
+            position_error,
+            rotation_error,
+        } => format!(
+            "{} and {} cannot hold the object at once, closest {} and {:.1} deg apart over \
+             {tries} tries",
+            ee_name(art, *a),
+            ee_name(art, *b),
+            metres(*position_error),
+            rotation_error.to_degrees()
+        ),
+        Infeasibility::Collision { a, b } => format!("{} collides with {}", q(a), q(b)),
+        // A blocked motion says so itself (`no collision-free motion: ...`), once.
+        Infeasibility::NoPlacement { detail } if detail.starts_with(NO_MOTION) => {
+            let error = detail[NO_MOTION.len()..].trim_start_matches(": ");
+            if error.starts_with(NO_MOTION) {
+                error.to_string()
+            } else {
+                detail.clone()
+            }
+        }
+        // Verification words these as whole clauses ("the workspace has no volume").
+        Infeasibility::NoPlacement { detail } => detail.clone(),
+        _ => "found infeasible".to_string(),
     }
 }
 

@@ -5,6 +5,7 @@
 use std::collections::BTreeSet;
 
 use super::*;
+use crate::ids::ObjectId;
 
 fn ee(e: u32) -> EndEffectorId {
     EndEffectorId(e)
@@ -415,5 +416,120 @@ fn out_of_range_data_is_dropped_not_indexed() {
         arcs.len(),
         2,
         "the two moves; the transition names no grasp"
+    );
+}
+
+/// The adjacent pairs as `method.md` words adjacency, by trying every pair.
+fn brute_force_pairs(
+    ees: &[(bool, Vec<u32>)],
+    declared: &Option<Vec<(u32, u32)>>,
+    n_ws: u32,
+) -> Vec<(WorkspaceId, WorkspaceId)> {
+    let adjacent = |a: u32, b: u32| match declared {
+        Some(p) => p.contains(&(a, b)) || p.contains(&(b, a)),
+        None => ees
+            .iter()
+            .any(|(movable, reach)| *movable && reach.contains(&a) && reach.contains(&b)),
+    };
+    (0..n_ws)
+        .flat_map(|a| (a + 1..n_ws).map(move |b| (a, b)))
+        .filter(|&(a, b)| adjacent(a, b))
+        .map(|(a, b)| (ws(a), ws(b)))
+        .collect()
+}
+
+const NO_LIMITS: Limits = Limits {
+    size: u64::MAX,
+    visits: u64::MAX,
+};
+
+#[test]
+fn the_count_is_what_the_graph_holds() {
+    for seed in 0..2000 {
+        let (rules, obj, ees, declared) = random(seed);
+        let (states, arcs) = graph(&rules, &obj);
+        let pairs = rules.adjacent_pairs(u64::MAX).expect("no limit");
+        let n_ws = rules.n_workspaces() as u32;
+        assert_eq!(
+            pairs,
+            brute_force_pairs(&ees, &declared, n_ws),
+            "seed {seed}"
+        );
+        let objects = [obj.clone(), obj];
+        let size = 2 * (states.len() + arcs.len()) + pairs.len();
+        assert_eq!(
+            rules.count(&objects, NO_LIMITS),
+            Ok(size as u64),
+            "seed {seed}"
+        );
+    }
+    let (rules, obj) = fig3();
+    assert_eq!(rules.count(&[obj], NO_LIMITS), Ok(2 + 21 + 12 + 52));
+}
+
+#[test]
+fn counting_stops_at_the_limit() {
+    // One arm reaching 10^5 workspaces with derived adjacency: 5 * 10^9 pairs, counted by
+    // formula, never listed.
+    let n = 100_000u32;
+    let reach: Vec<u32> = (0..n).collect();
+    let rules = cell(n as usize, &[(true, &reach)], Adjacency::Derived);
+    let obj = object(1, &[(&[0], true)], &[]);
+    let pairs = u64::from(n) * u64::from(n - 1) / 2;
+    let limits = Limits {
+        size: 1000,
+        visits: 1000,
+    };
+    let exceeded = Exceeded {
+        limit: Limit::Size,
+        counted: pairs,
+        object: None,
+    };
+    assert_eq!(rules.adjacent_pairs(1000), Err(pairs));
+    assert_eq!(
+        rules.count(std::slice::from_ref(&obj), limits),
+        Err(exceeded)
+    );
+    // The same reach along a declared chain: the moves of the first holder and grasp
+    // cross the limit, in the first object.
+    let chain = (0..n - 1).map(|w| (ws(w), ws(w + 1))).collect();
+    let rules = cell(n as usize, &[(true, &reach)], Adjacency::Declared(chain));
+    let counted = (n - 1) as u64 + (n as u64 + 2 * (n - 1) as u64);
+    assert_eq!(
+        rules.count(
+            &[obj],
+            Limits {
+                size: 300_000,
+                ..limits
+            }
+        ),
+        Err(Exceeded {
+            limit: Limit::Size,
+            counted,
+            object: Some(ObjectId(0)),
+        })
+    );
+    // Transitions between two hands' grasps in 10^5 shared workspaces: visits counted
+    // before the arcs are, stopping at the limit.
+    let both = cell(
+        n as usize,
+        &[(true, &reach), (true, &reach)],
+        Adjacency::Declared(vec![]),
+    );
+    let obj = object(2, &[(&[0], true), (&[1], true)], &[(0, 1)]);
+    let exceeded = both.count(
+        &[obj],
+        Limits {
+            size: u64::MAX,
+            ..limits
+        },
+    );
+    assert_eq!(
+        exceeded,
+        Err(Exceeded {
+            limit: Limit::Visits,
+            counted: 2 * n as u64,
+            object: Some(ObjectId(0)),
+        })
     );
 }
