@@ -152,7 +152,7 @@ fn recheck(
         },
     };
     let mut scratch = SceneScratch::default();
-    match scene.collision(&arms, ObjectId(object as u32), placement, &mut scratch) {
+    match scene.collision(&arms, ObjectId(object as u32), placement, &[], &mut scratch) {
         Ok(None) => Ok(()),
         Ok(Some((a, b))) => Err(format!("{a} collides with {b}")),
         Err(e) => Err(format!("query failed: {e:?}")),

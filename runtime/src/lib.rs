@@ -36,6 +36,7 @@ pub mod termination;
 pub mod validity;
 #[doc(hidden)]
 pub mod verify;
+pub mod world;
 
 pub use cell::{Cell, LoadError};
 pub use cellc_schema::{Artifact, EndEffectorId, GraspId, NodeId, ObjectId, WorkspaceId};
@@ -49,6 +50,7 @@ pub use plan::{
     PlanOptions, Request, Step, Strategy, Trajectory, Unreachable,
 };
 pub use verify::VerifyOptions;
+pub use world::{Whereabouts, World, WorldError};
 
 // The seams: plug in another state checker, motion validator or motion planner, and stop
 // a long request from outside.

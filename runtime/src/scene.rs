@@ -206,6 +206,24 @@ pub enum ObjectPlacement {
     Absent,
 }
 
+/// Another object as a collision query sees it: in the scene, not the one the query is
+/// about (the world's other objects, during a plan for one of them).
+#[derive(Clone, Copy, Debug)]
+pub struct Obstacle {
+    /// The object.
+    pub object: ObjectId,
+    /// Where it is: resting on a surface at a pose, or held by an arm.
+    pub placement: ObjectPlacement,
+}
+
+/// The objects of one query: the one it is about, placed as `placement`, and the others.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Placed<'a> {
+    pub(crate) object: ObjectId,
+    pub(crate) placement: ObjectPlacement,
+    pub(crate) obstacles: &'a [Obstacle],
+}
+
 /// Why a collision query could not be answered.
 #[derive(Debug, Clone, PartialEq)]
 #[non_exhaustive]
@@ -420,9 +438,10 @@ impl Scene {
         arms: &[(EndEffectorId, &[f64])],
         object: ObjectId,
         placement: ObjectPlacement,
+        obstacles: &[Obstacle],
         scratch: &mut SceneScratch,
     ) -> Result<Option<(String, String)>, QueryError> {
-        let found = self.first_collision(arms, object, placement, scratch)?;
+        let found = self.first_collision(arms, object, placement, obstacles, scratch)?;
         Ok(found.map(|c| {
             let (a, b) = self.world.names(&c);
             (a.to_string(), b.to_string())
@@ -436,10 +455,11 @@ impl Scene {
         arms: &[(EndEffectorId, &[f64])],
         object: ObjectId,
         placement: ObjectPlacement,
+        obstacles: &[Obstacle],
         scratch: &mut SceneScratch,
     ) -> Result<bool, QueryError> {
         Ok(self
-            .first_collision(arms, object, placement, scratch)?
+            .first_collision(arms, object, placement, obstacles, scratch)?
             .is_none())
     }
 
@@ -449,9 +469,15 @@ impl Scene {
         arms: &[(EndEffectorId, &[f64])],
         object: ObjectId,
         placement: ObjectPlacement,
+        obstacles: &[Obstacle],
         scratch: &mut SceneScratch,
     ) -> Result<Option<Collision>, QueryError> {
-        self.with_configuration(arms, object, placement, scratch, |state, scratch| {
+        let at = Placed {
+            object,
+            placement,
+            obstacles,
+        };
+        self.with_configuration(arms, at, scratch, |state, scratch| {
             self.world.first_collision(state, scratch)
         })
     }
@@ -462,13 +488,12 @@ impl Scene {
     pub(crate) fn free_radius(
         &self,
         arms: &[(EndEffectorId, &[f64])],
-        object: ObjectId,
-        placement: ObjectPlacement,
+        at: Placed<'_>,
         bounds: &SweepBounds,
         horizon: f64,
         scratch: &mut SceneScratch,
     ) -> Result<f64, QueryError> {
-        self.with_configuration(arms, object, placement, scratch, |state, scratch| {
+        self.with_configuration(arms, at, scratch, |state, scratch| {
             self.world.free_radius(state, bounds, horizon, scratch)
         })
     }
@@ -483,8 +508,7 @@ impl Scene {
     fn with_configuration<T>(
         &self,
         arms: &[(EndEffectorId, &[f64])],
-        object: ObjectId,
-        placement: ObjectPlacement,
+        at: Placed<'_>,
         scratch: &mut SceneScratch,
         query: impl FnOnce(&Configuration<'_>, &mut CollisionScratch) -> Result<T, CollisionError>,
     ) -> Result<T, QueryError> {
@@ -504,13 +528,49 @@ impl Scene {
         scratch
             .objects
             .resize(self.object_shapes.len(), ObjectState::absent());
+        let state = self.object_state(at.placement, &scratch.frames)?;
+        if let Some(slot) = scratch.objects.get_mut(at.object.index()) {
+            *slot = state;
+        }
+        for obstacle in at.obstacles {
+            let state = self.object_state(obstacle.placement, &scratch.frames)?;
+            if let Some(slot) = scratch.objects.get_mut(obstacle.object.index()) {
+                *slot = state;
+            }
+        }
+        // The frames as slices, listed without allocating for the usual handful of arms.
+        let mut inline: [&[Iso]; INLINE_ROBOTS] = [&[]; INLINE_ROBOTS];
+        let heap: Vec<&[Iso]>;
+        let frames: &[&[Iso]] = if n <= INLINE_ROBOTS {
+            for (slot, f) in inline.iter_mut().zip(&scratch.frames) {
+                *slot = f;
+            }
+            &inline[..n]
+        } else {
+            heap = scratch.frames.iter().map(Vec::as_slice).collect();
+            &heap
+        };
+        let configuration = Configuration {
+            robots: frames,
+            objects: &scratch.objects,
+        };
+        query(&configuration, &mut scratch.collision).map_err(QueryError::Collision)
+    }
+
+    /// The collision state of an object placed as `placement`, the robots' frames being
+    /// `frames` (a held object rides its arm's tip frame).
+    fn object_state(
+        &self,
+        placement: ObjectPlacement,
+        frames: &[Vec<Iso>],
+    ) -> Result<ObjectState, QueryError> {
         let robot_of = |e: EndEffectorId| self.world_robot(e);
         let state = match placement {
             ObjectPlacement::Held { by, grasp } => {
                 let r = robot_of(by).ok_or(QueryError::NotAnArm(by))?;
                 let tip = self
                     .world
-                    .tip(r, &scratch.frames[r])
+                    .tip(r, &frames[r])
                     .ok_or(QueryError::NotAnArm(by))?;
                 ObjectState::held(r, &tip, &grasp)
             }
@@ -523,7 +583,7 @@ impl Scene {
                 let r = robot_of(by).ok_or(QueryError::NotAnArm(by))?;
                 let tip = self
                     .world
-                    .tip(r, &scratch.frames[r])
+                    .tip(r, &frames[r])
                     .ok_or(QueryError::NotAnArm(by))?;
                 let surface = self
                     .world_fixed
@@ -544,7 +604,7 @@ impl Scene {
                 let rb = robot_of(b).ok_or(QueryError::NotAnArm(b))?;
                 let tip = self
                     .world
-                    .tip(ra, &scratch.frames[ra])
+                    .tip(ra, &frames[ra])
                     .ok_or(QueryError::NotAnArm(a))?;
                 ObjectState::held(ra, &tip, &grasp_a).also_held_by(CollisionHolder::Robot(rb))
             }
@@ -564,26 +624,7 @@ impl Scene {
             }
             ObjectPlacement::Absent => ObjectState::absent(),
         };
-        if let Some(slot) = scratch.objects.get_mut(object.index()) {
-            *slot = state;
-        }
-        // The frames as slices, listed without allocating for the usual handful of arms.
-        let mut inline: [&[Iso]; INLINE_ROBOTS] = [&[]; INLINE_ROBOTS];
-        let heap: Vec<&[Iso]>;
-        let frames: &[&[Iso]] = if n <= INLINE_ROBOTS {
-            for (slot, f) in inline.iter_mut().zip(&scratch.frames) {
-                *slot = f;
-            }
-            &inline[..n]
-        } else {
-            heap = scratch.frames.iter().map(Vec::as_slice).collect();
-            &heap
-        };
-        let configuration = Configuration {
-            robots: frames,
-            objects: &scratch.objects,
-        };
-        query(&configuration, &mut scratch.collision).map_err(QueryError::Collision)
+        Ok(state)
     }
 
     /// True when the artifact has any arm, i.e. anything to verify kinematically.

@@ -15,7 +15,7 @@ use std::sync::OnceLock;
 
 use cellc_schema::{EndEffectorId, ObjectId};
 
-use crate::scene::{Holder, ObjectPlacement, QueryError, Scene, SceneScratch};
+use crate::scene::{Holder, ObjectPlacement, Obstacle, Placed, QueryError, Scene, SceneScratch};
 use crate::swept::{SweptBodies, LOOKAHEAD};
 
 /// Decides whether configurations of a fixed set of moving arms (their joints
@@ -204,6 +204,8 @@ pub struct SceneValidity<'a> {
     stationary: &'a [(EndEffectorId, Vec<f64>)],
     object: ObjectId,
     placement: ObjectPlacement,
+    /// The world's other objects, standing still (resting, or held by a stationary arm).
+    obstacles: &'a [Obstacle],
     /// The moving bodies' reach radii, computed on the first clearance query (most
     /// checkers, in verification, only ever judge single states).
     swept: OnceLock<SweptBodies>,
@@ -259,8 +261,22 @@ impl<'a> SceneValidity<'a> {
             stationary,
             object,
             placement,
+            obstacles: &[],
             swept: OnceLock::new(),
         })
+    }
+
+    /// The same checks with the world's other objects in the scene. They stand still
+    /// during a motion, so none may be held by one of the moving arms (the planner never
+    /// moves a hand that holds another object); such an obstacle is left out of the
+    /// swept bounds and would make clearance queries unsound.
+    pub fn with_obstacles(mut self, obstacles: &'a [Obstacle]) -> SceneValidity<'a> {
+        debug_assert!(obstacles.iter().all(|o| match o.placement {
+            ObjectPlacement::Held { by, .. } => !self.slices.iter().any(|s| s.end_effector == by),
+            _ => true,
+        }));
+        self.obstacles = obstacles;
+        self
     }
 
     /// Joint values in one configuration.
@@ -322,9 +338,9 @@ impl StateValidity for SceneValidity<'_> {
             if let Some(fault) = self.limits_fault(q) {
                 return Ok(Some(fault));
             }
-            let pair = self
-                .scene
-                .collision(arms, self.object, self.placement, scratch)?;
+            let pair =
+                self.scene
+                    .collision(arms, self.object, self.placement, self.obstacles, scratch)?;
             Ok(pair.map(|(a, b)| StateFault::Collision { a, b }))
         })
     }
@@ -332,9 +348,13 @@ impl StateValidity for SceneValidity<'_> {
     fn is_valid(&self, q: &[f64], scratch: &mut SceneScratch) -> Result<bool, QueryError> {
         self.with_arms(q, |arms| {
             Ok(out_of_limits(self.scene, &self.slices, q).is_none()
-                && self
-                    .scene
-                    .is_free(arms, self.object, self.placement, scratch)?)
+                && self.scene.is_free(
+                    arms,
+                    self.object,
+                    self.placement,
+                    self.obstacles,
+                    scratch,
+                )?)
         })
     }
 
@@ -366,14 +386,12 @@ impl StateValidity for SceneValidity<'_> {
                     horizon
                 };
                 self.with_arms(q, |arms| {
-                    self.scene.free_radius(
-                        arms,
-                        self.object,
-                        self.placement,
-                        &bounds,
-                        horizon,
-                        scratch,
-                    )
+                    let at = Placed {
+                        object: self.object,
+                        placement: self.placement,
+                        obstacles: self.obstacles,
+                    };
+                    self.scene.free_radius(arms, at, &bounds, horizon, scratch)
                 })
                 .map(Some)
             }

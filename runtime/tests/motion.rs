@@ -717,7 +717,7 @@ proptest::proptest! {
         let mut scratch = SceneScratch::default();
         let free = |q: &[f64], scratch: &mut SceneScratch| {
             scene
-                .collision(&[(EndEffectorId(0), q)], ObjectId(0), ObjectPlacement::Absent, scratch)
+                .collision(&[(EndEffectorId(0), q)], ObjectId(0), ObjectPlacement::Absent, &[], scratch)
                 .expect("the query is well formed")
                 .is_none()
         };

@@ -146,17 +146,21 @@ pub struct Request {
 
 /// The typed request of a request the cell declares.
 pub fn named_request(named: &cellc_schema::NamedRequest, options: PlanOptions) -> Request {
-    let placement = |p: &cellc_schema::RequestPlacement| Placement {
+    Request {
+        object: named.object,
+        start: placement_of(&named.from),
+        goal: Goal::Placement(placement_of(&named.to)),
+        options,
+    }
+}
+
+/// A placement as the artifact stores it (requests, the world, tasks), typed.
+pub fn placement_of(p: &cellc_schema::RequestPlacement) -> Placement {
+    Placement {
         holder: p.end_effector,
         grasp: p.grasp,
         workspace: p.workspace,
         pose: p.pose.as_ref().map(crate::math::iso_from_schema),
-    };
-    Request {
-        object: named.object,
-        start: placement(&named.from),
-        goal: Goal::Placement(placement(&named.to)),
-        options,
     }
 }
 
