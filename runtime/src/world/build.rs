@@ -297,7 +297,7 @@ fn placement_by_name(object: &str, e: &PlacedEntry) -> Result<PlacementByName, W
         }
         (None, Some([w, x, y, z])) => {
             let q = nalgebra::Quaternion::new(w, x, y, z);
-            if !((q.norm() - 1.0).abs() <= 1e-3) {
+            if (q.norm() - 1.0).abs() > 1e-3 || !q.norm().is_finite() {
                 return Err(orientation("the quaternion is not of unit length"));
             }
             Quat::from_quaternion(q)
