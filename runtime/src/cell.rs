@@ -6,18 +6,21 @@
 //! (kinematics, collision, motion planning, verification) stay reachable for benches and
 //! tools, but nothing here needs them.
 
-use cellc_schema::{Artifact, Body, EndEffectorId, GraspId, ObjectId, ReadError, WorkspaceId};
+use cellc_schema::{
+    Artifact, Body, EndEffectorId, GraspId, ObjectId, ReadError, WorkspaceId, WorldDocument,
+};
 
 use crate::execute::{ExecuteOptions, Execution, ExecutionError, Executor, Simulator};
 use crate::explain::{Explanation, NoStates};
 use crate::plan::planner::Planner;
 use crate::plan::search::SearchGraph;
 use crate::plan::{
-    names, GoalByName, LocateError, PlacementByName, Plan, PlanError, PlanOptions, Request,
+    names, Goal, GoalByName, LocateError, PlacementByName, Plan, PlanError, PlanOptions, Request,
     Unreachable,
 };
 use crate::scene::{Scene, SceneError};
 use crate::verify::{VerifyOptions, VerifyReport};
+use crate::world::{World, WorldError};
 use crate::Files;
 
 /// Why an artifact could not be loaded.
@@ -150,6 +153,39 @@ impl Cell {
     /// Plans a request from the cell at rest (every arm at home).
     pub fn plan(&self, request: &Request) -> Result<Plan, PlanError> {
         self.planner().plan(request)
+    }
+
+    /// The world the cell declares (`world { ... }`): arms at home, the objects where it
+    /// puts them, the others absent.
+    ///
+    /// # Errors
+    /// A declared placement that matches no state of its object's graph.
+    pub fn initial_world(&self, options: &PlanOptions) -> Result<World, WorldError> {
+        World::initial(&self.artifact, self.scene.as_ref(), options)
+    }
+
+    /// The world a world document describes (`docs/world.md`).
+    ///
+    /// # Errors
+    /// The first unknown name, joint out of limits or placement that matches no state.
+    pub fn world(
+        &self,
+        document: &WorldDocument,
+        options: &PlanOptions,
+    ) -> Result<World, WorldError> {
+        World::from_document(&self.artifact, self.scene.as_ref(), document, options)
+    }
+
+    /// Plans moving `object` to `goal` from where it is in `world`, with the arms where
+    /// they stand and every other object in the way where it is.
+    pub fn plan_in(
+        &self,
+        world: &World,
+        object: ObjectId,
+        goal: &Goal,
+        options: &PlanOptions,
+    ) -> Result<Plan, PlanError> {
+        self.planner().plan_in(world, object, goal, options)
     }
 
     /// Executes a plan on `executor`, replanning from where the object is when a step

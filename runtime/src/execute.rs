@@ -540,6 +540,7 @@ pub fn execute(
         let state = WorldState {
             arms: executor.arms(),
             object: observed.pose,
+            around: plans[0].around.clone(),
         };
         let next = planner
             .plan_from(object, observed.state, &goal, state, &options.plan)

@@ -196,6 +196,14 @@ pub enum Infeasibility {
         /// Why.
         detail: String,
     },
+    /// The hand is holding another object (planning in a world: no state of this object
+    /// may be held by it until it lets that one go).
+    HandBusy {
+        /// The hand.
+        hand: EndEffectorId,
+        /// What it holds.
+        holds: ObjectId,
+    },
 }
 
 /// An arc removed by verification, kept with its reason for explanations.

@@ -479,6 +479,10 @@ impl Validator<'_> {
                 self.error_value("position_error", *position_error)?;
                 self.error_value("rotation_error", *rotation_error)
             }
+            Infeasibility::HandBusy { hand, holds } => {
+                self.index("hand", *hand, n, "end-effectors")?;
+                self.index("holds", *holds, self.a.objects.len(), "objects")
+            }
             Infeasibility::Collision { .. } | Infeasibility::NoPlacement { .. } => Ok(()),
         }
     }

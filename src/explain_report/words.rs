@@ -319,6 +319,11 @@ pub fn infeasibility(art: &Artifact, reason: &Infeasibility) -> String {
         }
         // Verification words these as whole clauses ("the workspace has no volume").
         Infeasibility::NoPlacement { detail } => detail.clone(),
+        Infeasibility::HandBusy { hand, holds } => format!(
+            "{} is holding {}",
+            ee_name(art, *hand),
+            q(art.object_name(*holds))
+        ),
         _ => "found infeasible".to_string(),
     }
 }

@@ -237,6 +237,19 @@ pub struct MotionContext {
     pub stationary: ArmConfigurations,
     /// The object during the motion.
     pub placement: crate::scene::ObjectPlacement,
+    /// The world's other objects during the motion.
+    pub obstacles: Vec<crate::scene::Obstacle>,
+}
+
+/// The other objects a plan is made around: obstacles where they stand during the whole
+/// plan (resting, or held by an arm that never moves in it), and the hands that hold them
+/// (no state of the moved object may be held by one). Empty for a request planned alone.
+#[derive(Clone, Debug, Default)]
+pub struct Surroundings {
+    /// The other objects in the scene, as collision queries place them.
+    pub obstacles: Vec<crate::scene::Obstacle>,
+    /// (hand, the object it holds).
+    pub busy: Vec<(EndEffectorId, ObjectId)>,
 }
 
 /// What a plan must achieve: every state that satisfies the goal and, for a placement
@@ -259,6 +272,8 @@ pub struct Plan {
     pub start_pose: Option<Iso>,
     /// What the plan achieves.
     pub goal: PlanGoal,
+    /// The other objects it was planned around (a replan keeps them).
+    pub around: Surroundings,
     /// The state path, simplified (one move per run of moves).
     pub states: Vec<Node>,
     /// Commands in order.
@@ -330,6 +345,16 @@ pub enum PlanError {
     Locate(LocateError),
     /// No path from the start to the goal.
     Unreachable(Box<Unreachable>),
+    /// The object to move is not in the world.
+    Absent {
+        /// The object.
+        object: ObjectId,
+    },
+    /// The goal pose is where another object of the world stands.
+    GoalOccupied {
+        /// The object standing there.
+        by: ObjectId,
+    },
     /// The request's time budget ran out (or it was cancelled) before a plan was found.
     TimeBudget {
         /// Searches started (the first, and one per backtrack).
@@ -346,6 +371,8 @@ impl std::fmt::Display for PlanError {
                 "no plan reaches the goal ({} states reachable from the start)",
                 u.reachable.len()
             ),
+            PlanError::Absent { object } => write!(f, "{object} is not in the world"),
+            PlanError::GoalOccupied { by } => write!(f, "{by} stands at the goal"),
             PlanError::TimeBudget { searches } => {
                 write!(f, "the time budget ran out after {searches} searches")
             }

@@ -10,7 +10,7 @@ use crate::kinematics::{solve_ik, IkError, IkTarget};
 use crate::math::{iso_from_schema, Iso};
 use crate::plan::{ArcRef, ArmConfigurations};
 use crate::rest::RestRegions;
-use crate::scene::{Holder, ObjectPlacement, SceneScratch};
+use crate::scene::{Holder, ObjectPlacement, Obstacle, SceneScratch};
 use crate::termination::Termination;
 use crate::validity::{SceneValidity, StateFault, StateValidity};
 
@@ -22,6 +22,7 @@ impl Planner<'_> {
         object: ObjectId,
         giver: (Node, usize),
         picker: (Node, usize),
+        obstacles: &[Obstacle],
         rng: &mut ChaCha8Rng,
         stop: &Termination,
     ) -> Option<Iso> {
@@ -73,6 +74,7 @@ impl Planner<'_> {
                     by: Some(arm.end_effector),
                 };
                 SceneValidity::new(scene, &[arm.end_effector], &[], object, placement)
+                    .map(|v| v.with_obstacles(obstacles))
                     .is_ok_and(|v| matches!(v.is_valid(&q, &mut SceneScratch::default()), Ok(true)))
             })
         };
@@ -134,6 +136,7 @@ impl Planner<'_> {
         to: Node,
         lying_at: Option<Iso>,
         place_at: Option<Iso>,
+        obstacles: &[Obstacle],
         rng: &mut ChaCha8Rng,
         stop: &Termination,
     ) -> Result<Exchange, Failure> {
@@ -198,6 +201,7 @@ impl Planner<'_> {
                         };
                         let checked =
                             SceneValidity::new(scene, &[arm.end_effector], &[], object, placement)
+                                .map(|v| v.with_obstacles(obstacles))
                                 .map_err(|e| format!("{e:?}"))
                                 .and_then(|v| {
                                     v.check(&q, &mut scratch).map_err(|e| format!("{e:?}"))
@@ -246,17 +250,82 @@ impl Planner<'_> {
             });
         }
         let (object_pose, configurations) = self.witness_of(object, arc);
-        if object_pose.is_none() {
+        let Some(pose) = object_pose else {
             return Err(Failure {
                 arc: arc_ref,
                 reason: Infeasibility::NoPlacement {
                     detail: "the arc has no witness (build with verification)".into(),
                 },
             });
+        };
+        // The witness was found in the empty cell: the world's other objects may stand
+        // where it puts the object or the arms.
+        if let Some((a, b)) =
+            self.blocked_by(object, scene, (from, to), pose, &configurations, obstacles)
+        {
+            return Err(Failure {
+                arc: arc_ref,
+                reason: Infeasibility::Collision { a, b },
+            });
         }
         Ok(Exchange {
             object: object_pose,
             configurations,
         })
+    }
+
+    /// The first collision of an exchange's configurations (and the object at `pose`
+    /// between `from` and `to`) once `obstacles` stand in the cell; `None` when clear or
+    /// when there are none. The witness was free in the empty cell (other arms at home,
+    /// as now), so any collision found involves an obstacle.
+    fn blocked_by(
+        &self,
+        object: ObjectId,
+        scene: &crate::scene::Scene,
+        (from, to): (Node, Node),
+        pose: Iso,
+        configurations: &ArmConfigurations,
+        obstacles: &[Obstacle],
+    ) -> Option<(String, String)> {
+        if obstacles.is_empty() {
+            return None;
+        }
+        let grasp = |n: Node| crate::world::grasp_pose(self.artifact, object, n.grasp);
+        let is_arm = |n: Node| {
+            matches!(
+                scene.holders.get(n.end_effector.index()),
+                Some(Holder::Arm { .. })
+            )
+        };
+        let placement = match (is_arm(from), is_arm(to)) {
+            (true, true) => ObjectPlacement::Handoff {
+                a: from.end_effector,
+                grasp_a: grasp(from),
+                b: to.end_effector,
+            },
+            (true, false) => ObjectPlacement::Resting {
+                on: to.end_effector,
+                pose,
+                by: Some(from.end_effector),
+            },
+            (false, true) => ObjectPlacement::Resting {
+                on: from.end_effector,
+                pose,
+                by: Some(to.end_effector),
+            },
+            (false, false) => ObjectPlacement::Absent,
+        };
+        let arms: Vec<_> = configurations.iter().map(|(e, _)| *e).collect();
+        let q: Vec<f64> = configurations
+            .iter()
+            .flat_map(|(_, q)| q.iter().copied())
+            .collect();
+        let validity = SceneValidity::new(scene, &arms, &[], object, placement)
+            .ok()?
+            .with_obstacles(obstacles);
+        match validity.check(&q, &mut SceneScratch::default()) {
+            Ok(Some(StateFault::Collision { a, b })) => Some((a, b)),
+            _ => None,
+        }
     }
 }

@@ -11,19 +11,21 @@ mod realise;
 
 use std::collections::HashSet;
 
-use cellc_schema::{Artifact, Infeasibility, Node, NodeId, ObjectId};
+use cellc_schema::{Artifact, EndEffectorId, Infeasibility, Node, NodeId, ObjectId};
 
 use super::locate::{goal_states, locate, locate_abstract};
 use super::search::{simplify, SearchGraph};
 use super::strategy::classify;
 use super::{
-    ArcRef, ArmConfigurations, Plan, PlanError, PlanGoal, PlanOptions, Request, Step, Unreachable,
+    ArcRef, ArmConfigurations, Plan, PlanError, PlanGoal, PlanOptions, Request, Step, Surroundings,
+    Unreachable,
 };
 use crate::kinematics::IkOptions;
 use crate::math::Iso;
 use crate::motion::{MotionPlanner, RrtConnect};
 use crate::scene::{Holder, Scene};
 use crate::termination::Termination;
+use crate::world::World;
 
 /// IK settings for request-specific solves: each call is one of several attempts (other
 /// symmetric grasps, other candidate poses), so a few restarts per call find reachable
@@ -53,6 +55,8 @@ pub struct WorldState {
     pub arms: Vec<Option<Vec<f64>>>,
     /// Current object pose, when known.
     pub object: Option<Iso>,
+    /// The world's other objects.
+    pub around: Surroundings,
 }
 
 impl WorldState {
@@ -68,7 +72,34 @@ impl WorldState {
                 _ => None,
             })
             .collect();
-        WorldState { arms, object }
+        WorldState {
+            arms,
+            object,
+            around: Surroundings::default(),
+        }
+    }
+
+    /// The state a plan for `object` starts from in `world`: its arms, the object's pose
+    /// (resting, or where its hand holds it), and every other object.
+    pub fn of_world(
+        artifact: &Artifact,
+        scene: Option<&Scene>,
+        world: &World,
+        object: ObjectId,
+    ) -> WorldState {
+        let busy = (0..artifact.end_effectors.len() as u32)
+            .map(EndEffectorId)
+            .filter(|&e| artifact.end_effectors[e.index()].movable)
+            .filter_map(|e| world.held_by(e).filter(|&o| o != object).map(|o| (e, o)))
+            .collect();
+        WorldState {
+            arms: world.arms().to_vec(),
+            object: world.pose(artifact, scene, object),
+            around: Surroundings {
+                obstacles: scene.map_or_else(Vec::new, |s| world.obstacles(artifact, s, object)),
+                busy,
+            },
+        }
     }
 }
 
@@ -159,6 +190,49 @@ impl<'a> Planner<'a> {
         self.plan_from(object, start, &goal, state, &request.options)
     }
 
+    /// Plans moving `object` to `goal` in `world`: from where the object is, with the arms
+    /// where they stand and every other object an obstacle at its current pose.
+    ///
+    /// # Errors
+    /// The object is absent; the goal names something the artifact lacks or lies where
+    /// another object stands ([`PlanError::GoalOccupied`]); or no plan, as for
+    /// [`Planner::plan`].
+    pub fn plan_in(
+        &self,
+        world: &World,
+        object: ObjectId,
+        goal: &super::Goal,
+        options: &PlanOptions,
+    ) -> Result<Plan, PlanError> {
+        let Some(start) = world.state(object) else {
+            return Err(PlanError::Absent { object });
+        };
+        let request = Request {
+            object,
+            start: super::Placement::at_state(start),
+            goal: goal.clone(),
+            options: options.clone(),
+        };
+        super::names::check_request(self.artifact, &request).map_err(PlanError::Locate)?;
+        let scene = self.scene.filter(|s| s.has_kinematics());
+        let goals =
+            goal_states(self.artifact, scene, object, goal, options).map_err(PlanError::Locate)?;
+        let goal = PlanGoal {
+            states: goals,
+            pose: match goal {
+                super::Goal::Placement(p) => p.pose,
+                super::Goal::Workspace { .. } => None,
+            },
+        };
+        let state = WorldState::of_world(self.artifact, self.scene, world, object);
+        if let (Some(scene), Some(pose), Some(&node)) = (scene, goal.pose, goal.states.first()) {
+            if let Some(by) = occupant(self.artifact, scene, object, node, pose, &state) {
+                return Err(PlanError::GoalOccupied { by });
+            }
+        }
+        self.plan_from(object, start, &goal, state, options)
+    }
+
     /// Plans from a given state towards `goal` (used again when execution fails part way).
     pub fn plan_from(
         &self,
@@ -183,6 +257,16 @@ impl<'a> Planner<'a> {
         let goal_indices: Vec<NodeId> = goals.iter().filter_map(index_of).collect();
         let mut removed: HashSet<ArcRef> = HashSet::new();
         let mut failed: Vec<(ArcRef, Infeasibility)> = Vec::new();
+        // A hand that holds another object holds nothing else: every arc into its states
+        // is out for this plan, and says why.
+        for arc in &graph.arcs {
+            let holder = graph.nodes[arc.to as usize].end_effector;
+            if let Some(&(hand, holds)) = state.around.busy.iter().find(|(e, _)| *e == holder) {
+                let arc = ArcRef::of(arc);
+                removed.insert(arc);
+                failed.push((arc, Infeasibility::HandBusy { hand, holds }));
+            }
+        }
         let unreachable = |removed: &HashSet<ArcRef>, failed: Vec<(ArcRef, Infeasibility)>| {
             PlanError::Unreachable(Box::new(Unreachable {
                 object,
@@ -247,6 +331,7 @@ impl<'a> Planner<'a> {
                         object,
                         start_pose,
                         goal: goal.clone(),
+                        around: state.around.clone(),
                         strategy: classify(self.artifact, &states),
                         states,
                         steps,
@@ -288,4 +373,46 @@ fn apply(state: &mut WorldState, configurations: &ArmConfigurations, object: Opt
     if object.is_some() {
         state.object = object;
     }
+}
+
+/// The object standing where `object` would rest at `pose` in goal state `node` (on its
+/// surface), if any: the pose alone, no arm, against the world's other objects.
+fn occupant(
+    artifact: &Artifact,
+    scene: &Scene,
+    object: ObjectId,
+    node: Node,
+    pose: Iso,
+    state: &WorldState,
+) -> Option<ObjectId> {
+    use crate::validity::{StateFault, StateValidity};
+    if state.around.obstacles.is_empty()
+        || !matches!(
+            scene.holders.get(node.end_effector.index()),
+            Some(Holder::Surface { .. })
+        )
+    {
+        return None;
+    }
+    let placement = crate::scene::ObjectPlacement::Resting {
+        on: node.end_effector,
+        pose,
+        by: None,
+    };
+    let validity = crate::validity::SceneValidity::new(scene, &[], &[], object, placement)
+        .ok()?
+        .with_obstacles(&state.around.obstacles);
+    let Ok(Some(StateFault::Collision { a, b })) =
+        validity.check(&[], &mut crate::scene::SceneScratch::default())
+    else {
+        return None;
+    };
+    let moved = artifact.object_name(object);
+    let other = if a == moved { b } else { a };
+    state
+        .around
+        .obstacles
+        .iter()
+        .map(|o| o.object)
+        .find(|&o| artifact.object_name(o) == other)
 }

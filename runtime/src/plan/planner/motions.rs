@@ -181,7 +181,9 @@ impl Planner<'_> {
             let moving_arms: Vec<EndEffectorId> = moving.iter().map(|m| m.0).collect();
             let from: Vec<f64> = moving.iter().flat_map(|m| m.1.iter().copied()).collect();
             let to: Vec<f64> = moving.iter().flat_map(|m| m.2.iter().copied()).collect();
+            let obstacles = &start.around.obstacles;
             let motion = SceneValidity::new(scene, &moving_arms, &stationary, object, placement)
+                .map(|v| v.with_obstacles(obstacles))
                 .map_err(MotionError::from)
                 .and_then(|validity| {
                     let problem = MotionProblem {
@@ -205,6 +207,7 @@ impl Planner<'_> {
                     step.motion_context = Some(crate::plan::MotionContext {
                         stationary,
                         placement,
+                        obstacles: obstacles.clone(),
                     });
                 }
                 Err(error) => {

@@ -38,6 +38,7 @@ impl Planner<'_> {
         let mut rng =
             ChaCha8Rng::seed_from_u64(options.seed ^ u64::from(object.0).wrapping_mul(0x9E37_79B9));
         let state_at_start = state.clone();
+        let obstacles = &state.around.obstacles;
         let mut state = state.clone();
         let mut steps = Vec::new();
         let n_transitions = arc_into
@@ -71,18 +72,19 @@ impl Planner<'_> {
             let shared_pose = match next_pick {
                 Some(b) if !last => {
                     let picker = graph.nodes[graph.arcs[b].to as usize];
-                    self.shared_rest_pose(object, (from, a), (picker, b), &mut rng, stop)
+                    self.shared_rest_pose(object, (from, a), (picker, b), obstacles, &mut rng, stop)
                 }
                 _ => None,
             };
             let place_at = if last { goal_pose } else { shared_pose };
-            let exchange =
-                match self.exchange(object, a, from, to, object_now, place_at, &mut rng, stop) {
-                    Err(_) if !last && place_at.is_some() => {
-                        self.exchange(object, a, from, to, object_now, None, &mut rng, stop)?
-                    }
-                    other => other?,
-                };
+            let exchange = match self.exchange(
+                object, a, from, to, object_now, place_at, obstacles, &mut rng, stop,
+            ) {
+                Err(_) if !last && place_at.is_some() => self.exchange(
+                    object, a, from, to, object_now, None, obstacles, &mut rng, stop,
+                )?,
+                other => other?,
+            };
             if exchange.object.is_some() {
                 object_now = exchange.object;
             }
