@@ -134,6 +134,7 @@ pub(super) fn item_text(item: &Item) -> String {
             format!("weights {}", weights.join(", "))
         }
         Item::Include(i) => format!("include {}", string(&i.path)),
+        Item::Package(p) => format!("package {} at {}", p.name.text, string(&p.dir)),
         Item::WorkspacesFromReach(_) => "workspaces from reach".to_string(),
         Item::Workspace(w) => {
             let mut out = format!("workspace {}", name(&w.name));
@@ -167,10 +168,18 @@ pub(super) fn item_text(item: &Item) -> String {
         Item::Support(s) => format!("support {}", name(&s.name)),
         Item::Robot(r) => {
             let mut out = format!("robot {} urdf {}", name(&r.name), string(&r.urdf));
+            if let Some(srdf) = &r.srdf {
+                out.push_str(&format!(" srdf {}", string(srdf)));
+            }
+            if let Some(group) = &r.group {
+                out.push_str(&format!(" group {}", name(group)));
+            }
             if let Some(base) = &r.base {
                 out.push_str(&format!(" base {}", name(base)));
             }
-            out.push_str(&format!(" tip {}", name(&r.tip)));
+            if let Some(tip) = &r.tip {
+                out.push_str(&format!(" tip {}", name(tip)));
+            }
             out
         }
         Item::Arm(a) => {
@@ -188,6 +197,9 @@ pub(super) fn item_text(item: &Item) -> String {
                     .map(|j| format!("{} {}", name(&j.joint), quantity(&j.value)))
                     .collect();
                 out.push_str(&format!(" home ({})", values.join(", ")));
+            }
+            if let Some(state) = &a.home_state {
+                out.push_str(&format!(" home {}", name(state)));
             }
             out
         }
