@@ -148,6 +148,7 @@ pub fn phrase(rule: Rule) -> &'static str {
         Rule::kw_srdf => "`srdf`",
         Rule::kw_group => "`group`",
         Rule::home_state => "an SRDF group state like `home ready`",
+        Rule::srdf_name | Rule::plain_srdf_name => "a name from the SRDF like `arm` or `ready`",
         Rule::workspaces_from_reach => "`workspaces from reach`",
         Rule::workspace_item => "a workspace like `workspace w1 \"Left\"`",
         Rule::adjacent_item => "an adjacency like `adjacent w1 w2`",

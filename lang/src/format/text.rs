@@ -14,6 +14,15 @@ pub(super) fn name(name: &Name) -> String {
     }
 }
 
+/// A name an SRDF gives: reserved words need no quotes after `group` and `home`.
+fn srdf_name(name: &Name) -> String {
+    if name.needs_quotes() {
+        format!("`{}`", name.text)
+    } else {
+        name.text.clone()
+    }
+}
+
 fn request_placement(p: &RequestPlacement) -> String {
     match &p.place {
         PlaceSpec::In(w) => format!("{} in {}", qualified(&p.holder), name(w)),
@@ -172,7 +181,7 @@ pub(super) fn item_text(item: &Item) -> String {
                 out.push_str(&format!(" srdf {}", string(srdf)));
             }
             if let Some(group) = &r.group {
-                out.push_str(&format!(" group {}", name(group)));
+                out.push_str(&format!(" group {}", srdf_name(group)));
             }
             if let Some(base) = &r.base {
                 out.push_str(&format!(" base {}", name(base)));
@@ -199,7 +208,7 @@ pub(super) fn item_text(item: &Item) -> String {
                 out.push_str(&format!(" home ({})", values.join(", ")));
             }
             if let Some(state) = &a.home_state {
-                out.push_str(&format!(" home {}", name(state)));
+                out.push_str(&format!(" home {}", srdf_name(state)));
             }
             out
         }
