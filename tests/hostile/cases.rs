@@ -97,7 +97,9 @@ const SECRET_WORD: &str = "hunter2secret";
 /// A COLLADA file with one geometry named `id` whose accessor states `count` positions
 /// (its array holds 1,000), instantiated `instances` times.
 fn collada(id: &str, count: &str, instances: usize) -> String {
-    let values: Vec<String> = (0..3000).map(|i| format!("{}", (i % 7) as f64 * 0.01)).collect();
+    let values: Vec<String> = (0..3000)
+        .map(|i| format!("{}", (i % 7) as f64 * 0.01))
+        .collect();
     let nodes = format!("<node><instance_geometry url=\"#{id}\"/></node>").repeat(instances);
     format!(
         r##"<?xml version="1.0"?>
