@@ -255,6 +255,26 @@ mod tests {
     use super::*;
 
     #[test]
+    fn collada_hulls_are_scaled_as_the_urdf_says() {
+        let dae = br##"<COLLADA><library_geometries><geometry id="g"><mesh>
+            <source id="p"><float_array id="a" count="24">0 0 0 1 0 0 0 1 0 1 1 0 0 0 1 1 0 1 0 1 1 1 1 1</float_array></source>
+            <vertices id="v"><input semantic="POSITION" source="#p"/></vertices>
+            </mesh></geometry></library_geometries></COLLADA>"##;
+        let shape = hull("cube.DAE", dae, [0.5, 2.0, 3.0]).expect("a hull");
+        let aabb = shape.compute_local_aabb();
+        let extents = aabb.maxs - aabb.mins;
+        assert!((extents - crate::math::Vec3::new(0.5, 2.0, 3.0)).norm() < 1e-9);
+        assert_eq!(
+            hull("cube.dae", b"solid x", [1.0; 3]).map(|_| ()),
+            Err(MeshError::Collada(crate::collada::ColladaError::NotCollada))
+        );
+        assert_eq!(
+            hull("cube.ply", dae, [1.0; 3]).map(|_| ()),
+            Err(MeshError::UnknownFormat)
+        );
+    }
+
+    #[test]
     fn reads_obj_vertices() {
         let text = b"# cube corner\nv 0 0 0\nv 1 0 0\nvn 0 0 1\nv 0 1 0 1.0\nf 1 2 3\n";
         let v = read_obj_vertices(text).unwrap();

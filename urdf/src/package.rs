@@ -62,24 +62,6 @@ pub fn file_ref(written: &str) -> Result<FileRef<'_>, BadPackageUri> {
     ))
 }
 
-/// Where a package's folder was found.
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub enum Found {
-    /// Declared with [`PackagePath::declare`] (its index among the declarations).
-    Declared(usize),
-    /// In the search folder of that index ([`PackagePath::search`] order).
-    Searched(usize),
-}
-
-/// A package's folder, and how it was found.
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub struct PackageRoot {
-    /// The folder, as [`Files`] names it.
-    pub dir: String,
-    /// How it was found.
-    pub found: Found,
-}
-
 /// Where packages are looked for: declared roots first, then search folders, in order.
 #[derive(Clone, Debug, Default)]
 pub struct PackagePath {
@@ -121,34 +103,26 @@ impl PackagePath {
 
     /// The folder of package `name`: the declared one, else the first search folder that
     /// holds it (see the module documentation).
-    pub fn find(&self, name: &str, files: &dyn Files) -> Option<PackageRoot> {
-        if let Some(i) = self.declared.iter().position(|(n, _)| n == name) {
-            return Some(PackageRoot {
-                dir: self.declared[i].1.clone(),
-                found: Found::Declared(i),
-            });
+    pub fn find(&self, name: &str, files: &dyn Files) -> Option<String> {
+        if let Some(dir) = self.declared(name) {
+            return Some(dir.to_string());
         }
-        for (i, dir) in self.search.iter().enumerate() {
+        for dir in &self.search {
             let inside = join_folder(dir, name);
             let itself = dir.rsplit('/').next() == Some(name);
-            let candidate = if is_file(files, &join_folder(&inside, "package.xml")) {
-                inside
-            } else if itself && is_file(files, &join_folder(dir, "package.xml")) {
-                dir.clone()
-            } else {
-                continue;
-            };
-            return Some(PackageRoot {
-                dir: candidate,
-                found: Found::Searched(i),
-            });
+            if is_file(files, &join_folder(&inside, "package.xml")) {
+                return Some(inside);
+            }
+            if itself && is_file(files, &join_folder(dir, "package.xml")) {
+                return Some(dir.clone());
+            }
         }
         None
     }
 }
 
 /// `dir/name`, for a folder (rather than [`join`]'s "beside this file").
-pub fn join_folder(dir: &str, name: &str) -> String {
+fn join_folder(dir: &str, name: &str) -> String {
     if dir.is_empty() || dir == "." {
         normalize(name)
     } else {
@@ -209,7 +183,7 @@ pub fn resolve(
                     .ok_or_else(|| ResolveError::UnknownPackage {
                         package: package.to_string(),
                     })?;
-            Ok(join_folder(&root.dir, path))
+            Ok(join_folder(&root, path))
         }
     }
 }
@@ -249,7 +223,7 @@ mod tests {
         path.search("ws1");
         path.search("./ws2");
         path.search("lone/r");
-        let found = |path: &PackagePath, name| path.find(name, &files).map(|r| r.dir);
+        let found = |path: &PackagePath, name| path.find(name, &files);
         assert_eq!(found(&path, "p").as_deref(), Some("ws1/p"));
         assert_eq!(found(&path, "q").as_deref(), Some("ws2/q"));
         // A search entry that is the package itself.
@@ -257,13 +231,7 @@ mod tests {
         assert_eq!(found(&path, "s"), None);
         path.declare("q", "cells/robots/q/");
         path.declare("q", "elsewhere");
-        assert_eq!(
-            path.find("q", &files),
-            Some(PackageRoot {
-                dir: "cells/robots/q".into(),
-                found: Found::Declared(0)
-            })
-        );
+        assert_eq!(path.find("q", &files).as_deref(), Some("cells/robots/q"));
         assert_eq!(
             resolve("a/r.urdf", "package://q/m/x.stl", &path, &files).as_deref(),
             Ok("cells/robots/q/m/x.stl")
