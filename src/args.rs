@@ -35,11 +35,24 @@ pub enum ArtifactFormat {
     Bin,
 }
 
+/// Where ROS packages are looked for, shared by every command that reads cells.
+#[derive(clap::Args, Debug, Clone, Default)]
+pub struct PackageArgs {
+    /// A folder of ROS packages (holding `NAME/package.xml`) or a package itself, searched
+    /// for `package://NAME/...` files after the cell's `package` items and before the
+    /// folders of `ROS_PACKAGE_PATH`. Repeatable; searched in the order given.
+    #[arg(long = "package-path", value_name = "DIR")]
+    pub package_path: Vec<PathBuf>,
+}
+
 /// What to plan, shared by `cellc plan` and `cellc run`.
 #[derive(clap::Args, Debug, Clone)]
 pub struct RequestArgs {
     /// A `.cell` file (compiled and verified now) or an artifact.
     pub input: PathBuf,
+    /// Where ROS packages are.
+    #[command(flatten)]
+    pub packages: PackageArgs,
     /// A request declared in the cell (default: the first one).
     #[arg(long)]
     pub request: Option<String>,
@@ -107,6 +120,9 @@ pub enum Command {
         /// Output flags.
         #[command(flatten)]
         report: ReportFlags,
+        /// Where ROS packages are.
+        #[command(flatten)]
+        packages: PackageArgs,
     },
     /// Format cell files in the canonical layout.
     Fmt {
@@ -139,11 +155,17 @@ pub enum Command {
         /// Treat warnings as errors.
         #[arg(long)]
         deny_warnings: bool,
+        /// Where ROS packages are.
+        #[command(flatten)]
+        packages: PackageArgs,
     },
     /// Summarise a cell or an artifact: workspaces, end-effectors, graph sizes per object.
     Info {
         /// A `.cell` file or an artifact.
         file: PathBuf,
+        /// Where ROS packages are.
+        #[command(flatten)]
+        packages: PackageArgs,
     },
     /// Print the object-state graph of one object.
     Graph {
@@ -155,6 +177,9 @@ pub enum Command {
         /// Output format.
         #[arg(long, value_enum, default_value = "dot")]
         format: GraphFormat,
+        /// Where ROS packages are.
+        #[command(flatten)]
+        packages: PackageArgs,
     },
     /// Plan a move request: a named request of the cell (the first one by default), or one
     /// given with --object, --from and --to (`HOLDER[.GRASP] in WS` or `HOLDER at (x, y, z)

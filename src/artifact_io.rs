@@ -62,8 +62,8 @@ pub fn read(path: &str) -> Result<Artifact, Diagnostic> {
 
 /// The artifact of a `.cell` file (compiled now) or of an artifact file. On failure the
 /// diagnostics are already printed to standard error.
-pub fn cell_or_artifact(path: &str) -> Option<Artifact> {
-    cell_or_artifact_reporting(path, Report::Human)
+pub fn cell_or_artifact(path: &str, options: &cellc_compiler::CompileOptions) -> Option<Artifact> {
+    cell_or_artifact_reporting(path, Report::Human, options)
 }
 
 /// How [`cell_or_artifact_reporting`] reports failures.
@@ -87,7 +87,11 @@ impl Report {
 }
 
 /// [`cell_or_artifact`], reporting failures as `report` says.
-pub fn cell_or_artifact_reporting(path: &str, report: Report) -> Option<Artifact> {
+pub fn cell_or_artifact_reporting(
+    path: &str,
+    report: Report,
+    options: &cellc_compiler::CompileOptions,
+) -> Option<Artifact> {
     // Human text ends with a summary line after a compilation's errors.
     let emit = |diagnostics: &[Diagnostic], sources: &SourceMap, summary: bool| {
         report.emit(diagnostics, sources);
@@ -96,7 +100,7 @@ pub fn cell_or_artifact_reporting(path: &str, report: Report) -> Option<Artifact
         }
     };
     if path.ends_with(".cell") {
-        let compilation = cellc_compiler::compile(&FsFiles, path);
+        let compilation = cellc_compiler::compile_with(&FsFiles, path, options);
         let errors: Vec<Diagnostic> = compilation
             .diagnostics
             .iter()
@@ -123,13 +127,19 @@ pub fn cell_or_artifact_reporting(path: &str, report: Report) -> Option<Artifact
     }
 }
 
-/// Applies `f` to every file path an artifact holds (sources, URDFs, meshes).
+/// Applies `f` to every file path an artifact holds (sources, URDFs, SRDFs, meshes).
 fn map_paths(artifact: &mut Artifact, f: &dyn Fn(&str) -> String) {
     for s in &mut artifact.sources {
         s.path = f(&s.path);
     }
     for r in &mut artifact.robots {
         r.urdf_path = f(&r.urdf_path);
+        if let Some(srdf) = &mut r.srdf {
+            srdf.path = f(&srdf.path);
+        }
+        for m in &mut r.meshes {
+            m.path = f(&m.path);
+        }
     }
     let mesh = |shape: &mut cellc_schema::Shape| {
         if let cellc_schema::Shape::Mesh { path } = shape {

@@ -98,7 +98,8 @@ pub fn artifact_plan(data: &[u8]) {
 }
 
 /// A robot description or a mesh. The first byte picks what: `U` a URDF whose first line
-/// names the base and tip links (`base tip`), `S` an STL mesh, `O` an OBJ mesh.
+/// names the base and tip links (`base tip`), `S` an STL mesh, `O` an OBJ mesh, `D` a
+/// COLLADA mesh, `R` an SRDF (checked against an empty robot).
 pub fn urdf_mesh(data: &[u8]) {
     if data.len() > MAX_INPUT {
         return;
@@ -118,6 +119,22 @@ pub fn urdf_mesh(data: &[u8]) {
         }
         Some((b'O', rest)) => {
             let _ = cellc_runtime::mesh::hull("fuzz.obj", rest, [1.0, 1.0, 1.0]);
+        }
+        Some((b'D', rest)) => {
+            let _ = cellc_runtime::mesh::hull("fuzz.dae", rest, [1.0, 1.0, 1.0]);
+        }
+        Some((b'R', rest)) => {
+            if let (Ok(text), Ok(urdf)) = (
+                std::str::from_utf8(rest),
+                cellc_urdf::Description::parse("<robot name='r'><link name='a'/></robot>"),
+            ) {
+                if let Ok(srdf) = cellc_urdf::Srdf::parse(text) {
+                    let _ = srdf.problems(&urdf);
+                    for group in &srdf.groups {
+                        let _ = srdf.group_chain(&group.name, &urdf);
+                    }
+                }
+            }
         }
         _ => {}
     }

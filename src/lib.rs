@@ -12,6 +12,7 @@ pub mod fs_files;
 pub mod fuzzing;
 pub mod import;
 pub mod output;
+pub mod packages;
 pub mod plan_report;
 pub mod render;
 pub mod runtime_codes;
@@ -53,7 +54,13 @@ pub fn dispatch() -> ExitCode {
             files,
             deny_warnings,
             report,
-        } => commands::check::run(files, *deny_warnings, report),
+            packages,
+        } => commands::check::run(
+            files,
+            *deny_warnings,
+            report,
+            &packages::compile_options(packages),
+        ),
         args::Command::Fmt { files, check } => commands::fmt::run(files, *check),
         args::Command::Explain { code } => commands::explain::run(code),
         args::Command::Build {
@@ -64,6 +71,7 @@ pub fn dispatch() -> ExitCode {
             deny_warnings,
             no_verify,
             seed,
+            packages,
         } => {
             let encoding = match format {
                 args::ArtifactFormat::Json => cellc_schema::Encoding::Json,
@@ -75,10 +83,14 @@ pub fn dispatch() -> ExitCode {
                 deny_warnings: *deny_warnings,
                 verify: !*no_verify,
                 seed: *seed,
+                compile: packages::compile_options(packages),
             };
             commands::build::run(cell, output.as_deref(), &options)
         }
-        args::Command::Info { file } => commands::info::run(&file.to_string_lossy()),
+        args::Command::Info { file, packages } => commands::info::run(
+            &file.to_string_lossy(),
+            &packages::compile_options(packages),
+        ),
         args::Command::Run { request, fail_at } => commands::run::run(
             &commands::plan::PlanArgs::new(request, args::PlanFormat::Human),
             *fail_at,
@@ -90,7 +102,13 @@ pub fn dispatch() -> ExitCode {
             file,
             object,
             format,
-        } => commands::graph::run(&file.to_string_lossy(), object, *format),
+            packages,
+        } => commands::graph::run(
+            &file.to_string_lossy(),
+            object,
+            *format,
+            &packages::compile_options(packages),
+        ),
         args::Command::Import { source } => commands::import::run(source),
     }
 }

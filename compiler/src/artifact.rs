@@ -26,6 +26,12 @@ pub fn lower(cell: &Cell, graphs: &[ObjectGraph], sources: &SourceMap) -> schema
             name: r.name.clone(),
             urdf_path: r.urdf_path.clone(),
             urdf_sha256: r.urdf_sha256.clone(),
+            meshes: r.meshes.clone(),
+            srdf: r.srdf.as_ref().map(|(path, sha256)| schema::SourceFile {
+                path: path.clone(),
+                sha256: sha256.clone(),
+            }),
+            disabled_collisions: r.disabled_collisions.clone(),
             base_link: r.base_link.clone(),
             tip_link: r.tip_link.clone(),
             joints: r

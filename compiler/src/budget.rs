@@ -99,7 +99,13 @@ mod tests {
             .filter(|(p, _)| p.ends_with(".cell") && !p.contains('/'))
         {
             let compilation = crate::compile(&world, path);
-            let Some(cell) = compilation.cell.as_ref() else {
+            // A cell whose robot files lie deeper than `cells/robots/` (a ROS package) does
+            // not resolve here, and has no graphs to compare.
+            let Some(cell) = compilation
+                .cell
+                .as_ref()
+                .filter(|_| !compilation.has_errors())
+            else {
                 continue;
             };
             let built: u64 = compilation

@@ -21,6 +21,7 @@ pub mod math;
 pub mod merge;
 pub mod model;
 pub mod resolve;
+mod srdf;
 pub mod units;
 pub mod urdf;
 pub mod workspaces;
@@ -52,8 +53,21 @@ impl Compilation {
     }
 }
 
-/// Compiles the cell at `path`.
+/// What a compilation is told besides its files.
+#[derive(Clone, Debug, Default)]
+pub struct CompileOptions {
+    /// Folders searched for ROS packages (`package://NAME/...`), in order, after the
+    /// cell's own `package` items: `--package-path` folders, then `ROS_PACKAGE_PATH`'s.
+    pub package_path: Vec<String>,
+}
+
+/// Compiles the cell at `path` (no package path besides the cell's `package` items).
 pub fn compile(files: &dyn Files, path: &str) -> Compilation {
+    compile_with(files, path, &CompileOptions::default())
+}
+
+/// Compiles the cell at `path` with `options`.
+pub fn compile_with(files: &dyn Files, path: &str, options: &CompileOptions) -> Compilation {
     let loaded = load::load(files, path);
     let mut diagnostics = loaded.diagnostics.clone();
     // Items that failed to parse are missing from the trees, so resolving anyway would
@@ -66,7 +80,7 @@ pub fn compile(files: &dyn Files, path: &str) -> Compilation {
     let mut cell = None;
     let mut graphs = Vec::new();
     if main_parsed {
-        let resolved = resolve::resolve(files, &loaded, &mut diagnostics);
+        let resolved = resolve::resolve(files, &loaded, options, &mut diagnostics);
         checks::check_cell(&resolved, &mut diagnostics);
         // Graph-level findings on a cell that already has errors would mostly repeat
         // them in other words, so they wait until the cell is clean.

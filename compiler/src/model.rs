@@ -125,6 +125,16 @@ pub struct Robot {
     /// SHA-256 of the URDF text, recorded in the artifact so the runtime can tell a
     /// changed file.
     pub urdf_sha256: String,
+    /// The URDF's collision meshes with their resolved paths (`package://` included).
+    pub meshes: Vec<cellc_schema::MeshFile>,
+    /// The SRDF read, as (path, SHA-256).
+    pub srdf: Option<(String, String)>,
+    /// Link pairs never checked for collision (the SRDF's `<disable_collisions>`).
+    pub disabled_collisions: Vec<(String, String)>,
+    /// The SRDF's named configurations (for `home NAME`).
+    pub group_states: Vec<cellc_urdf::GroupState>,
+    /// The SRDF planning group the robot item names.
+    pub group: Option<String>,
     /// Base link.
     pub base_link: String,
     /// Tip link.

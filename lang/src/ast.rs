@@ -196,6 +196,8 @@ pub enum Item {
     Weights(WeightsItem),
     /// `include "path"`.
     Include(IncludeItem),
+    /// `package NAME at "dir"`.
+    Package(PackageItem),
     /// `workspaces from reach`.
     WorkspacesFromReach(Span),
     /// `workspace w1 "Left" [box ...]*`.
@@ -235,6 +237,7 @@ impl Item {
             Item::Units(i) => i.span,
             Item::Weights(i) => i.span,
             Item::Include(i) => i.span,
+            Item::Package(i) => i.span,
             Item::WorkspacesFromReach(s) => *s,
             Item::Workspace(i) => i.span,
             Item::Adjacent(i) => i.span,
@@ -299,6 +302,18 @@ pub struct Weight {
 pub struct IncludeItem {
     /// The path, relative to the including file.
     pub path: StringLit,
+    /// Whole item.
+    pub span: Span,
+}
+
+/// `package NAME at "dir"`: the folder of the ROS package `NAME`, relative to the
+/// declaring file, where `package://NAME/...` paths are looked up first.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PackageItem {
+    /// The package name (ROS names may hold `-` and `.`, so this is not a [`Name`]).
+    pub name: Name,
+    /// The package's folder, relative to the declaring file.
+    pub dir: StringLit,
     /// Whole item.
     pub span: Span,
 }
@@ -378,17 +393,21 @@ pub struct SupportItem {
     pub span: Span,
 }
 
-/// `robot NAME urdf "path" [base LINK] tip LINK`.
+/// `robot NAME urdf "path" [srdf "path"] [group GROUP] [base LINK] [tip LINK]`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct RobotItem {
     /// Name of the robot model.
     pub name: Name,
-    /// URDF path relative to the declaring file.
+    /// URDF path relative to the declaring file (or a `package://` or `file://` URI).
     pub urdf: StringLit,
-    /// Base link of the chain (the URDF root when absent).
+    /// MoveIt SRDF of the robot, written like the URDF's path.
+    pub srdf: Option<StringLit>,
+    /// SRDF planning group whose chain gives the base and tip not written here.
+    pub group: Option<Name>,
+    /// Base link of the chain (the group's, else the URDF root, when absent).
     pub base: Option<Name>,
-    /// Tip link, where the hand is mounted.
-    pub tip: Name,
+    /// Tip link, where the hand is mounted (the group's when absent).
+    pub tip: Option<Name>,
     /// Whole item.
     pub span: Span,
 }
@@ -406,6 +425,8 @@ pub struct ArmItem {
     pub kind: Name,
     /// Joint values of the arm's home configuration (joints not named stay at zero).
     pub home: Vec<JointValue>,
+    /// `home NAME`: the home is the SRDF group state of that name (then `home` is empty).
+    pub home_state: Option<Name>,
     /// Whole item.
     pub span: Span,
 }

@@ -6,6 +6,8 @@ pub mod cell;
 #[doc(hidden)]
 pub mod closed_chain;
 #[doc(hidden)]
+pub mod collada;
+#[doc(hidden)]
 pub mod collision;
 #[doc(hidden)]
 pub mod execute;

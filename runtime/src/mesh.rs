@@ -1,6 +1,7 @@
-//! Mesh files as collision solids: the vertices of an STL or OBJ file, scaled, and their
-//! convex hull. Robot links ([`crate::robot`]) and object shapes ([`crate::scene`]) both
-//! read meshes here.
+//! Mesh files as collision solids: the vertices of an STL, OBJ or COLLADA file, scaled,
+//! and their convex hull. Robot links ([`crate::robot`]) and object shapes
+//! ([`crate::scene`]) both read meshes here; COLLADA's positions come from
+//! [`crate::collada`].
 //!
 //! A mesh is untrusted input like the URDF that names it. It is read within
 //! [`MAX_MESH_BYTES`], its vertices are counted against [`MAX_MESH_VERTICES`] before any
@@ -28,8 +29,10 @@ pub enum MeshError {
     },
     /// The file could not be read.
     Unreadable(FileError),
-    /// The extension is neither `.stl` nor `.obj`.
+    /// The extension is none of `.stl`, `.obj` and `.dae`.
     UnknownFormat,
+    /// A COLLADA file whose positions cannot be read.
+    Collada(crate::collada::ColladaError),
     /// Neither a binary STL nor an ASCII STL that parses.
     NotStl,
     /// More vertices than [`MAX_MESH_VERTICES`].
@@ -67,9 +70,10 @@ impl fmt::Display for MeshError {
                 scale[0], scale[1], scale[2]
             ),
             MeshError::Unreadable(error) => write!(f, "{error}"),
-            MeshError::UnknownFormat => {
-                f.write_str("only STL and OBJ meshes are supported (by file extension)")
-            }
+            MeshError::UnknownFormat => f.write_str(
+                "only STL, OBJ and COLLADA (`.dae`) meshes are supported (by file extension)",
+            ),
+            MeshError::Collada(error) => write!(f, "{error}"),
             MeshError::NotStl => f.write_str(
                 "not an STL file: neither binary STL (an 84-byte header, then 50 bytes for \
                  each triangle it counts) nor ASCII STL that parses",
@@ -115,13 +119,24 @@ pub fn load(path: &str, scale: [f64; 3], files: &dyn Files) -> Result<SharedShap
     hull(path, &bytes, scale)
 }
 
-/// The convex hull of an STL or OBJ mesh (chosen by the extension of `path`), scaled.
+/// The convex hull of an STL, OBJ or COLLADA mesh (chosen by the extension of `path`),
+/// scaled.
 pub fn hull(path: &str, bytes: &[u8], scale: [f64; 3]) -> Result<SharedShape, MeshError> {
     let lower = path.to_ascii_lowercase();
     let vertices = if lower.ends_with(".stl") {
         read_stl_vertices(bytes)?
     } else if lower.ends_with(".obj") {
         read_obj_vertices(bytes)?
+    } else if lower.ends_with(".dae") {
+        // Counted against the budget while read, so a file of instances of one big
+        // geometry is refused before its positions are computed.
+        match crate::collada::positions(bytes, MAX_MESH_VERTICES) {
+            Ok(positions) => positions,
+            Err(crate::collada::ColladaError::TooManyPositions { count }) => {
+                return Err(MeshError::TooManyVertices { count })
+            }
+            Err(error) => return Err(MeshError::Collada(error)),
+        }
     } else {
         return Err(MeshError::UnknownFormat);
     };
@@ -238,6 +253,26 @@ fn read_obj_vertices(bytes: &[u8]) -> Result<Vec<[f64; 3]>, MeshError> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn collada_hulls_are_scaled_as_the_urdf_says() {
+        let dae = br##"<COLLADA><library_geometries><geometry id="g"><mesh>
+            <source id="p"><float_array id="a" count="24">0 0 0 1 0 0 0 1 0 1 1 0 0 0 1 1 0 1 0 1 1 1 1 1</float_array></source>
+            <vertices id="v"><input semantic="POSITION" source="#p"/></vertices>
+            </mesh></geometry></library_geometries></COLLADA>"##;
+        let shape = hull("cube.DAE", dae, [0.5, 2.0, 3.0]).expect("a hull");
+        let aabb = shape.compute_local_aabb();
+        let extents = aabb.maxs - aabb.mins;
+        assert!((extents - crate::math::Vec3::new(0.5, 2.0, 3.0)).norm() < 1e-9);
+        assert_eq!(
+            hull("cube.dae", b"solid x", [1.0; 3]).map(|_| ()),
+            Err(MeshError::Collada(crate::collada::ColladaError::NotCollada))
+        );
+        assert_eq!(
+            hull("cube.ply", dae, [1.0; 3]).map(|_| ()),
+            Err(MeshError::UnknownFormat)
+        );
+    }
 
     #[test]
     fn reads_obj_vertices() {

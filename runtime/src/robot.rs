@@ -15,7 +15,7 @@
 use std::fmt;
 
 use cellc_schema::files::Files;
-use cellc_urdf::{Description, Geometry};
+use cellc_urdf::{Description, Geometry, MeshPaths};
 use parry3d_f64::shape::SharedShape;
 use rand::Rng;
 
@@ -167,10 +167,25 @@ impl Robot {
     ///
     /// `urdf_path` is where the URDF lives (as `files` names it): mesh file names are
     /// resolved relative to its folder. Meshes are read through `files`; `package://`
-    /// URIs are refused, since there is no ROS package path to resolve them against.
+    /// URIs are refused here ([`Robot::from_urdf_with`] takes the paths the compiler
+    /// resolved them to).
     pub fn from_urdf(
         urdf_text: &str,
         urdf_path: &str,
+        base_link: &str,
+        tip_link: &str,
+        files: &dyn Files,
+    ) -> Result<Robot, RobotError> {
+        let meshes = MeshPaths::RelativeTo(urdf_path);
+        Robot::from_urdf_with(urdf_text, meshes, base_link, tip_link, files)
+    }
+
+    /// [`Robot::from_urdf`] with the mesh files where `meshes` says (an artifact's table
+    /// of resolved paths, so `package://` meshes are read from where the compiler found
+    /// them).
+    pub fn from_urdf_with(
+        urdf_text: &str,
+        meshes: MeshPaths<'_>,
         base_link: &str,
         tip_link: &str,
         files: &dyn Files,
@@ -219,7 +234,7 @@ impl Robot {
         for frame in 0..robot.frame_links.len() {
             for (link, pose) in description.attached_links(&robot.frame_links[frame]) {
                 for collision in description.collisions(link) {
-                    let (shape, turn) = shape_of(link, &collision.geometry, urdf_path, files)?;
+                    let (shape, turn) = shape_of(link, &collision.geometry, meshes, files)?;
                     robot.shapes.push(LinkShape {
                         link: link.to_string(),
                         frame,
@@ -353,7 +368,7 @@ impl Robot {
 fn shape_of(
     link: &str,
     geometry: &Geometry,
-    urdf_path: &str,
+    meshes: MeshPaths<'_>,
     files: &dyn Files,
 ) -> Result<(SharedShape, Iso), RobotError> {
     let positive = |v: f64| v.is_finite() && v > 0.0;
@@ -400,7 +415,8 @@ fn shape_of(
                 path: path.to_string(),
                 reason,
             };
-            let path = cellc_urdf::mesh_path(urdf_path, filename)
+            let path = meshes
+                .path(filename)
                 .map_err(|e| error(filename, MeshError::Path(e)))?;
             let shape = mesh::load(&path, *scale, files).map_err(|e| error(&path, e))?;
             Ok((shape, Iso::identity()))

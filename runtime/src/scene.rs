@@ -275,7 +275,9 @@ impl Scene {
                 });
             }
             let text = String::from_utf8_lossy(&bytes);
-            let robot = Robot::from_urdf(&text, &r.urdf_path, &r.base_link, &r.tip_link, files)
+            // Meshes are read where the compiler resolved them (`package://` included).
+            let meshes = cellc_urdf::MeshPaths::Resolved(&r.meshes);
+            let robot = Robot::from_urdf_with(&text, meshes, &r.base_link, &r.tip_link, files)
                 .map_err(|error| SceneError::Robot {
                     robot: r.name.clone(),
                     error,
@@ -365,7 +367,12 @@ impl Scene {
                                 .collect(),
                         })
                     });
-                    world_robot[e] = Some(builder.add_robot(&ee.name, &robots[*robot], hand));
+                    let index = builder.add_robot(&ee.name, &robots[*robot], hand);
+                    // The SRDF's disabled pairs hold within each arm of that robot.
+                    for (a, b) in &artifact.robots[*robot].disabled_collisions {
+                        builder.allow_links(index, a, b);
+                    }
+                    world_robot[e] = Some(index);
                     robot_holder.push(e);
                 }
                 Holder::Surface { slab, .. } => {

@@ -35,7 +35,8 @@ pub use world::{InitialPlacement, NamedTask, TaskStep, WorldDocument};
 /// The value of [`Artifact::format`], identifying the file type.
 pub const FORMAT: &str = "cellc-artifact";
 /// Bumped on every incompatible change of these types or of the encodings. Version 2
-/// added the content checksum.
+/// added the content checksum; version 3 the robots' resolved mesh paths, SRDF and
+/// disabled collision pairs, the world and tasks.
 pub const FORMAT_VERSION: u32 = 3;
 /// First bytes of the binary encoding.
 pub const MAGIC: &[u8; 8] = b"CELLCART";
@@ -273,6 +274,15 @@ pub struct Robot {
     pub urdf_path: String,
     /// SHA-256 of the URDF text, so a stale artifact can be refused.
     pub urdf_sha256: String,
+    /// Every collision mesh the URDF names, with the path the compiler resolved it to
+    /// (`package://` URIs included), so the runtime needs no package path.
+    pub meshes: Vec<MeshFile>,
+    /// The MoveIt SRDF the compiler read (its facts are recorded here: the runtime does not
+    /// read it again).
+    pub srdf: Option<SourceFile>,
+    /// Link pairs never checked against each other (the SRDF's `<disable_collisions>`),
+    /// as URDF link names.
+    pub disabled_collisions: Vec<(String, String)>,
     /// Base link.
     pub base_link: String,
     /// Tip link.
@@ -281,6 +291,15 @@ pub struct Robot {
     pub joints: Vec<Joint>,
     /// Declaration.
     pub span: u32,
+}
+
+/// A mesh file named in a URDF, and where it was found.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct MeshFile {
+    /// The file name as the URDF writes it (`package://...`, `file://...` or a path).
+    pub written: String,
+    /// Its path, as the compiler resolved it.
+    pub path: String,
 }
 
 /// A movable joint of a robot's chain.

@@ -23,12 +23,14 @@ pub struct BuildOptions {
     pub verify: bool,
     /// Seed of the randomized solvers.
     pub seed: u64,
+    /// What the compilation is told (the package path).
+    pub compile: cellc_compiler::CompileOptions,
 }
 
 /// Compiles a cell, verifies its arcs when it has arms, and writes its artifact.
 pub fn run(cell: &Path, output: Option<&Path>, options: &BuildOptions) -> ExitCode {
     let path = cell.to_string_lossy().to_string();
-    let compilation = cellc_compiler::compile(&FsFiles, &path);
+    let compilation = cellc_compiler::compile_with(&FsFiles, &path, &options.compile);
     let color = if std::io::stderr().is_terminal() {
         Color::Always
     } else {
@@ -77,7 +79,11 @@ pub fn run(cell: &Path, output: Option<&Path>, options: &BuildOptions) -> ExitCo
         .iter()
         .map(|(_, f)| PathBuf::from(&f.path))
         .collect();
-    inputs.extend(artifact.robots.iter().map(|r| PathBuf::from(&r.urdf_path)));
+    for r in &artifact.robots {
+        inputs.push(PathBuf::from(&r.urdf_path));
+        inputs.extend(r.srdf.iter().map(|s| PathBuf::from(&s.path)));
+        inputs.extend(r.meshes.iter().map(|m| PathBuf::from(&m.path)));
+    }
     let solids = artifact
         .holder_kinds
         .iter()

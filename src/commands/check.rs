@@ -11,11 +11,16 @@ use crate::fs_files::FsFiles;
 use crate::render::{self, Color, Format};
 
 /// Checks every file; exit 0 when clean, 1 on errors (or warnings with `--deny-warnings`).
-pub fn run(files: &[PathBuf], deny_warnings: bool, report: &ReportFlags) -> ExitCode {
+pub fn run(
+    files: &[PathBuf],
+    deny_warnings: bool,
+    report: &ReportFlags,
+    options: &cellc_compiler::CompileOptions,
+) -> ExitCode {
     let mut failed = false;
     let mut all: Vec<(Vec<Diagnostic>, cellc_lang::SourceMap)> = Vec::new();
     for file in files {
-        let compilation = cellc_compiler::compile(&FsFiles, &file.to_string_lossy());
+        let compilation = cellc_compiler::compile_with(&FsFiles, &file.to_string_lossy(), options);
         failed |= compilation
             .diagnostics
             .iter()

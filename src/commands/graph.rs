@@ -9,12 +9,18 @@ use cellc_schema::{ArcKind, Artifact, Object};
 use serde::Serialize;
 
 /// Prints the object-state graph of one object.
-pub fn run(path: &str, object: &str, format: GraphFormat) -> ExitCode {
+pub fn run(
+    path: &str,
+    object: &str,
+    format: GraphFormat,
+    options: &cellc_compiler::CompileOptions,
+) -> ExitCode {
     let report = match format {
         GraphFormat::Dot => crate::artifact_io::Report::Human,
         GraphFormat::Json => crate::artifact_io::Report::Json,
     };
-    let Some(artifact) = crate::artifact_io::cell_or_artifact_reporting(path, report) else {
+    let Some(artifact) = crate::artifact_io::cell_or_artifact_reporting(path, report, options)
+    else {
         return ExitCode::from(1);
     };
     let Some(obj) = artifact.objects.iter().find(|o| o.name == object) else {

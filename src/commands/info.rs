@@ -6,8 +6,8 @@ use std::process::ExitCode;
 use cellc_schema::{Artifact, Body, EndEffectorId, Holder, WorkspaceId};
 
 /// Prints the summary of a cell (compiled now) or of an artifact file.
-pub fn run(path: &str) -> ExitCode {
-    match crate::artifact_io::cell_or_artifact(path) {
+pub fn run(path: &str, options: &cellc_compiler::CompileOptions) -> ExitCode {
+    match crate::artifact_io::cell_or_artifact(path, options) {
         Some(artifact) => {
             print!("{}", describe(&artifact));
             ExitCode::SUCCESS

@@ -36,6 +36,8 @@ pub struct PlanArgs {
     pub weights: Option<(f64, f64)>,
     /// Planning time limit.
     pub time_budget: Option<std::time::Duration>,
+    /// What a compilation of the cell is told (the package path).
+    pub compile: cellc_compiler::CompileOptions,
 }
 
 impl PlanArgs {
@@ -52,6 +54,7 @@ impl PlanArgs {
             motions: !request.no_motions,
             weights: request.weights,
             time_budget: request.time_budget.map(std::time::Duration::from_millis),
+            compile: crate::packages::compile_options(&request.packages),
         }
     }
 
@@ -129,10 +132,11 @@ pub fn print(diagnostics: &[Diagnostic], sources: &SourceMap) {
 }
 
 /// Compiles (and verifies) a cell, or reads an artifact, and loads it into the runtime.
-pub fn load(input: &str, seed: u64, format: PlanFormat) -> Result<Loaded, ExitCode> {
+pub fn load(args: &PlanArgs) -> Result<Loaded, ExitCode> {
+    let (input, seed, format) = (args.input.as_str(), args.seed, args.format);
     let mut stale = Vec::new();
     let (artifact, sources, fresh) = if input.ends_with(".cell") {
-        let compilation = cellc_compiler::compile(&FsFiles, input);
+        let compilation = cellc_compiler::compile_with(&FsFiles, input, &args.compile);
         if compilation.has_errors() || compilation.cell.is_none() {
             emit(format, &compilation.diagnostics, &compilation.sources);
             return Err(ExitCode::from(1));
@@ -314,7 +318,7 @@ pub fn prepare(args: &PlanArgs, loaded: &Loaded) -> Result<Prepared, ExitCode> {
 
 /// Plans a request and prints the plan.
 pub fn run(args: &PlanArgs) -> ExitCode {
-    let loaded = match load(&args.input, args.seed, args.format) {
+    let loaded = match load(args) {
         Ok(l) => l,
         Err(code) => return code,
     };

@@ -12,7 +12,7 @@ use crate::plan_report::{codes, describe, plan_error};
 
 /// Plans and simulates; `fail_at` makes the motion of that step (1-based) fail.
 pub fn run(args: &PlanArgs, fail_at: Option<usize>) -> ExitCode {
-    let loaded = match load(&args.input, args.seed, args.format) {
+    let loaded = match load(args) {
         Ok(l) => l,
         Err(code) => return code,
     };

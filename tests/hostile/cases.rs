@@ -91,6 +91,31 @@ fn build_with_mesh(folder: &Path, mesh: &str) -> Vec<String> {
 
 const SECRET: &str = "API_TOKEN=sk-live-do-not-print\nDB_PASSWORD=hunter2\n";
 
+/// A word that a mesh holds and no message may quote.
+const SECRET_WORD: &str = "hunter2secret";
+
+/// A COLLADA file with one geometry named `id` whose accessor states `count` positions
+/// (its array holds 1,000), instantiated `instances` times.
+fn collada(id: &str, count: &str, instances: usize) -> String {
+    let values: Vec<String> = (0..3000)
+        .map(|i| format!("{}", (i % 7) as f64 * 0.01))
+        .collect();
+    let nodes = format!("<node><instance_geometry url=\"#{id}\"/></node>").repeat(instances);
+    format!(
+        r##"<?xml version="1.0"?>
+<COLLADA version="1.4.1"><asset><unit meter="1"/><up_axis>Z_UP</up_axis></asset>
+<library_geometries><geometry id="{id}"><mesh>
+<source id="p"><float_array id="a" count="3000">{}</float_array>
+<technique_common><accessor source="#a" count="{count}" stride="3"/></technique_common></source>
+<vertices id="v"><input semantic="POSITION" source="#p"/></vertices>
+</mesh></geometry></library_geometries>
+<library_visual_scenes><visual_scene id="s">{nodes}</visual_scene></library_visual_scenes>
+<scene><instance_visual_scene url="#s"/></scene></COLLADA>
+"##,
+        values.join(" ")
+    )
+}
+
 /// `n` workspaces, a fixed table reaching all and a movable arm reaching every `step`-th,
 /// one object with two grasps and a transition; `adjacent` pairs along the arm's row when
 /// `chain`, and `expects` requirements.
@@ -655,6 +680,62 @@ pub fn cases() -> Vec<Case> {
             expect: Expect {
                 code: Some("R0002"),
                 seconds: 30,
+                ..SMALL
+            },
+        },
+        // ---- COLLADA meshes: read by cellc's own reader, which trusts no count ----
+        Case {
+            name: "mesh_dae_of_garbage",
+            setup: |f| {
+                let bytes: Vec<u8> = (0..100_000u32)
+                    .map(|i| (i.wrapping_mul(2654435761) >> 13) as u8)
+                    .collect();
+                write(f, "part.dae", bytes);
+                build_with_mesh(f, "part.dae")
+            },
+            expect: Expect {
+                code: Some("R0002"),
+                ..SMALL
+            },
+        },
+        Case {
+            name: "mesh_dae_counts_that_lie",
+            setup: |f| {
+                write(f, "part.dae", collada(SECRET_WORD, "4294967295", 1));
+                build_with_mesh(f, "part.dae")
+            },
+            expect: Expect {
+                code: Some("R0002"),
+                never: &[SECRET_WORD],
+                ..SMALL
+            },
+        },
+        Case {
+            name: "mesh_dae_instanced_past_the_budget",
+            setup: |f| {
+                // 1,000 positions instantiated 1,000 times: counted before computed.
+                write(f, "part.dae", collada("cube", "1000", 1000));
+                build_with_mesh(f, "part.dae")
+            },
+            expect: Expect {
+                code: Some("R0002"),
+                ..SMALL
+            },
+        },
+        Case {
+            name: "mesh_dae_nested_a_million_deep",
+            setup: |f| {
+                let depth = 1_000_000;
+                let text = format!(
+                    "<COLLADA>{}{}</COLLADA>",
+                    "<node>".repeat(depth),
+                    "</node>".repeat(depth)
+                );
+                write(f, "part.dae", text);
+                build_with_mesh(f, "part.dae")
+            },
+            expect: Expect {
+                code: Some("R0002"),
                 ..SMALL
             },
         },

@@ -20,6 +20,9 @@ pub enum ParseError {
     /// The text has no `<robot` element at all, so it is not a URDF (and the reader's
     /// message, which may quote it, is not passed on).
     NotUrdf,
+    /// The text is a xacro file (it has `<xacro:` elements): macros to expand into a URDF
+    /// first.
+    Xacro,
 }
 
 impl fmt::Display for ParseError {
@@ -28,6 +31,9 @@ impl fmt::Display for ParseError {
             ParseError::Invalid { reason } => f.write_str(reason),
             ParseError::ReaderFailed => f.write_str("the reader failed on this file"),
             ParseError::NotUrdf => f.write_str("it has no `<robot>` element, so it is not a URDF"),
+            ParseError::Xacro => {
+                f.write_str("it is a xacro file (macros that expand into a URDF), not a URDF")
+            }
         }
     }
 }
@@ -54,6 +60,11 @@ impl Description {
         // description is refused before the reader can quote it in an error.
         if !text.contains("<robot") {
             return Err(ParseError::NotUrdf);
+        }
+        // A URDF that xacro wrote keeps the `xmlns:xacro` declaration, so only xacro's
+        // elements (includes, macros, properties) tell a file still to be expanded.
+        if text.contains("<xacro:") {
+            return Err(ParseError::Xacro);
         }
         // The URDF reader is a third-party XML stack: guard against it panicking on
         // hostile input so that a bad file can never take a checker or a planner down.
@@ -109,6 +120,17 @@ impl Description {
         self.model.links.iter().map(|l| l.name.as_str())
     }
 
+    /// Every joint as (name, parent link, child link), in file order.
+    pub fn joints(&self) -> impl Iterator<Item = (&str, &str, &str)> {
+        self.model.joints.iter().map(|j| {
+            (
+                j.name.as_str(),
+                j.parent.link.as_str(),
+                j.child.link.as_str(),
+            )
+        })
+    }
+
     /// Whether the description has a link of that name.
     pub fn has_link(&self, name: &str) -> bool {
         self.link_index.contains_key(name)
@@ -146,6 +168,11 @@ impl Description {
     }
 }
 
+/// Whether a path names a xacro file by its extension (`.xacro`, `.urdf.xacro`).
+pub fn is_xacro_path(path: &str) -> bool {
+    path.to_ascii_lowercase().ends_with(".xacro")
+}
+
 /// A URDF `<origin xyz rpy>` as a transform. URDF's rpy are fixed-axis roll, pitch,
 /// yaw (R = Rz(yaw) Ry(pitch) Rx(roll)), which is nalgebra's Euler-angle convention.
 pub(crate) fn iso(pose: &urdf_rs::Pose) -> Iso {
@@ -168,6 +195,22 @@ mod tests {
             Description::parse(secret).map(|_| ()),
             Err(ParseError::NotUrdf)
         );
+    }
+
+    #[test]
+    fn xacro_files_are_named_and_expanded_urdfs_are_not() {
+        let xacro = r#"<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro">
+            <xacro:include filename="arm.xacro"/><xacro:arm prefix=""/></robot>"#;
+        assert_eq!(
+            Description::parse(xacro).map(|_| ()),
+            Err(ParseError::Xacro)
+        );
+        let expanded =
+            r#"<robot name="r" xmlns:xacro="http://wiki.ros.org/xacro"><link name="a"/></robot>"#;
+        assert!(Description::parse(expanded).is_ok());
+        assert!(is_xacro_path("robots/ur5.urdf.xacro"));
+        assert!(is_xacro_path("ur5.XACRO"));
+        assert!(!is_xacro_path("ur5.urdf"));
     }
 
     #[test]

@@ -4,8 +4,10 @@ use std::fmt;
 
 use cellc_schema::files::join;
 use cellc_schema::math::Iso;
+use cellc_schema::MeshFile;
 
 use crate::description::{iso, Description};
+use crate::package::{file_ref, FileRef};
 
 /// One `<collision>` of a link.
 #[derive(Clone, Debug, PartialEq)]
@@ -92,16 +94,23 @@ impl Description {
 #[derive(Clone, Debug, PartialEq, Eq)]
 #[non_exhaustive]
 pub enum MeshPathError {
-    /// A ROS `package://` URI: resolving it needs a ROS package path.
+    /// A ROS `package://` URI, where only paths relative to the URDF are known.
     Package,
+    /// A mesh the table of resolved paths does not list (the artifact and the URDF it was
+    /// built from disagree).
+    NotRecorded,
 }
 
 impl fmt::Display for MeshPathError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             MeshPathError::Package => f.write_str(
-                "`package://` paths need a ROS package path, which cellc does not have; \
-                 write the mesh path relative to the URDF file",
+                "`package://` paths are resolved by the compiler (`package NAME at \"DIR\"`, \
+                 `--package-path`, `ROS_PACKAGE_PATH`); here only paths relative to the URDF \
+                 are known",
+            ),
+            MeshPathError::NotRecorded => f.write_str(
+                "the artifact records no path for this mesh; rebuild it with `cellc build`",
             ),
         }
     }
@@ -109,16 +118,54 @@ impl fmt::Display for MeshPathError {
 
 impl std::error::Error for MeshPathError {}
 
+/// Where the mesh files a URDF names are to be read.
+#[derive(Clone, Copy, Debug)]
+pub enum MeshPaths<'a> {
+    /// Relative to the URDF at this path (see [`mesh_path`]); `package://` is refused.
+    RelativeTo(&'a str),
+    /// As the compiler resolved them (written name -> path), as an artifact records them.
+    Resolved(&'a [MeshFile]),
+}
+
+impl MeshPaths<'_> {
+    /// The path of the mesh written `filename` in the URDF.
+    pub fn path(&self, filename: &str) -> Result<String, MeshPathError> {
+        match self {
+            MeshPaths::RelativeTo(urdf_path) => mesh_path(urdf_path, filename),
+            MeshPaths::Resolved(table) => table
+                .iter()
+                .find(|m| m.written == filename)
+                .map(|m| m.path.clone())
+                .ok_or(MeshPathError::NotRecorded),
+        }
+    }
+}
+
 /// The path of a mesh named in the URDF at `urdf_path`: relative to the URDF's folder
 /// unless absolute, a `file://` prefix dropped, normalised.
 pub fn mesh_path(urdf_path: &str, filename: &str) -> Result<String, MeshPathError> {
-    if filename.starts_with("package://") {
-        return Err(MeshPathError::Package);
+    match file_ref(filename) {
+        Ok(FileRef::Path(path)) => Ok(join(urdf_path, path)),
+        Ok(FileRef::Package { .. }) | Err(_) => Err(MeshPathError::Package),
     }
-    Ok(join(
-        urdf_path,
-        filename.strip_prefix("file://").unwrap_or(filename),
-    ))
+}
+
+impl Description {
+    /// Every mesh file name the collision solids of the description name, each once, in
+    /// file order (visual meshes are for viewers and never read).
+    pub fn collision_meshes(&self) -> Vec<&str> {
+        let mut seen = std::collections::HashSet::new();
+        self.model
+            .links
+            .iter()
+            .flat_map(|l| &l.collision)
+            .filter_map(|c| match &c.geometry {
+                urdf_rs::Geometry::Mesh { filename, .. } => Some(filename.as_str()),
+                _ => None,
+            })
+            .filter(|f| seen.insert(*f))
+            .collect()
+    }
 }
 
 #[cfg(test)]
@@ -133,6 +180,40 @@ mod tests {
         assert_eq!(path("file:///abs/a.stl").as_deref(), Ok("/abs/a.stl"));
         assert_eq!(path("package://p/a.stl"), Err(MeshPathError::Package));
         assert_eq!(mesh_path("r.urdf", "./a.stl").as_deref(), Ok("a.stl"));
+        let table = [MeshFile {
+            written: "package://p/a.stl".into(),
+            path: "robots/p/a.stl".into(),
+        }];
+        let resolved = MeshPaths::Resolved(&table);
+        assert_eq!(
+            resolved.path("package://p/a.stl").as_deref(),
+            Ok("robots/p/a.stl")
+        );
+        assert_eq!(resolved.path("b.stl"), Err(MeshPathError::NotRecorded));
+    }
+
+    #[test]
+    fn collision_meshes_are_listed_once_and_visual_ones_not_at_all() {
+        let d = Description::parse(
+            r#"<robot name="r">
+              <link name="a">
+                <visual><geometry><mesh filename="v.dae"/></geometry></visual>
+                <collision><geometry><mesh filename="c.stl" scale="2 2 2"/></geometry></collision>
+                <collision><geometry><mesh filename="c.stl"/></geometry></collision>
+              </link>
+              <link name="b"><collision><geometry><mesh filename="d.dae"/></geometry></collision></link>
+              <joint name="ab" type="fixed"><parent link="a"/><child link="b"/></joint>
+            </robot>"#,
+        )
+        .expect("parses");
+        assert_eq!(d.collision_meshes(), ["c.stl", "d.dae"]);
+        assert_eq!(
+            d.collisions("a")[0].geometry,
+            Geometry::Mesh {
+                filename: "c.stl".into(),
+                scale: [2.0; 3]
+            }
+        );
     }
 
     #[test]

@@ -15,7 +15,14 @@
 //!   absurd numbers, with the bounds in [`MAX_LENGTH`], [`MAX_ANGLE`], [`MAX_MASS`] and
 //!   [`MAX_SCALE`]), so neither the compiler nor the runtime computes with them;
 //! - [`Description::attached_links`] and [`Description::collisions`]: the solids that move
-//!   with each link, and [`mesh_path`] for the files their meshes name.
+//!   with each link, [`Description::collision_meshes`] the files their meshes name, and
+//!   [`MeshPaths`] where those are ([`mesh_path`]: relative to the URDF);
+//! - [`package`]: files named as ROS names them (`package://NAME/...`, `file://`), found
+//!   through a [`PackagePath`];
+//! - [`Srdf`]: the MoveIt semantic description (disabled collision pairs, planning groups,
+//!   group states), checked against its URDF;
+//! - xacro files are recognised ([`is_xacro_path`], [`ParseError::Xacro`]) so that they
+//!   are named as such rather than failing as broken URDFs.
 //!
 //! Every error is a `#[non_exhaustive]` enum with structured fields; callers turn them
 //! into diagnostics (the compiler) or refuse the robot (the runtime). The crate does no
@@ -25,9 +32,13 @@
 mod chain;
 mod description;
 mod geometry;
+pub mod package;
+mod srdf;
 mod validate;
 
 pub use chain::{Chain, ChainError, ChainJoint, JointError, JointKind, JointType, Motion};
-pub use description::{Description, ParseError};
-pub use geometry::{mesh_path, Collision, Geometry, MeshPathError};
+pub use description::{is_xacro_path, Description, ParseError};
+pub use geometry::{mesh_path, Collision, Geometry, MeshPathError, MeshPaths};
+pub use package::{PackagePath, ResolveError};
+pub use srdf::{DisabledPair, Group, GroupChainError, GroupState, Srdf, SrdfError, SrdfProblem};
 pub use validate::{PoseOf, Problem, MAX_ANGLE, MAX_LENGTH, MAX_MASS, MAX_SCALE, MIN_AXIS_NORM};

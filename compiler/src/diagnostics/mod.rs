@@ -9,7 +9,9 @@ use cellc_urdf::ParseError;
 
 use crate::model::Origin;
 
+mod robots;
 mod trust;
+pub use robots::*;
 pub use trust::*;
 
 /// Codes of the compiler phases.
@@ -88,7 +90,7 @@ pub mod codes {
     /// `expect` requirements that would take too long to check.
     pub const EXPECT_TOO_COSTLY: Code = Code("E0322");
 
-    /// A URDF file that can't be read.
+    /// A URDF (or SRDF) file that can't be read.
     pub const URDF_UNREADABLE: Code = Code("E0401");
     /// A URDF that urdf-rs cannot parse.
     pub const URDF_INVALID: Code = Code("E0402");
@@ -102,6 +104,16 @@ pub mod codes {
     pub const URDF_NOT_A_TREE: Code = Code("E0406");
     /// A URDF number outside its domain (NaN, infinite, reversed or absurd).
     pub const URDF_BAD_VALUE: Code = Code("E0407");
+    /// A `package://` file of a ROS package cellc cannot find.
+    pub const UNRESOLVED_PACKAGE: Code = Code("E0408");
+    /// A xacro file where a URDF is needed.
+    pub const XACRO_FILE: Code = Code("E0409");
+    /// An SRDF that does not parse or names what its URDF does not define.
+    pub const SRDF_INVALID: Code = Code("E0410");
+    /// A group or group state the robot's SRDF does not define.
+    pub const UNKNOWN_SRDF_NAME: Code = Code("E0411");
+    /// A robot item whose chain has no tip (none written, or a group that gives none).
+    pub const CHAIN_NOT_GIVEN: Code = Code("E0412");
 
     /// A transition declared one way only.
     pub const ASYMMETRIC_TRANSITION: Code = Code("W0001");
@@ -157,6 +169,11 @@ pub mod codes {
         HOME_OUT_OF_LIMITS,
         URDF_NOT_A_TREE,
         URDF_BAD_VALUE,
+        UNRESOLVED_PACKAGE,
+        XACRO_FILE,
+        SRDF_INVALID,
+        UNKNOWN_SRDF_NAME,
+        CHAIN_NOT_GIVEN,
         ASYMMETRIC_TRANSITION,
         DEAD_END_STATE,
         UNUSED_GRASP,
@@ -594,12 +611,23 @@ pub fn placement_grasp_mismatch(holder: &str, grasp: &str, file: FileId, span: S
 
 /// A URDF that can't be read (one too large or not a regular file has its own code).
 pub fn urdf_unreadable(path: &str, error: &FileError, file: FileId, span: Span) -> Diagnostic {
-    if let Some(refused) = trust::refused_file("URDF", path, error, Some((file, span))) {
+    robot_file_unreadable("URDF", path, error, file, span)
+}
+
+/// A robot description file (`URDF` or `SRDF`) that can't be read.
+pub fn robot_file_unreadable(
+    what: &str,
+    path: &str,
+    error: &FileError,
+    file: FileId,
+    span: Span,
+) -> Diagnostic {
+    if let Some(refused) = trust::refused_file(what, path, error, Some((file, span))) {
         return refused;
     }
     Diagnostic::error(
         URDF_UNREADABLE,
-        format!("cannot read URDF `{path}`: {error}"),
+        format!("cannot read {what} `{path}`: {error}"),
     )
     .primary(file, span, "referenced here")
     .help("check the path: it is relative to the file that declares the robot")

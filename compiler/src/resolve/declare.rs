@@ -84,10 +84,13 @@ impl Resolver<'_, '_> {
                     self.add_name(&r.name, Entry::Robot(RobotId(0)), o);
                     return;
                 }
-                if let Some(robot) =
-                    self.urdfs
-                        .load_robot(self.files, path, file, r, o, self.diagnostics)
-                {
+                let named = crate::urdf::Named {
+                    files: self.files,
+                    packages: &self.packages,
+                    declaring_path: path,
+                    file,
+                };
+                if let Some(robot) = self.urdfs.load_robot(&named, r, o, self.diagnostics) {
                     let id = self.cell.robots.insert(robot);
                     self.add_name(&r.name, Entry::Robot(id), o);
                 } else {
@@ -168,6 +171,7 @@ impl Resolver<'_, '_> {
             }
             ast::Item::Units(_)
             | ast::Item::Include(_)
+            | ast::Item::Package(_)
             | ast::Item::Adjacent(_)
             | ast::Item::Reach(_)
             | ast::Item::Expect(_)

@@ -34,7 +34,7 @@ impl Resolver<'_, '_> {
                 };
                 let kind = self.kind(file, &a.kind);
                 let home = robot
-                    .map(|r| self.home(file, units, r, &a.home))
+                    .map(|r| self.home(file, units, r, a))
                     .unwrap_or_default();
                 let ee = &mut self.cell.end_effectors[id];
                 ee.kind = kind;
@@ -211,20 +211,47 @@ impl Resolver<'_, '_> {
     }
 
     /// The home configuration of an arm: zero for every chain joint (clamped into its
-    /// limits), then the values written in `home (...)`, each checked against the URDF.
+    /// limits), then the values written in `home (...)`, each checked against the URDF, or
+    /// those of the SRDF group state `home NAME`.
     fn home(
         &mut self,
         file: FileId,
         units: FileUnits,
         robot: RobotId,
-        values: &[ast::JointValue],
+        arm: &ast::ArmItem,
     ) -> Vec<f64> {
         let joints = self.cell.robots[robot].chain_joints.clone();
         let mut home: Vec<f64> = joints
             .iter()
             .map(|j| 0.0f64.clamp(j.lower, j.upper))
             .collect();
-        for value in values {
+        if let Some(state) = &arm.home_state {
+            let values = crate::srdf::home_from_state(
+                &self.cell.robots[robot],
+                state,
+                file,
+                &mut self.suggestions,
+                self.diagnostics,
+            );
+            for (i, v) in values.unwrap_or_default() {
+                let joint = &joints[i];
+                if v < joint.lower - 1e-6 || v > joint.upper + 1e-6 {
+                    let unit = if joint.prismatic { "m" } else { "deg" };
+                    self.diagnostics.push(diagnostics::home_out_of_limits(
+                        &joint.name,
+                        v,
+                        joint.lower,
+                        joint.upper,
+                        unit,
+                        file,
+                        state.span,
+                    ));
+                    continue;
+                }
+                home[i] = v;
+            }
+        }
+        for value in &arm.home {
             let Some(i) = joints.iter().position(|j| j.name == value.joint.text) else {
                 let suggestion = self.suggestions.search(|| {
                     did_you_mean(&value.joint.text, joints.iter().map(|j| j.name.as_str()))

@@ -70,9 +70,15 @@ impl Entry {
 
 /// Resolves every loaded file into one cell, deriving workspaces on the way (see
 /// [`crate::workspaces`]). Diagnostics are appended to `diagnostics`.
-pub fn resolve(files: &dyn Files, loaded: &Loaded, diagnostics: &mut Vec<Diagnostic>) -> Cell {
+pub fn resolve(
+    files: &dyn Files,
+    loaded: &Loaded,
+    options: &crate::CompileOptions,
+    diagnostics: &mut Vec<Diagnostic>,
+) -> Cell {
     let mut r = Resolver {
         files,
+        packages: cellc_urdf::PackagePath::new(),
         cell: Cell::default(),
         names: BTreeMap::new(),
         origins: HashMap::new(),
@@ -97,6 +103,8 @@ pub fn resolve(files: &dyn Files, loaded: &Loaded, diagnostics: &mut Vec<Diagnos
         .iter()
         .map(|(id, _, file)| FileUnits::of(*id, &file.items, r.diagnostics))
         .collect();
+    // Packages first: robots anywhere may name their files.
+    r.declare_packages(&files, options);
     for (i, (id, path, file)) in files.iter().enumerate() {
         for item in &file.items {
             r.declare(*id, path, units[i], item);
@@ -151,6 +159,8 @@ pub fn resolve(files: &dyn Files, loaded: &Loaded, diagnostics: &mut Vec<Diagnos
 
 struct Resolver<'w, 'd> {
     files: &'w dyn Files,
+    /// Where `package://` files are found: the cell's `package` items, then the options'.
+    packages: cellc_urdf::PackagePath,
     cell: Cell,
     /// Sorted, so "did you mean" compares candidates in an order that does not depend on
     /// hashing (it compares a bounded number of them).
@@ -181,6 +191,43 @@ fn origin(file: FileId, span: Span, name: &ast::Name) -> Origin {
 }
 
 impl Resolver<'_, '_> {
+    /// The cell's `package NAME at "DIR"` items (each folder relative to its file), then
+    /// the search folders of the options. A name declared twice with two folders is an
+    /// error; the same folder twice (a library included by two files) is not.
+    fn declare_packages(
+        &mut self,
+        files: &[(FileId, &str, &ast::File)],
+        options: &crate::CompileOptions,
+    ) {
+        let mut first: HashMap<String, Origin> = HashMap::new();
+        for (id, path, file) in files {
+            for item in &file.items {
+                let ast::Item::Package(p) = item else {
+                    continue;
+                };
+                let dir = cellc_schema::files::join(path, &p.dir.value);
+                let here = origin(*id, p.span, &p.name);
+                match self.packages.declared(&p.name.text) {
+                    Some(known) if known != cellc_schema::files::normalize(&dir) => {
+                        self.diagnostics.push(diagnostics::package_declared_twice(
+                            &p.name.text,
+                            first[&p.name.text],
+                            here,
+                        ));
+                    }
+                    Some(_) => {}
+                    None => {
+                        self.packages.declare(&p.name.text, &dir);
+                        first.insert(p.name.text.clone(), here);
+                    }
+                }
+            }
+        }
+        for dir in &options.package_path {
+            self.packages.search(dir);
+        }
+    }
+
     fn eval(&mut self, file: FileId, units: FileUnits) -> Eval<'_> {
         Eval {
             file,

@@ -14,6 +14,15 @@ pub(super) fn name(name: &Name) -> String {
     }
 }
 
+/// A name an SRDF gives: reserved words need no quotes after `group` and `home`.
+fn srdf_name(name: &Name) -> String {
+    if name.needs_quotes() {
+        format!("`{}`", name.text)
+    } else {
+        name.text.clone()
+    }
+}
+
 fn request_placement(p: &RequestPlacement) -> String {
     match &p.place {
         PlaceSpec::In(w) => format!("{} in {}", qualified(&p.holder), name(w)),
@@ -134,6 +143,7 @@ pub(super) fn item_text(item: &Item) -> String {
             format!("weights {}", weights.join(", "))
         }
         Item::Include(i) => format!("include {}", string(&i.path)),
+        Item::Package(p) => format!("package {} at {}", p.name.text, string(&p.dir)),
         Item::WorkspacesFromReach(_) => "workspaces from reach".to_string(),
         Item::Workspace(w) => {
             let mut out = format!("workspace {}", name(&w.name));
@@ -167,10 +177,18 @@ pub(super) fn item_text(item: &Item) -> String {
         Item::Support(s) => format!("support {}", name(&s.name)),
         Item::Robot(r) => {
             let mut out = format!("robot {} urdf {}", name(&r.name), string(&r.urdf));
+            if let Some(srdf) = &r.srdf {
+                out.push_str(&format!(" srdf {}", string(srdf)));
+            }
+            if let Some(group) = &r.group {
+                out.push_str(&format!(" group {}", srdf_name(group)));
+            }
             if let Some(base) = &r.base {
                 out.push_str(&format!(" base {}", name(base)));
             }
-            out.push_str(&format!(" tip {}", name(&r.tip)));
+            if let Some(tip) = &r.tip {
+                out.push_str(&format!(" tip {}", name(tip)));
+            }
             out
         }
         Item::Arm(a) => {
@@ -188,6 +206,9 @@ pub(super) fn item_text(item: &Item) -> String {
                     .map(|j| format!("{} {}", name(&j.joint), quantity(&j.value)))
                     .collect();
                 out.push_str(&format!(" home ({})", values.join(", ")));
+            }
+            if let Some(state) = &a.home_state {
+                out.push_str(&format!(" home {}", srdf_name(state)));
             }
             out
         }

@@ -43,6 +43,15 @@ impl Builder<'_, '_> {
                 path: self.string(inner.next()?)?,
                 span,
             }),
+            Rule::package_item => {
+                let name = self.name(inner.next()?)?;
+                let _at = inner.next();
+                Item::Package(PackageItem {
+                    name,
+                    dir: self.string(inner.next()?)?,
+                    span,
+                })
+            }
             Rule::workspaces_from_reach => Item::WorkspacesFromReach(span),
             Rule::workspace_item => {
                 let name = self.name(inner.next()?)?;
@@ -95,21 +104,23 @@ impl Builder<'_, '_> {
                 let name = self.name(inner.next()?)?;
                 let _urdf = inner.next();
                 let urdf = self.string(inner.next()?)?;
-                let mut base = None;
-                let mut tip = None;
+                let (mut srdf, mut group, mut base, mut tip) = (None, None, None, None);
                 while let Some(keyword) = inner.next() {
-                    let value = self.name(inner.next()?)?;
-                    if keyword.as_rule() == Rule::kw_base {
-                        base = Some(value);
-                    } else {
-                        tip = Some(value);
+                    let value = inner.next()?;
+                    match keyword.as_rule() {
+                        Rule::kw_srdf => srdf = Some(self.string(value)?),
+                        Rule::kw_group => group = Some(self.name(value)?),
+                        Rule::kw_base => base = Some(self.name(value)?),
+                        _ => tip = Some(self.name(value)?),
                     }
                 }
                 Item::Robot(RobotItem {
                     name,
                     urdf,
+                    srdf,
+                    group,
                     base,
-                    tip: tip?,
+                    tip,
                     span,
                 })
             }
@@ -120,8 +131,14 @@ impl Builder<'_, '_> {
                 let _with = inner.next();
                 let kind = self.name(inner.next()?)?;
                 let mut home = Vec::new();
+                let mut home_state = None;
                 if let Some(clause) = inner.next() {
+                    let is_state = clause.as_rule() == Rule::home_state;
                     for pair in clause.into_inner().skip(1) {
+                        if is_state {
+                            home_state = Some(self.name(pair)?);
+                            continue;
+                        }
                         let pspan = span_of(&pair);
                         let mut parts = pair.into_inner();
                         let joint = self.name(parts.next()?)?;
@@ -139,6 +156,7 @@ impl Builder<'_, '_> {
                     pose,
                     kind,
                     home,
+                    home_state,
                     span,
                 })
             }

@@ -72,6 +72,8 @@ pub struct CollisionWorldBuilder {
     fixed: Vec<(String, Iso, SharedShape)>,
     objects: Vec<(String, Vec<Solid>)>,
     allowed: Vec<(String, String)>,
+    /// Link pairs of one robot that may touch: (robot index, link, link).
+    allowed_links: Vec<(usize, String, String)>,
 }
 
 impl CollisionWorldBuilder {
@@ -165,6 +167,15 @@ impl CollisionWorldBuilder {
     /// stands for all its links and its hand. Checked at [`build`](Self::build).
     pub fn allow(&mut self, a: &str, b: &str) {
         self.allowed.push((a.to_string(), b.to_string()));
+    }
+
+    /// Allows links `a` and `b` of robot `robot` (an index [`add_robot`](Self::add_robot)
+    /// returned) to touch each other, as an SRDF's `<disable_collisions>` says. Unlike
+    /// [`allow`](Self::allow), a link without collision solids is no error: an SRDF
+    /// lists pairs of the whole robot, including links off the chain or without geometry.
+    pub fn allow_links(&mut self, robot: usize, a: &str, b: &str) {
+        self.allowed_links
+            .push((robot, a.to_string(), b.to_string()));
     }
 
     /// Builds the world: names checked, fixed AABBs computed, the allowed-pair matrix
@@ -324,6 +335,33 @@ impl CollisionWorldBuilder {
                 };
                 if both_fixed || same_body {
                     allowed.set(i, j);
+                }
+            }
+        }
+        // Link pairs per robot: each robot's link bodies by link name, so a list of pairs
+        // costs the bodies of its links, not a scan of every body per pair.
+        if !self.allowed_links.is_empty() {
+            let mut by_link: std::collections::HashMap<(usize, &str), Vec<usize>> =
+                std::collections::HashMap::new();
+            for (i, b) in bodies.iter().enumerate() {
+                if let BodyId::Link { robot, shape } = b.id {
+                    let link = self.robots[robot].shapes[shape].link.as_str();
+                    by_link.entry((robot, link)).or_default().push(i);
+                }
+            }
+            for (robot, a, b) in &self.allowed_links {
+                let (Some(ia), Some(ib)) = (
+                    by_link.get(&(*robot, a.as_str())),
+                    by_link.get(&(*robot, b.as_str())),
+                ) else {
+                    continue;
+                };
+                for &i in ia {
+                    for &j in ib {
+                        if i != j {
+                            allowed.set(i, j);
+                        }
+                    }
                 }
             }
         }

@@ -1,0 +1,397 @@
+//! Robot files as ROS ships them: the shipped Franka Panda and UR5 descriptions load
+//! unmodified through the real readers; the cells that use them build, verify and plan;
+//! `package://` files are found through a cell's `package` item, `--package-path` and
+//! `ROS_PACKAGE_PATH` (and an artifact needs none of them); an SRDF's disabled pair
+//! changes a verdict.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+use cellc::fs_files::FsFiles;
+use cellc_runtime::robot::Robot;
+use cellc_runtime::scene::Scene;
+use cellc_runtime::verify::{verify, VerifyOptions};
+use cellc_schema::{Artifact, Infeasibility, MeshFile};
+use cellc_urdf::{package, Description, MeshPaths, PackagePath, Srdf};
+
+const PACKAGES: &str = "cells/robots/example-robot-data";
+
+fn cellc(args: &[&str], dir: &Path, env: &[(&str, &str)]) -> Output {
+    let mut command = Command::new(env!("CARGO_BIN_EXE_cellc"));
+    command
+        .args(args)
+        .current_dir(dir)
+        .env_remove("ROS_PACKAGE_PATH");
+    for (k, v) in env {
+        command.env(k, v);
+    }
+    command.output().expect("the cellc binary runs")
+}
+
+fn text(output: &Output) -> String {
+    format!(
+        "{}{}",
+        String::from_utf8_lossy(&output.stdout),
+        String::from_utf8_lossy(&output.stderr)
+    )
+}
+
+/// A shipped description: URDF, SRDF, chain and what loading it must give.
+struct Shipped {
+    urdf: &'static str,
+    srdf: &'static str,
+    base: &'static str,
+    tip: &'static str,
+    joints: usize,
+    meshes: usize,
+    disabled: usize,
+}
+
+const SHIPPED: [Shipped; 2] = [
+    Shipped {
+        urdf: "robots/panda_description/urdf/panda.urdf",
+        srdf: "robots/panda_description/srdf/panda.srdf",
+        base: "panda_link0",
+        tip: "panda_hand_tcp",
+        joints: 7,
+        meshes: 9,
+        disabled: 35,
+    },
+    Shipped {
+        urdf: "robots/ur_description/urdf/ur5_robot.urdf",
+        srdf: "robots/ur_description/srdf/ur5.srdf",
+        base: "base_link",
+        tip: "tool0",
+        joints: 6,
+        meshes: 7,
+        disabled: 10,
+    },
+];
+
+#[test]
+fn the_shipped_descriptions_load_unmodified() {
+    let mut packages = PackagePath::new();
+    packages.search("cells/robots");
+    for shipped in SHIPPED {
+        let urdf_path = format!("{PACKAGES}/{}", shipped.urdf);
+        let urdf = std::fs::read_to_string(&urdf_path).expect("shipped URDF");
+        let description = Description::parse(&urdf).expect("the URDF parses");
+        assert!(description.problems().is_empty(), "{urdf_path} is unsound");
+        let srdf_text =
+            std::fs::read_to_string(format!("{PACKAGES}/{}", shipped.srdf)).expect("shipped SRDF");
+        let srdf = Srdf::parse(&srdf_text).expect("the SRDF parses");
+        assert!(srdf.problems(&description).is_empty(), "{}", shipped.srdf);
+        assert_eq!(srdf.disabled_collisions.len(), shipped.disabled);
+        // Every collision mesh is a `package://` URI, found in the shipped package.
+        let meshes: Vec<MeshFile> = description
+            .collision_meshes()
+            .into_iter()
+            .map(|written| {
+                assert!(written.starts_with("package://example-robot-data/"));
+                let path = package::resolve(&urdf_path, written, &packages, &FsFiles)
+                    .expect("the package resolves");
+                MeshFile {
+                    written: written.to_string(),
+                    path,
+                }
+            })
+            .collect();
+        assert_eq!(meshes.len(), shipped.meshes, "{urdf_path}");
+        let robot = Robot::from_urdf_with(
+            &urdf,
+            MeshPaths::Resolved(&meshes),
+            shipped.base,
+            shipped.tip,
+            &FsFiles,
+        )
+        .unwrap_or_else(|e| panic!("{urdf_path}: {e}"));
+        assert_eq!(robot.n_joints(), shipped.joints);
+        // Every mesh on the chain became a solid (the Panda's fingers are off the chain).
+        assert!(robot.shapes().len() >= shipped.joints, "{urdf_path}");
+    }
+}
+
+#[test]
+fn the_panda_srdf_gives_the_chain_and_the_home() {
+    let urdf = std::fs::read_to_string(format!("{PACKAGES}/{}", SHIPPED[0].urdf)).expect("urdf");
+    let srdf = std::fs::read_to_string(format!("{PACKAGES}/{}", SHIPPED[0].srdf)).expect("srdf");
+    let (description, srdf) = (
+        Description::parse(&urdf).expect("urdf"),
+        Srdf::parse(&srdf).expect("srdf"),
+    );
+    assert_eq!(
+        srdf.group_chain("arm", &description),
+        Ok(("panda_link0".to_string(), "panda_link7".to_string()))
+    );
+    let default: Vec<_> = srdf.states_named("default").collect();
+    assert_eq!(default.len(), 1);
+    assert_eq!(
+        default[0].values.len(),
+        8,
+        "seven arm joints and the finger"
+    );
+
+    // In a cell: the home is the state's arm joints, in chain order.
+    let compilation = cellc_compiler::compile(&FsFiles, "cells/two_pandas.cell");
+    let cell = compilation.cell.expect("resolves");
+    let (_, left) = cell
+        .end_effectors
+        .iter()
+        .find(|(_, e)| e.name == "left")
+        .expect("left arm");
+    let cellc_compiler::model::Body::Arm { home, .. } = &left.body else {
+        panic!("left is an arm");
+    };
+    // The SRDF's own digits, in chain order, without the finger.
+    let expected: Vec<f64> = (1..=7)
+        .map(|j| {
+            let joint = format!("panda_joint{j}");
+            default[0]
+                .values
+                .iter()
+                .find(|(name, _)| *name == joint)
+                .map(|(_, v)| *v)
+                .expect("the state sets every arm joint")
+        })
+        .collect();
+    assert_eq!(home, &expected);
+    assert_eq!(expected[3], -2.35619);
+}
+
+fn build_and_plan(cell: &str, requests: &[(&str, &str)]) {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let out = std::env::temp_dir().join(format!(
+        "cellc-robot-files-{}-{}.json",
+        std::process::id(),
+        Path::new(cell).file_stem().unwrap().to_string_lossy()
+    ));
+    let out_text = out.to_string_lossy().to_string();
+    let built = cellc(&["build", cell, "-o", &out_text], root, &[]);
+    assert!(built.status.success(), "{cell}:\n{}", text(&built));
+    assert!(text(&built).contains("verified"), "{}", text(&built));
+    let artifact = std::fs::read_to_string(&out).expect("artifact written");
+    // The artifact records where each `package://` mesh was found.
+    assert!(artifact.contains("\"written\":\"package://example-robot-data/"));
+    for (request, strategy) in requests {
+        for input in [cell, out_text.as_str()] {
+            let planned = cellc(&["plan", input, "--request", request], root, &[]);
+            let said = text(&planned);
+            assert!(planned.status.success(), "{input} {request}:\n{said}");
+            assert!(said.contains(strategy), "{input} {request}:\n{said}");
+        }
+    }
+    let _ = std::fs::remove_file(&out);
+}
+
+#[test]
+fn two_pandas_builds_verifies_and_plans() {
+    build_and_plan(
+        "cells/two_pandas.cell",
+        &[
+            ("handoff", "handoff"),
+            ("pick_and_place", "pick-and-place"),
+            ("regrasp", "regrasp"),
+        ],
+    );
+}
+
+#[test]
+fn ur_shelf_builds_verifies_and_plans() {
+    build_and_plan(
+        "cells/ur_shelf.cell",
+        &[("table_to_shelf", "pick-and-place")],
+    );
+}
+
+/// A package `tiny_robot` (with a COLLADA collision mesh) in `DIR/pkgs`, and a cell in
+/// `DIR/cell` that names it by `package://` only.
+fn tiny_package(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("cellc-packages-{}-{name}", std::process::id()));
+    let write = |path: &str, text: &str| {
+        let path = dir.join(path);
+        std::fs::create_dir_all(path.parent().expect("parent")).expect("folder");
+        std::fs::write(path, text).expect("written");
+    };
+    write(
+        "pkgs/tiny_robot/package.xml",
+        "<package format=\"3\"><name>tiny_robot</name></package>\n",
+    );
+    write(
+        "pkgs/tiny_robot/urdf/tiny.urdf",
+        r#"<robot name="tiny">
+  <link name="base"/>
+  <link name="boom">
+    <collision><geometry><mesh filename="package://tiny_robot/meshes/box.dae" scale="10 10 10"/></geometry></collision>
+  </link>
+  <joint name="swing" type="revolute">
+    <parent link="base"/><child link="boom"/><origin xyz="0 0 0.1"/><axis xyz="0 0 1"/>
+    <limit lower="-1.5" upper="1.5" effort="10" velocity="1"/>
+  </joint>
+</robot>
+"#,
+    );
+    write(
+        "pkgs/tiny_robot/meshes/box.dae",
+        r##"<?xml version="1.0"?>
+<COLLADA xmlns="http://www.collada.org/2005/11/COLLADASchema" version="1.4.1">
+  <asset><unit meter="0.001"/><up_axis>Z_UP</up_axis></asset>
+  <library_geometries><geometry id="g"><mesh>
+    <source id="p"><float_array id="a" count="24">0 0 0 1 0 0 0 1 0 1 1 0 0 0 1 1 0 1 0 1 1 1 1 1</float_array>
+      <technique_common><accessor source="#a" count="8" stride="3"/></technique_common></source>
+    <vertices id="v"><input semantic="POSITION" source="#p"/></vertices>
+  </mesh></geometry></library_geometries>
+  <library_visual_scenes><visual_scene id="s"><node><instance_geometry url="#g"/></node></visual_scene></library_visual_scenes>
+  <scene><instance_visual_scene url="#s"/></scene>
+</COLLADA>
+"##,
+    );
+    write(
+        "cell/pick.cell",
+        r#"cell pick {
+  units m, deg
+  robot tiny urdf "package://tiny_robot/urdf/tiny.urdf" base base tip boom
+  hand gripper
+  support tabletop
+  arm left = tiny at (0, 0, 0) with gripper
+  reach left box center (0.5, 0, 0.5) size (0.3, 0.3, 0.3)
+  surface table : tabletop box center (0.5, 0, 0.4) size (0.4, 0.4, 0.02)
+  workspaces from reach
+  object ball {
+    shape sphere radius 0.04
+    rest on_table on tabletop at (0, 0, 0.04)
+    grasp power by gripper at (0, 0, 0.1)
+    transition on_table <-> power
+  }
+}
+"#,
+    );
+    dir
+}
+
+#[test]
+fn packages_are_found_through_the_flag_and_the_environment_in_that_order() {
+    let dir = tiny_package("search");
+    let check = |args: &[&str], env: &[(&str, &str)]| cellc(args, &dir, env);
+
+    let none = check(&["check", "cell/pick.cell"], &[]);
+    assert_eq!(none.status.code(), Some(1));
+    assert!(text(&none).contains("E0408"), "{}", text(&none));
+    assert!(text(&none).contains("tiny_robot"), "{}", text(&none));
+
+    let flag = check(&["check", "--package-path", "pkgs", "cell/pick.cell"], &[]);
+    assert!(flag.status.success(), "{}", text(&flag));
+    let env = check(
+        &["check", "cell/pick.cell"],
+        &[("ROS_PACKAGE_PATH", "/nowhere:pkgs")],
+    );
+    assert!(env.status.success(), "{}", text(&env));
+    // The package itself as a search entry.
+    let itself = check(
+        &[
+            "check",
+            "--package-path",
+            "pkgs/tiny_robot",
+            "cell/pick.cell",
+        ],
+        &[],
+    );
+    assert!(itself.status.success(), "{}", text(&itself));
+
+    // The flag comes first: an empty decoy package on it shadows the real one.
+    std::fs::create_dir_all(dir.join("decoy/tiny_robot")).expect("decoy");
+    std::fs::write(dir.join("decoy/tiny_robot/package.xml"), "<package/>").expect("decoy");
+    let shadowed = check(
+        &["check", "--package-path", "decoy", "cell/pick.cell"],
+        &[("ROS_PACKAGE_PATH", "pkgs")],
+    );
+    assert_eq!(shadowed.status.code(), Some(1), "{}", text(&shadowed));
+    assert!(text(&shadowed).contains("decoy/tiny_robot/urdf/tiny.urdf"));
+
+    // Built with the flag, the artifact knows where the (COLLADA, scaled) mesh is: the
+    // runtime reads it from there, and `info` and `plan` need no package path.
+    std::fs::create_dir_all(dir.join("out")).expect("output folder");
+    let built = check(
+        &[
+            "build",
+            "--package-path",
+            "pkgs",
+            "cell/pick.cell",
+            "-o",
+            "out/pick.json",
+        ],
+        &[],
+    );
+    assert!(built.status.success(), "{}", text(&built));
+    let artifact = std::fs::read_to_string(dir.join("out/pick.json")).expect("artifact");
+    assert!(
+        artifact.contains(r#""path":"../pkgs/tiny_robot/meshes/box.dae""#),
+        "{artifact}"
+    );
+    let info = check(&["info", "out/pick.json"], &[]);
+    assert!(info.status.success(), "{}", text(&info));
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn a_package_item_comes_before_the_search_folders() {
+    let dir = tiny_package("item");
+    let cell = std::fs::read_to_string(dir.join("cell/pick.cell")).expect("cell");
+    let declared = cell.replace(
+        "  units m, deg\n",
+        "  units m, deg\n  package tiny_robot at \"../pkgs/tiny_robot\"\n",
+    );
+    std::fs::write(dir.join("cell/pick.cell"), declared).expect("written");
+    std::fs::create_dir_all(dir.join("decoy/tiny_robot")).expect("decoy");
+    std::fs::write(dir.join("decoy/tiny_robot/package.xml"), "<package/>").expect("decoy");
+    let out = cellc(
+        &["check", "--package-path", "decoy", "cell/pick.cell"],
+        &dir,
+        &[("ROS_PACKAGE_PATH", "decoy")],
+    );
+    assert!(out.status.success(), "{}", text(&out));
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+fn verified(path: &str) -> Artifact {
+    let compilation = cellc_compiler::compile(&FsFiles, path);
+    assert!(!compilation.has_errors(), "{path} has errors");
+    let cell = compilation.cell.as_ref().expect("resolved");
+    let mut artifact =
+        cellc_compiler::artifact::lower(cell, &compilation.graphs, &compilation.sources);
+    let scene = Scene::load(&artifact, &FsFiles).expect("scene loads");
+    verify(&mut artifact, &scene, &VerifyOptions::default(), &|_, _| {});
+    artifact
+}
+
+#[test]
+fn an_srdf_disabled_pair_changes_the_verdict() {
+    // The guard on the base touches the upper arm in every configuration.
+    let without = verified("tests/data/srdf/without_srdf.cell");
+    let pruned = &without.objects[0].graph.pruned;
+    assert!(!pruned.is_empty());
+    assert!(
+        without.objects[0].graph.arcs.is_empty(),
+        "every arc is pruned"
+    );
+    for p in pruned {
+        let Infeasibility::Collision { a, b } = &p.reason else {
+            panic!("pruned for another reason: {:?}", p.reason);
+        };
+        let mut pair = [a.as_str(), b.as_str()];
+        pair.sort_unstable();
+        assert_eq!(pair, ["left/lwr_link_2", "left/shoulder_guard"]);
+    }
+    // Its SRDF disables the pair: the same arcs are kept, with witnesses.
+    let with = verified("tests/data/srdf/with_srdf.cell");
+    assert_eq!(
+        with.robots[0].disabled_collisions,
+        [("shoulder_guard".to_string(), "lwr_link_2".to_string())]
+    );
+    assert!(with.objects[0].graph.pruned.is_empty());
+    assert_eq!(with.objects[0].graph.arcs.len(), pruned.len());
+    assert!(with.objects[0]
+        .graph
+        .arcs
+        .iter()
+        .all(|a| a.witness.is_some()));
+}
