@@ -211,6 +211,7 @@ mod trajectories {
                 &context.stationary,
                 plan.object,
                 &context.placement,
+                &context.obstacles,
                 resolution,
                 &mut scratch,
             )

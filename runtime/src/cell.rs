@@ -20,7 +20,7 @@ use crate::plan::{
 };
 use crate::scene::{Scene, SceneError};
 use crate::verify::{VerifyOptions, VerifyReport};
-use crate::world::{World, WorldError};
+use crate::world::{Whereabouts, World, WorldError};
 use crate::Files;
 
 /// Why an artifact could not be loaded.
@@ -207,6 +207,66 @@ impl Cell {
             plan.object,
             plan.states[0],
             plan.start_pose,
+        )
+    }
+
+    /// A kinematic simulator of the cell as `world` has it, for `plan` (planned in that
+    /// world): the arms where the world has them, the object where it is.
+    pub fn simulator_in(&self, world: &World, plan: &Plan) -> Simulator<'_> {
+        Simulator::with_arms(
+            &self.artifact,
+            self.scene.as_ref(),
+            plan.object,
+            plan.states[0],
+            plan.start_pose,
+            world.arms().to_vec(),
+        )
+    }
+
+    /// Executes a plan made in `world` and brings the world up to date with what the
+    /// executor reports, whether the execution succeeds or not: the arms where they
+    /// stopped, the object where it is (the objects moved so far stay moved).
+    pub fn execute_in(
+        &self,
+        world: &mut World,
+        plan: Plan,
+        executor: &mut dyn Executor,
+        options: &ExecuteOptions,
+    ) -> Result<Execution, ExecutionError> {
+        let object = plan.object;
+        let result = self.execute(plan, executor, options);
+        for (e, q) in executor.arms().into_iter().enumerate() {
+            if let Some(q) = q {
+                world.set_arm(EndEffectorId(e as u32), q);
+            }
+        }
+        let observed = executor.object_state();
+        let rests = matches!(
+            self.artifact
+                .end_effectors
+                .get(observed.state.end_effector.index())
+                .map(|e| &e.body),
+            Some(Body::Surface { .. })
+        );
+        world.set_object(
+            object,
+            Whereabouts::Placed {
+                state: observed.state,
+                pose: if rests { observed.pose } else { None },
+            },
+        );
+        result
+    }
+
+    /// The moves of the task the cell declares under `name`, in order: each object and
+    /// where it must go.
+    pub fn task(&self, name: &str) -> Option<Vec<(ObjectId, Goal)>> {
+        let task = self.artifact.tasks.iter().find(|t| t.name == name)?;
+        Some(
+            task.steps
+                .iter()
+                .map(|s| (s.object, Goal::Placement(crate::plan::placement_of(&s.to))))
+                .collect(),
         )
     }
 

@@ -166,6 +166,20 @@ impl<'a> Simulator<'a> {
         pose: Option<Iso>,
     ) -> Simulator<'a> {
         let arms = WorldState::at_home(scene, artifact.end_effectors.len(), None).arms;
+        Simulator::with_arms(artifact, scene, object, state, pose, arms)
+    }
+
+    /// A simulation of `object` starting in `state` at `pose`, every arm at the joints
+    /// given (index = end-effector; `None` for those that are not arms): how a world's
+    /// request is simulated.
+    pub fn with_arms(
+        artifact: &'a Artifact,
+        scene: Option<&'a Scene>,
+        object: ObjectId,
+        state: Node,
+        pose: Option<Iso>,
+        arms: Vec<Option<Vec<f64>>>,
+    ) -> Simulator<'a> {
         let mut simulator = Simulator {
             artifact,
             scene,

@@ -137,6 +137,7 @@ fn recheck(case: &Case<'_>, trajectory: &Trajectory) -> Result<(), TrajectoryFau
         &case.stationary,
         ObjectId(0),
         &case.placement,
+        &[],
         DENSE,
         &mut SceneScratch::default(),
     )
@@ -687,6 +688,7 @@ fn certified_segments_are_free_at_any_resolution() {
             &[],
             ObjectId(0),
             &case.placement,
+            &[],
             fine,
             &mut scratch,
         );
@@ -747,6 +749,7 @@ proptest::proptest! {
             &[],
             ObjectId(0),
             &ObjectPlacement::Absent,
+            &[],
             options.collision_resolution,
             &mut scratch,
         );

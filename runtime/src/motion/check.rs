@@ -9,7 +9,7 @@ use super::MotionOptions;
 use cellc_schema::{EndEffectorId, ObjectId};
 
 use crate::plan::Trajectory;
-use crate::scene::{ObjectPlacement, QueryError, Scene, SceneScratch};
+use crate::scene::{ObjectPlacement, Obstacle, QueryError, Scene, SceneScratch};
 use crate::validity::{LayoutError, SceneValidity, StateFault, StateValidity};
 
 /// What is wrong with a trajectory, found by [`check_trajectory`].
@@ -131,10 +131,12 @@ pub fn check_trajectory(
     stationary: &[(EndEffectorId, Vec<f64>)],
     object: ObjectId,
     placement: &ObjectPlacement,
+    obstacles: &[Obstacle],
     resolution: f64,
     scratch: &mut SceneScratch,
 ) -> Result<(), TrajectoryFault> {
     let validity = SceneValidity::new(scene, &trajectory.arms, stationary, object, *placement)
+        .map(|v| v.with_obstacles(obstacles))
         .map_err(|e| match e {
             LayoutError::OutOfLimits {
                 end_effector,
