@@ -163,6 +163,8 @@ pub fn lower(cell: &Cell, graphs: &[ObjectGraph], sources: &SourceMap) -> schema
                 }
             })
             .collect(),
+        world: Vec::new(),
+        tasks: Vec::new(),
         allowed_contacts: cell
             .allowed_contacts
             .iter()

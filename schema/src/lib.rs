@@ -28,13 +28,15 @@ pub mod math;
 pub use files::{FileError, Files, MemoryFiles};
 pub use hash::sha256_hex;
 pub mod rules;
+pub mod world;
 pub use ids::{EndEffectorId, GraspId, NodeId, ObjectId, RobotId, SpanId, WorkspaceId};
+pub use world::{InitialPlacement, NamedTask, TaskStep, WorldDocument};
 
 /// The value of [`Artifact::format`], identifying the file type.
 pub const FORMAT: &str = "cellc-artifact";
 /// Bumped on every incompatible change of these types or of the encodings. Version 2
 /// added the content checksum.
-pub const FORMAT_VERSION: u32 = 2;
+pub const FORMAT_VERSION: u32 = 3;
 /// First bytes of the binary encoding.
 pub const MAGIC: &[u8; 8] = b"CELLCART";
 
@@ -72,6 +74,10 @@ pub struct Artifact {
     pub obstacles: Vec<(String, Aabb)>,
     /// Named example requests of the cell, in source order.
     pub requests: Vec<NamedRequest>,
+    /// Where the objects start (the cell's `world` item; empty: no object is placed).
+    pub world: Vec<InitialPlacement>,
+    /// Named tasks of the cell, in source order.
+    pub tasks: Vec<NamedTask>,
     /// Pairs of collision bodies that may touch (`allow contact`): `left`,
     /// `left/lwr_link_7`, `left/softhand`, `table`, an object.
     pub allowed_contacts: Vec<(String, String)>,

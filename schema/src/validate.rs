@@ -241,6 +241,28 @@ impl Validator<'_> {
                 v.at("to", |v| v.placement(&r.to, n_grasps))
             })?;
         }
+        for (i, p) in a.world.iter().enumerate() {
+            self.at(format!("world[{i}]"), |v| {
+                v.span("span", p.span)?;
+                v.index("object", p.object, a.objects.len(), "objects")?;
+                let n_grasps = a.objects[p.object.index()].grasps.len();
+                v.at("placement", |v| v.placement(&p.placement, n_grasps))
+            })?;
+        }
+        for (i, t) in a.tasks.iter().enumerate() {
+            self.at(format!("tasks[{i}]"), |v| {
+                v.span("span", t.span)?;
+                for (j, step) in t.steps.iter().enumerate() {
+                    v.at(format!("steps[{j}]"), |v| {
+                        v.span("span", step.span)?;
+                        v.index("object", step.object, a.objects.len(), "objects")?;
+                        let n_grasps = a.objects[step.object.index()].grasps.len();
+                        v.at("to", |v| v.placement(&step.to, n_grasps))
+                    })?;
+                }
+                Ok(())
+            })?;
+        }
         Ok(())
     }
 

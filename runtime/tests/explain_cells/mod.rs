@@ -370,6 +370,8 @@ impl Desc {
             }],
             spans,
             requests: Vec::new(),
+            world: Vec::new(),
+            tasks: Vec::new(),
             obstacles: self
                 .obstacles
                 .iter()

@@ -161,6 +161,8 @@ pub fn artifact(
         allowed_contacts: Vec::new(),
         verification: None,
         requests: Vec::new(),
+        world: Vec::new(),
+        tasks: Vec::new(),
     }
 }
 
