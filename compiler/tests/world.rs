@@ -77,6 +77,15 @@ fn workspace(a: &Artifact, name: &str) -> WorkspaceId {
     WorkspaceId(i.expect("declared") as u32)
 }
 
+/// A lowered step: object, holder, grasp, workspace, and its source line.
+type Step<'a> = (
+    ObjectId,
+    EndEffectorId,
+    Option<GraspId>,
+    Option<WorkspaceId>,
+    &'a str,
+);
+
 #[test]
 fn world_and_task_lower_with_ids_and_spans() {
     let (_, a) = artifact(ABSTRACT);
@@ -109,13 +118,7 @@ fn world_and_task_lower_with_ids_and_spans() {
     let task = &a.tasks[0];
     assert_eq!(task.name, "clear");
     assert!(spanned(&a, ABSTRACT, task.span).starts_with("task clear {"));
-    let steps: Vec<(
-        ObjectId,
-        EndEffectorId,
-        Option<GraspId>,
-        Option<WorkspaceId>,
-        &str,
-    )> = task
+    let steps: Vec<Step> = task
         .steps
         .iter()
         .map(|s| {
