@@ -1,11 +1,11 @@
 //! The paper's assembly line (Marino et al., RA-L 2016, Sec. V, Fig. 15),
 //! `cells/assembly_line.cell`: five arms, four benches, a conveyor and a shelf. The cell
-//! compiles clean, derives nine workspaces from reach with the designed reachers, and,
-//! with no strategy written anywhere, the planner moves the cylinder exactly as the paper
-//! reports: pick with arm 1, handoff 1 -> 2, put down on a bench, pick with arm 3,
-//! handoff 3 -> 4, handoff 4 -> conveyor, conveyor -> arm 5, place at the goal. The plan
-//! executes in the simulator, the conveyor carrying the cylinder between arms 4 and 5.
-
+//! compiles clean (with a second cylinder, a world and a task moving both), derives nine
+//! workspaces from reach with the designed reachers, and, with no strategy written
+//! anywhere, the planner moves the cylinder exactly as the paper reports: pick with arm 1,
+//! handoff 1 -> 2, put down on a bench, pick with arm 3, handoff 3 -> 4, handoff 4 ->
+//! conveyor, conveyor -> arm 5, place at the goal. The plan executes in the simulator, the
+//! conveyor carrying the cylinder between arms 4 and 5.
 use std::collections::BTreeMap;
 
 use cellc::fs_files::FsFiles;
@@ -87,7 +87,20 @@ fn the_cell_compiles_clean() {
         compilation.diagnostics.is_empty(),
         "{CELL} is not clean:\n{rendered}"
     );
-    assert_eq!(compilation.graphs.len(), 1, "one object: the cylinder");
+    let cell = compilation.cell.as_ref().expect("resolved");
+    let objects: Vec<&str> = cell.objects.iter().map(|(_, o)| o.name.as_str()).collect();
+    assert_eq!(objects, ["cylinder", "cylinder2"], "two cylinders");
+    assert_eq!(compilation.graphs.len(), 2);
+    // Both start on a bench, and the task takes them to bench 4 one after the other.
+    assert_eq!(cell.world.len(), 2);
+    let task = &cell.tasks[0];
+    assert_eq!(task.name, "two_cylinders");
+    let moved: Vec<&str> = task
+        .steps
+        .iter()
+        .map(|s| cell.objects[s.object].name.as_str())
+        .collect();
+    assert_eq!(moved, ["cylinder2", "cylinder"]);
 }
 
 #[test]

@@ -149,28 +149,40 @@ pub fn lower(cell: &Cell, graphs: &[ObjectGraph], sources: &SourceMap) -> schema
         requests: cell
             .requests
             .iter()
-            .map(|r| {
-                let object = r.object;
-                let grasp_index = |g: crate::ids::GraspId| {
-                    (cell.grasps[g].object == object).then(|| index_in_object[g.index()])
-                };
-                let placement = |p: &RequestPlacement| schema::RequestPlacement {
-                    end_effector: schema::EndEffectorId(p.end_effector.0),
-                    grasp: p.grasp.and_then(grasp_index).map(schema::GraspId),
-                    workspace: p.workspace.map(|w| schema::WorkspaceId(w.0)),
-                    pose: p.pose.as_ref().map(iso_to_schema),
-                };
-                schema::NamedRequest {
-                    name: r.name.clone(),
-                    object: schema::ObjectId(r.object.0),
-                    from: placement(&r.from),
-                    to: placement(&r.to),
-                    span: spans.get(r.origin.file, r.origin.span),
-                }
+            .map(|r| schema::NamedRequest {
+                name: r.name.clone(),
+                object: schema::ObjectId(r.object.0),
+                from: placement(cell, &index_in_object, r.object, &r.from),
+                to: placement(cell, &index_in_object, r.object, &r.to),
+                span: spans.get(r.origin.file, r.origin.span),
             })
             .collect(),
-        world: Vec::new(),
-        tasks: Vec::new(),
+        world: cell
+            .world
+            .iter()
+            .map(|p| schema::InitialPlacement {
+                object: schema::ObjectId(p.object.0),
+                placement: placement(cell, &index_in_object, p.object, &p.placement),
+                span: spans.get(p.origin.file, p.origin.span),
+            })
+            .collect(),
+        tasks: cell
+            .tasks
+            .iter()
+            .map(|t| schema::NamedTask {
+                name: t.name.clone(),
+                steps: t
+                    .steps
+                    .iter()
+                    .map(|s| schema::TaskStep {
+                        object: schema::ObjectId(s.object.0),
+                        to: placement(cell, &index_in_object, s.object, &s.to),
+                        span: spans.get(s.origin.file, s.origin.span),
+                    })
+                    .collect(),
+                span: spans.get(t.origin.file, t.origin.span),
+            })
+            .collect(),
         allowed_contacts: cell
             .allowed_contacts
             .iter()
@@ -178,6 +190,28 @@ pub fn lower(cell: &Cell, graphs: &[ObjectGraph], sources: &SourceMap) -> schema
             .collect(),
         spans: spans.table,
         verification: None,
+    }
+}
+
+/// A placement of `object` (a request's, a world line's, a task step's) in the artifact:
+/// its grasp numbered among the object's grasps (`index_in_object`, by grasp id). A grasp
+/// of another object cannot be written (grasps are looked up in the placement's object),
+/// and is left out rather than misnumbered.
+fn placement(
+    cell: &Cell,
+    index_in_object: &[u32],
+    object: crate::ids::ObjectId,
+    p: &RequestPlacement,
+) -> schema::RequestPlacement {
+    let grasp = p
+        .grasp
+        .filter(|&g| cell.grasps[g].object == object)
+        .map(|g| schema::GraspId(index_in_object[g.index()]));
+    schema::RequestPlacement {
+        end_effector: schema::EndEffectorId(p.end_effector.0),
+        grasp,
+        workspace: p.workspace.map(|w| schema::WorkspaceId(w.0)),
+        pose: p.pose.as_ref().map(iso_to_schema),
     }
 }
 

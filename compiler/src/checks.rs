@@ -20,18 +20,26 @@ pub fn check_cell(cell: &Cell, diagnostics: &mut Vec<Diagnostic>) {
     check_requests(cell, diagnostics);
 }
 
-/// A request placement naming a grasp its holder cannot hold is wrong before any plan.
+/// A placement (of a request, a line of the world or a task's step) naming a grasp its
+/// holder cannot hold is wrong before any plan.
 fn check_requests(cell: &Cell, diagnostics: &mut Vec<Diagnostic>) {
-    for r in &cell.requests {
-        for p in [&r.from, &r.to] {
-            if let Some(g) = p.grasp.filter(|&g| !cell.holds(p.end_effector, g)) {
-                diagnostics.push(diagnostics::placement_grasp_mismatch(
-                    &cell.end_effectors[p.end_effector].name,
-                    &cell.grasps[g].name,
-                    r.origin.file,
-                    r.origin.span,
-                ));
-            }
+    let requests = cell
+        .requests
+        .iter()
+        .flat_map(|r| [(&r.from, r.origin), (&r.to, r.origin)]);
+    let world = cell.world.iter().map(|p| (&p.placement, p.origin));
+    let steps = cell
+        .tasks
+        .iter()
+        .flat_map(|t| t.steps.iter().map(|s| (&s.to, s.origin)));
+    for (p, origin) in requests.chain(world).chain(steps) {
+        if let Some(g) = p.grasp.filter(|&g| !cell.holds(p.end_effector, g)) {
+            diagnostics.push(diagnostics::placement_grasp_mismatch(
+                &cell.end_effectors[p.end_effector].name,
+                &cell.grasps[g].name,
+                origin.file,
+                origin.span,
+            ));
         }
     }
 }

@@ -352,6 +352,40 @@ pub struct RequestPlacement {
     pub pose: Option<Iso>,
 }
 
+/// A resolved line of the cell's `world`: where an object starts.
+#[derive(Clone, Debug)]
+pub struct InitialPlacement {
+    /// The object.
+    pub object: ObjectId,
+    /// Where it is: a workspace or a pose, or neither for an object held by an arm (its
+    /// pose follows from the arm's joints).
+    pub placement: RequestPlacement,
+    /// The line (name span: the object's name).
+    pub origin: Origin,
+}
+
+/// A resolved `task`: moves in order.
+#[derive(Clone, Debug)]
+pub struct NamedTask {
+    /// Its name (shared with requests: no task and request have the same one).
+    pub name: String,
+    /// The moves, in order; never empty.
+    pub steps: Vec<TaskStep>,
+    /// The `task` item.
+    pub origin: Origin,
+}
+
+/// One move of a task: the object and where it must go.
+#[derive(Clone, Debug)]
+pub struct TaskStep {
+    /// The object moved.
+    pub object: ObjectId,
+    /// Where it must go.
+    pub to: RequestPlacement,
+    /// The step's line (name span: the object's name).
+    pub origin: Origin,
+}
+
 /// A resolved `expect` with its origin.
 #[derive(Clone, Debug)]
 pub struct Expectation {
@@ -394,6 +428,13 @@ pub struct Cell {
     pub obstacles: Vec<(String, Aabb, Origin)>,
     /// Named example requests, in source order.
     pub requests: Vec<NamedRequest>,
+    /// Where the objects start (the `world` item's lines, in source order); objects not
+    /// listed are absent.
+    pub world: Vec<InitialPlacement>,
+    /// The `world` item, when the cell (or a library it includes) has one.
+    pub world_origin: Option<Origin>,
+    /// Named tasks, in source order.
+    pub tasks: Vec<NamedTask>,
     /// Pairs of bodies that may touch (`allow contact`), by collision-body name
     /// (`left`, `left/lwr_link_7`, `table`).
     pub allowed_contacts: Vec<(String, String, Origin)>,

@@ -7,6 +7,9 @@
 
 use crate::span::Span;
 
+mod world;
+pub use world::*;
+
 /// A name as written: plain (`left_arm`) or quoted (`` `top_x- (copy)` ``).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Name {
@@ -228,6 +231,10 @@ pub enum Item {
     Request(RequestItem),
     /// `obstacle NAME box center (...) size (...)`.
     Obstacle(ObstacleItem),
+    /// `world { OBJECT: PLACEMENT ... }`.
+    World(WorldItem),
+    /// `task NAME { OBJECT to PLACEMENT ... }`.
+    Task(TaskItem),
 }
 
 impl Item {
@@ -253,6 +260,8 @@ impl Item {
             Item::Allow(i) => i.span,
             Item::Request(i) => i.span,
             Item::Obstacle(i) => i.span,
+            Item::World(i) => i.span,
+            Item::Task(i) => i.span,
         }
     }
 }

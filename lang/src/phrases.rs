@@ -50,6 +50,8 @@ const ITEM_STARTS: &[Rule] = &[
     Rule::kw_allow,
     Rule::kw_request,
     Rule::kw_obstacle,
+    Rule::kw_world,
+    Rule::kw_task,
 ];
 
 const MEMBER_STARTS: &[Rule] = &[
@@ -88,6 +90,8 @@ pub const RESERVED: &[&str] = &[
     "grasp",
     "rest",
     "transition",
+    "world",
+    "task",
 ];
 
 /// Punctuation worth naming in "expected ..." (comment openers, quotes and `_` are
@@ -255,6 +259,22 @@ pub fn phrase(rule: Rule) -> &'static str {
         Rule::kw_isolated => "`isolated`",
         Rule::kw_states => "`states`",
         Rule::kw_for => "`for`",
+        Rule::kw_world => "`world`",
+        Rule::kw_task => "`task`",
+        Rule::world_item => "a world like `world { cylinder: table in w1 }`",
+        Rule::world_body | Rule::world_entry_probe | Rule::world_entry_line => {
+            "a line of the world like `cylinder: table in w1`"
+        }
+        Rule::colon => "`:`",
+        Rule::world_entry => "a line of the world like `cylinder: table in w1`",
+        Rule::world_placement => {
+            "a placement like `table in w1`, `table at (x, y, z)` or `left.top`"
+        }
+        Rule::task_item => "a task like `task clear { cylinder to table in w3 }`",
+        Rule::task_body | Rule::task_step_probe | Rule::task_step_line => {
+            "a step of the task like `cylinder to table in w3`"
+        }
+        Rule::task_step => "a step of the task like `cylinder to table in w3`",
     }
 }
 

@@ -545,3 +545,65 @@ proptest! {
         }
     }
 }
+
+// ---- the world and tasks -----------------------------------------------------------------
+
+#[test]
+fn world_and_task_blocks_are_laid_out_one_line_each() {
+    let input = "cell c {
+world{cylinder :table at(0.45,0.45,1.0)  ball:left.top
+  box : table.lying in w1}
+  task   clear{cylinder   to bin in w2 ball to table at (1,2,3) rpy(0,0,90)}
+  task empty {   }
+}
+";
+    let expected = "cell c {
+  world {
+    cylinder: table at (0.45, 0.45, 1.0)
+    ball: left.top
+    box: table.lying in w1
+  }
+  task clear {
+    cylinder to bin in w2
+    ball to table at (1, 2, 3) rpy (0, 0, 90)
+  }
+  task empty {}
+}
+";
+    assert_eq!(check(input, "world and task"), expected);
+}
+
+#[test]
+fn comments_in_world_and_task_blocks_stay() {
+    let input = "cell c {
+  // the start
+  world { // where things are
+    // the cylinder first
+    cylinder: table in w1 // on the left
+
+    ball: /* held */ left.top
+    // nothing else
+  } // end of the world
+  task t { /* one step */
+    cylinder to /* the bin */ bin in w2 // away
+  }
+}
+";
+    let expected = "cell c {
+  // the start
+  world { // where things are
+    // the cylinder first
+    cylinder: table in w1 // on the left
+
+    /* held */
+    ball: left.top
+    // nothing else
+  } // end of the world
+  task t { /* one step */
+    /* the bin */
+    cylinder to bin in w2 // away
+  }
+}
+";
+    assert_eq!(check(input, "world comments"), expected);
+}

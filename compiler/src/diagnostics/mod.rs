@@ -12,7 +12,9 @@ use crate::model::Origin;
 mod robots;
 mod trust;
 pub use robots::*;
+mod world;
 pub use trust::*;
+pub use world::*;
 
 /// Codes of the compiler phases.
 pub mod codes {
@@ -24,6 +26,15 @@ pub mod codes {
     pub const DUPLICATE_NAME: Code = Code("E0102");
     /// A name of the wrong sort (a workspace where an end-effector is needed, ...).
     pub const WRONG_SORT: Code = Code("E0103");
+    /// A second `world` item.
+    pub const SECOND_WORLD: Code = Code("E0104");
+    /// An object on two lines of the `world`.
+    pub const PLACED_TWICE: Code = Code("E0105");
+    /// A world line `HOLDER[.GRASP]` that says neither where the object is nor, for an
+    /// arm, which grasp holds it.
+    pub const WORLD_PLACEMENT_INCOMPLETE: Code = Code("E0106");
+    /// A `task` without steps.
+    pub const EMPTY_TASK: Code = Code("E0107");
 
     /// A number without a unit where one is needed.
     pub const MISSING_UNIT: Code = Code("E0201");
@@ -131,6 +142,10 @@ pub mod codes {
         UNKNOWN_NAME,
         DUPLICATE_NAME,
         WRONG_SORT,
+        SECOND_WORLD,
+        PLACED_TWICE,
+        WORLD_PLACEMENT_INCOMPLETE,
+        EMPTY_TASK,
         MISSING_UNIT,
         WRONG_UNIT,
         NOT_A_ROTATION,
@@ -201,6 +216,10 @@ pub enum Sort {
     Grasp,
     /// An obstacle.
     Obstacle,
+    /// A named request.
+    Request,
+    /// A named task.
+    Task,
 }
 
 impl Sort {
@@ -214,6 +233,8 @@ impl Sort {
             Sort::Object => "an object",
             Sort::Grasp => "a grasp",
             Sort::Obstacle => "an obstacle",
+            Sort::Request => "a request",
+            Sort::Task => "a task",
         }
     }
 
@@ -227,6 +248,8 @@ impl Sort {
             Sort::Object => "object",
             Sort::Grasp => "grasp",
             Sort::Obstacle => "obstacle",
+            Sort::Request => "request",
+            Sort::Task => "task",
         }
     }
 }

@@ -176,6 +176,8 @@ impl Resolver<'_, '_> {
             | ast::Item::Reach(_)
             | ast::Item::Expect(_)
             | ast::Item::Request(_)
+            | ast::Item::World(_)
+            | ast::Item::Task(_)
             | ast::Item::Allow(_) => {}
         }
     }

@@ -16,7 +16,8 @@
 //!    known; the derived names join the namespace.
 //! 5. **Late references**, which may name derived workspaces: `allow contact` bodies
 //!    (`contacts.rs`), abstract `reaches` lists and `adjacent` pairs (`items.rs`), then
-//!    `expect` requirements and `request`s (`requirements.rs`).
+//!    `expect` requirements and `request`s (`requirements.rs`), the `world` and `task`s
+//!    (`world.rs`).
 //!
 //! Name lookups with their "did you mean" live in `lookup.rs`. A reference that fails to
 //! resolve is reported and the item is dropped or left partial; resolution always goes
@@ -27,6 +28,7 @@ mod declare;
 mod items;
 mod lookup;
 mod requirements;
+mod world;
 
 use std::collections::{BTreeMap, HashMap, HashSet};
 
@@ -150,6 +152,8 @@ pub fn resolve(
             match item {
                 ast::Item::Expect(e) => r.resolve_expect(*id, e),
                 ast::Item::Request(q) => r.resolve_request(*id, units[i], q),
+                ast::Item::World(w) => r.resolve_world(*id, units[i], w),
+                ast::Item::Task(t) => r.resolve_task(*id, units[i], t),
                 _ => {}
             }
         }
@@ -173,8 +177,9 @@ struct Resolver<'w, 'd> {
     transition_origins: HashMap<(GraspId, GraspId), Origin>,
     /// Obstacles with a box, by name.
     obstacle_names: HashSet<String>,
-    /// Requests by name (index into the cell's requests).
-    request_names: HashMap<String, usize>,
+    /// Requests and tasks by name (one namespace: `cellc plan` and `cellc run` may take
+    /// either), with where each was declared.
+    request_names: HashMap<String, Origin>,
     /// What is left of this compilation's "did you mean" searches.
     suggestions: SuggestionBudget,
     /// URDFs read so far, and the budget for reading more.

@@ -1,5 +1,6 @@
 //! The cell's own requirements (`expect`) and named example requests (`request`),
-//! resolved last since their placements may name derived workspaces.
+//! resolved last since their placements may name derived workspaces (the `world` and
+//! `task`s, whose placements are a request's, are in `world.rs`).
 
 use cellc_lang::ast::{self, Mobility};
 use cellc_lang::FileId;
@@ -88,15 +89,15 @@ impl Resolver<'_, '_> {
         if let Some(&first) = self.request_names.get(&q.name.text) {
             let origin = origin(file, q.span, &q.name);
             self.diagnostics.push(diagnostics::duplicate_name(
-                Sort::Object,
+                Sort::Request,
                 &q.name.text,
-                self.cell.requests[first].origin,
+                first,
                 origin,
             ));
             return;
         }
         self.request_names
-            .insert(q.name.text.clone(), self.cell.requests.len());
+            .insert(q.name.text.clone(), origin(file, q.span, &q.name));
         self.cell.requests.push(NamedRequest {
             name: q.name.text.clone(),
             object,
@@ -106,7 +107,7 @@ impl Resolver<'_, '_> {
         });
     }
 
-    fn request_placement(
+    pub(super) fn request_placement(
         &mut self,
         file: FileId,
         units: FileUnits,

@@ -3,8 +3,9 @@
 //! The layout is fixed so that diffs show changes of meaning, not of taste:
 //!
 //! - two spaces of indentation per block level, one item or object member per line;
-//! - `cell NAME {` ... `}`, `object NAME {` ... `}` with the members inside, and an empty
-//!   block written `{}`;
+//! - `cell NAME {` ... `}`, `object NAME {` ... `}` with the members inside, `world {` and
+//!   `task NAME {` with one line per object or step inside, and an empty block written
+//!   `{}`;
 //! - `hand NAME { SOLID }` on one line when the hand has one solid, one solid per line
 //!   inside the block when it has more;
 //! - single spaces between tokens, lists as `a, b, c` (no trailing comma), vectors as
@@ -41,7 +42,7 @@ pub use text::string_literal;
 
 use crate::ast::*;
 use crate::span::Span;
-use text::{item_text, member_text, name, solid};
+use text::{item_text, member_text, name, solid, task_step_text, world_entry_text};
 
 /// Formats a file in the canonical layout, keeping the comments of `source`.
 ///
@@ -226,6 +227,38 @@ impl<'s> Printer<'s> {
                     span: |solid| solid.span,
                     print: |printer, s, depth, limit| {
                         printer.simple(depth, s.span, solid(s), limit)
+                    },
+                });
+            }
+            Item::World(world) => {
+                let open = self.next_token(world.span.start as usize + "world".len());
+                self.block(Block {
+                    depth,
+                    header: "world".to_string(),
+                    open,
+                    close: (world.span.end as usize).saturating_sub(1),
+                    end: world.span.end as usize,
+                    limit,
+                    children: &world.entries,
+                    span: |entry| entry.span,
+                    print: |printer, entry, depth, limit| {
+                        printer.simple(depth, entry.span, world_entry_text(entry), limit)
+                    },
+                });
+            }
+            Item::Task(task) => {
+                let open = self.next_token(task.name.span.end as usize);
+                self.block(Block {
+                    depth,
+                    header: format!("task {}", name(&task.name)),
+                    open,
+                    close: (task.span.end as usize).saturating_sub(1),
+                    end: task.span.end as usize,
+                    limit,
+                    children: &task.steps,
+                    span: |step| step.span,
+                    print: |printer, step, depth, limit| {
+                        printer.simple(depth, step.span, task_step_text(step), limit)
                     },
                 });
             }

@@ -241,6 +241,16 @@ pub(super) fn item_text(item: &Item) -> String {
             format!("object {} {{ {} }}", name(&o.name), members.join(" "))
         }
         Item::Expect(e) => format!("expect {}", requirement(&e.requirement)),
+        // The world and tasks are printed by the block printer; these one-line forms only
+        // keep the function total.
+        Item::World(w) => {
+            let entries: Vec<String> = w.entries.iter().map(world_entry_text).collect();
+            format!("world {{ {} }}", entries.join(" "))
+        }
+        Item::Task(t) => {
+            let steps: Vec<String> = t.steps.iter().map(task_step_text).collect();
+            format!("task {} {{ {} }}", name(&t.name), steps.join(" "))
+        }
     }
 }
 
@@ -309,4 +319,20 @@ pub(super) fn member_text(member: &ObjectMember) -> String {
             )
         }
     }
+}
+
+// ---- the world and tasks ---------------------------------------------------------------
+
+/// `OBJECT: PLACEMENT`, a line of the world.
+pub(super) fn world_entry_text(entry: &WorldEntry) -> String {
+    let placement = match &entry.placement {
+        WorldPlacement::Placed(p) => request_placement(p),
+        WorldPlacement::Bare(holder) => qualified(holder),
+    };
+    format!("{}: {placement}", name(&entry.object))
+}
+
+/// `OBJECT to PLACEMENT`, a step of a task.
+pub(super) fn task_step_text(step: &TaskStep) -> String {
+    format!("{} to {}", name(&step.object), request_placement(&step.to))
 }

@@ -232,6 +232,8 @@ impl Builder<'_, '_> {
                 requirement: self.requirement(inner.next()?)?,
                 span,
             }),
+            Rule::world_item => Item::World(self.world_item(span, inner)?),
+            Rule::task_item => Item::Task(self.task_item(span, inner)?),
             _ => return None,
         })
     }

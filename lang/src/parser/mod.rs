@@ -17,6 +17,7 @@ use crate::span::{FileId, Span};
 
 mod items;
 mod values;
+mod world;
 
 /// The result of parsing one file: the tree (absent only when the file's outline
 /// `cell NAME { ... }` itself is broken) and every syntax diagnostic.
