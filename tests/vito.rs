@@ -205,17 +205,8 @@ mod trajectories {
             let (Some(t), Some(context)) = (&step.motion, &step.motion_context) else {
                 continue;
             };
-            check_trajectory(
-                scene,
-                t,
-                &context.stationary,
-                plan.object,
-                &context.placement,
-                &context.obstacles,
-                resolution,
-                &mut scratch,
-            )
-            .map_err(|e| format!("{e:?}"))?;
+            check_trajectory(scene, t, plan.object, context, resolution, &mut scratch)
+                .map_err(|e| format!("{e:?}"))?;
             if !t.points.windows(2).all(|w| w[1].0 > w[0].0) {
                 return Err("time goes back".into());
             }

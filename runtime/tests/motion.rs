@@ -14,7 +14,7 @@ use cellc_runtime::motion::{
     check_trajectory, CertifiedMotion, Joints, MotionError, MotionOptions, MotionPlanner,
     MotionProblem, MotionValidity, RrtConnect, TrajectoryFault,
 };
-use cellc_runtime::plan::Trajectory;
+use cellc_runtime::plan::{MotionContext, Trajectory};
 use cellc_runtime::scene::{Holder, ObjectPlacement, QueryError, Scene, SceneScratch};
 use cellc_runtime::termination::Termination;
 use cellc_runtime::validity::{SceneValidity, StateFault, StateValidity};
@@ -85,6 +85,15 @@ fn problem<'a>(scene: &'a Scene, arms: Vec<u32>, start: Vec<f64>, goal: Vec<f64>
 }
 
 impl Case<'_> {
+    /// The motion's surroundings, as a plan records them.
+    fn context(&self) -> MotionContext {
+        MotionContext {
+            stationary: self.stationary.clone(),
+            placement: self.placement,
+            obstacles: Vec::new(),
+        }
+    }
+
     /// The default state validity of this motion.
     fn validity(&self) -> Result<SceneValidity<'_>, MotionError> {
         Ok(SceneValidity::new(
@@ -134,10 +143,8 @@ fn recheck(case: &Case<'_>, trajectory: &Trajectory) -> Result<(), TrajectoryFau
     check_trajectory(
         case.scene,
         trajectory,
-        &case.stationary,
         ObjectId(0),
-        &case.placement,
-        &[],
+        &case.context(),
         DENSE,
         &mut SceneScratch::default(),
     )
@@ -682,16 +689,8 @@ fn certified_segments_are_free_at_any_resolution() {
             points: vec![(0.0, a.clone()), (1.0, b)],
         };
         let fine = options.collision_resolution / 50.0;
-        let checked = check_trajectory(
-            &scene,
-            &t,
-            &[],
-            ObjectId(0),
-            &case.placement,
-            &[],
-            fine,
-            &mut scratch,
-        );
+        let checked =
+            check_trajectory(&scene, &t, ObjectId(0), &case.context(), fine, &mut scratch);
         assert_eq!(checked, Ok(()), "{:?}", t.points);
     }
     // Both answers are exercised.
@@ -746,10 +745,12 @@ proptest::proptest! {
         let checked = check_trajectory(
             &scene,
             &t,
-            &[],
             ObjectId(0),
-            &ObjectPlacement::Absent,
-            &[],
+            &MotionContext {
+                stationary: Vec::new(),
+                placement: ObjectPlacement::Absent,
+                obstacles: Vec::new(),
+            },
             options.collision_resolution,
             &mut scratch,
         );

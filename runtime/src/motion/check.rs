@@ -8,8 +8,8 @@ use super::segment::{sample, steps};
 use super::MotionOptions;
 use cellc_schema::{EndEffectorId, ObjectId};
 
-use crate::plan::Trajectory;
-use crate::scene::{ObjectPlacement, Obstacle, QueryError, Scene, SceneScratch};
+use crate::plan::{MotionContext, Trajectory};
+use crate::scene::{QueryError, Scene, SceneScratch};
 use crate::validity::{LayoutError, SceneValidity, StateFault, StateValidity};
 
 /// What is wrong with a trajectory, found by [`check_trajectory`].
@@ -128,32 +128,34 @@ impl std::error::Error for TrajectoryFault {}
 pub fn check_trajectory(
     scene: &Scene,
     trajectory: &Trajectory,
-    stationary: &[(EndEffectorId, Vec<f64>)],
     object: ObjectId,
-    placement: &ObjectPlacement,
-    obstacles: &[Obstacle],
+    context: &MotionContext,
     resolution: f64,
     scratch: &mut SceneScratch,
 ) -> Result<(), TrajectoryFault> {
-    let validity = SceneValidity::new(scene, &trajectory.arms, stationary, object, *placement)
-        .map(|v| v.with_obstacles(obstacles))
-        .map_err(|e| match e {
-            LayoutError::OutOfLimits {
-                end_effector,
-                joint,
-                value,
-            } => TrajectoryFault::OutOfLimits {
-                time: trajectory.points.first().map_or(0.0, |p| p.0),
-                end_effector,
-                joint,
-                value,
-            },
-            LayoutError::NotAnArm { end_effector }
-            | LayoutError::RepeatedArm { end_effector }
-            | LayoutError::WrongLength { end_effector, .. } => {
-                TrajectoryFault::BadArm { end_effector }
-            }
-        })?;
+    let validity = SceneValidity::new(
+        scene,
+        &trajectory.arms,
+        &context.stationary,
+        object,
+        context.placement,
+    )
+    .map(|v| v.with_obstacles(&context.obstacles))
+    .map_err(|e| match e {
+        LayoutError::OutOfLimits {
+            end_effector,
+            joint,
+            value,
+        } => TrajectoryFault::OutOfLimits {
+            time: trajectory.points.first().map_or(0.0, |p| p.0),
+            end_effector,
+            joint,
+            value,
+        },
+        LayoutError::NotAnArm { end_effector }
+        | LayoutError::RepeatedArm { end_effector }
+        | LayoutError::WrongLength { end_effector, .. } => TrajectoryFault::BadArm { end_effector },
+    })?;
     let dim = validity.dim();
     let resolution = if resolution.is_finite() && resolution > 0.0 {
         resolution

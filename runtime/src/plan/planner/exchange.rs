@@ -14,6 +14,9 @@ use crate::scene::{Holder, ObjectPlacement, Obstacle, SceneScratch};
 use crate::termination::Termination;
 use crate::validity::{SceneValidity, StateFault, StateValidity};
 
+/// Resting poses tried for a put-down whose witness pose is taken by another object.
+const PUT_DOWN_SAMPLES: usize = 40;
+
 impl Planner<'_> {
     /// A resting pose on the surface between a put-down (`giver`, arc `put`) and a pick
     /// (`picker`, arc `pick`) that both arms reach collision-free with their grasps.
@@ -158,96 +161,13 @@ impl Planner<'_> {
             (Some((surface, _)), _, Some(goal)) if surface == to => Some(goal),
             _ => None,
         };
-        if let (Some((surface, arm)), Some(pose)) = (surface_and_arm, specific_pose) {
-            let obj = &self.artifact.objects[object.index()];
-            let grasp = obj.grasps[arm.grasp.index()]
-                .pose
-                .as_ref()
-                .map(iso_from_schema)
-                .unwrap_or_else(Iso::identity);
-            let Holder::Arm { robot, base, home } = &scene.holders[arm.end_effector.index()] else {
-                return Err(Failure {
+        if let (Some(ends), Some(pose)) = (surface_and_arm, specific_pose) {
+            return self
+                .solve_at(object, scene, ends, pose, 8, obstacles, rng, stop)
+                .map_err(|reason| Failure {
                     arc: arc_ref,
-                    reason: Infeasibility::NoPlacement {
-                        detail: "not an arm".into(),
-                    },
+                    reason,
                 });
-            };
-            let robot = &scene.robots[*robot];
-            // A symmetric object may be taken with the grasp turned by a symmetry.
-            let turns = crate::symmetry::candidates(&obj.symmetries);
-            let mut last_collision = None;
-            let mut best: Option<IkError> = None;
-            let mut scratch = SceneScratch::default();
-            for attempt in 0..8 {
-                if stop.should_stop() {
-                    break;
-                }
-                let tip = pose * (grasp * turns[attempt % turns.len()]).inverse();
-                match solve_ik(
-                    robot,
-                    base,
-                    &IkTarget::Pose(tip),
-                    home,
-                    rng,
-                    &SCREENING,
-                    stop,
-                ) {
-                    Ok(q) => {
-                        let placement = ObjectPlacement::Resting {
-                            on: surface.end_effector,
-                            pose,
-                            by: Some(arm.end_effector),
-                        };
-                        let checked =
-                            SceneValidity::new(scene, &[arm.end_effector], &[], object, placement)
-                                .map(|v| v.with_obstacles(obstacles))
-                                .map_err(|e| format!("{e:?}"))
-                                .and_then(|v| {
-                                    v.check(&q, &mut scratch).map_err(|e| format!("{e:?}"))
-                                });
-                        match checked {
-                            Ok(None) => {
-                                return Ok(Exchange {
-                                    object: Some(pose),
-                                    configurations: vec![(arm.end_effector, q)],
-                                })
-                            }
-                            Ok(Some(StateFault::Collision { a, b })) => {
-                                last_collision = Some((a, b))
-                            }
-                            Ok(Some(fault)) => {
-                                last_collision = Some(("joint limits".into(), fault.to_string()))
-                            }
-                            Err(e) => last_collision = Some(("collision query".into(), e)),
-                        }
-                    }
-                    Err(e) => best = Some(e),
-                }
-            }
-            let reason = match (last_collision, best) {
-                (Some((a, b)), _) => Infeasibility::Collision { a, b },
-                (
-                    None,
-                    Some(IkError::NotConverged {
-                        tries,
-                        position_error,
-                        rotation_error,
-                    }),
-                ) => Infeasibility::NoIkSolution {
-                    end_effector: arm.end_effector,
-                    tries: tries as u32,
-                    position_error,
-                    rotation_error,
-                },
-                _ => Infeasibility::NoPlacement {
-                    detail: "no configuration".into(),
-                },
-            };
-            return Err(Failure {
-                arc: arc_ref,
-                reason,
-            });
         }
         let (object_pose, configurations) = self.witness_of(object, arc);
         let Some(pose) = object_pose else {
@@ -263,6 +183,35 @@ impl Planner<'_> {
         if let Some((a, b)) =
             self.blocked_by(object, scene, (from, to), pose, &configurations, obstacles)
         {
+            // A put-down anywhere in the workspace: another resting pose there, clear of
+            // the objects already in it.
+            if let Some((surface, arm)) = surface_and_arm.filter(|(s, _)| *s == to) {
+                if let Holder::Surface { slab, .. } = &scene.holders[surface.end_effector.index()] {
+                    let rest = crate::world::grasp_pose(self.artifact, object, surface.grasp);
+                    let regions =
+                        RestRegions::new(slab, &scene.workspaces[surface.workspace.index()], &rest);
+                    for _ in 0..PUT_DOWN_SAMPLES {
+                        if stop.should_stop() {
+                            break;
+                        }
+                        let Some(candidate) = regions.sample(rng) else {
+                            break;
+                        };
+                        if let Ok(found) = self.solve_at(
+                            object,
+                            scene,
+                            (surface, arm),
+                            candidate,
+                            2,
+                            obstacles,
+                            rng,
+                            stop,
+                        ) {
+                            return Ok(found);
+                        }
+                    }
+                }
+            }
             return Err(Failure {
                 arc: arc_ref,
                 reason: Infeasibility::Collision { a, b },
@@ -327,5 +276,101 @@ impl Planner<'_> {
             Ok(Some(StateFault::Collision { a, b })) => Some((a, b)),
             _ => None,
         }
+    }
+
+    /// An arm exchanging the object with a surface where it rests at `pose`: IK for the
+    /// arm's grasp (turned by the object's symmetries), checked with the world's other
+    /// objects in the cell.
+    #[allow(clippy::too_many_arguments)]
+    fn solve_at(
+        &self,
+        object: ObjectId,
+        scene: &crate::scene::Scene,
+        (surface, arm): (Node, Node),
+        pose: Iso,
+        attempts: usize,
+        obstacles: &[Obstacle],
+        rng: &mut ChaCha8Rng,
+        stop: &Termination,
+    ) -> Result<Exchange, Infeasibility> {
+        let obj = &self.artifact.objects[object.index()];
+        let grasp = obj.grasps[arm.grasp.index()]
+            .pose
+            .as_ref()
+            .map(iso_from_schema)
+            .unwrap_or_else(Iso::identity);
+        let Holder::Arm { robot, base, home } = &scene.holders[arm.end_effector.index()] else {
+            return Err(Infeasibility::NoPlacement {
+                detail: "not an arm".into(),
+            });
+        };
+        let robot = &scene.robots[*robot];
+        // A symmetric object may be taken with the grasp turned by a symmetry.
+        let turns = crate::symmetry::candidates(&obj.symmetries);
+        let mut last_collision = None;
+        let mut best: Option<IkError> = None;
+        let mut scratch = SceneScratch::default();
+        for attempt in 0..attempts {
+            if stop.should_stop() {
+                break;
+            }
+            let tip = pose * (grasp * turns[attempt % turns.len()]).inverse();
+            match solve_ik(
+                robot,
+                base,
+                &IkTarget::Pose(tip),
+                home,
+                rng,
+                &SCREENING,
+                stop,
+            ) {
+                Ok(q) => {
+                    let placement = ObjectPlacement::Resting {
+                        on: surface.end_effector,
+                        pose,
+                        by: Some(arm.end_effector),
+                    };
+                    let checked =
+                        SceneValidity::new(scene, &[arm.end_effector], &[], object, placement)
+                            .map(|v| v.with_obstacles(obstacles))
+                            .map_err(|e| format!("{e:?}"))
+                            .and_then(|v| v.check(&q, &mut scratch).map_err(|e| format!("{e:?}")));
+                    match checked {
+                        Ok(None) => {
+                            return Ok(Exchange {
+                                object: Some(pose),
+                                configurations: vec![(arm.end_effector, q)],
+                            })
+                        }
+                        Ok(Some(StateFault::Collision { a, b })) => last_collision = Some((a, b)),
+                        Ok(Some(fault)) => {
+                            last_collision = Some(("joint limits".into(), fault.to_string()))
+                        }
+                        Err(e) => last_collision = Some(("collision query".into(), e)),
+                    }
+                }
+                Err(e) => best = Some(e),
+            }
+        }
+        let reason = match (last_collision, best) {
+            (Some((a, b)), _) => Infeasibility::Collision { a, b },
+            (
+                None,
+                Some(IkError::NotConverged {
+                    tries,
+                    position_error,
+                    rotation_error,
+                }),
+            ) => Infeasibility::NoIkSolution {
+                end_effector: arm.end_effector,
+                tries: tries as u32,
+                position_error,
+                rotation_error,
+            },
+            _ => Infeasibility::NoPlacement {
+                detail: "no configuration".into(),
+            },
+        };
+        Err(reason)
     }
 }
