@@ -201,6 +201,12 @@ pub enum Command {
         /// Make the motion of this step (1-based) fail, to see recovery.
         #[arg(long)]
         fail_at: Option<usize>,
+        /// Run a task the cell declares: its moves one after the other, in the world.
+        #[arg(long, conflicts_with_all = ["request", "object"])]
+        task: Option<String>,
+        /// Start from this world document (docs/world.md) instead of the cell's `world`.
+        #[arg(long)]
+        world: Option<PathBuf>,
     },
     /// Explain a diagnostic code, e.g. `cellc explain E0101`.
     Explain {

@@ -91,9 +91,24 @@ pub fn dispatch() -> ExitCode {
             &file.to_string_lossy(),
             &packages::compile_options(packages),
         ),
-        args::Command::Run { request, fail_at } => commands::run::run(
+        args::Command::Run {
+            request,
+            fail_at,
+            task: None,
+            world: None,
+        } => commands::run::run(
             &commands::plan::PlanArgs::new(request, args::PlanFormat::Human),
             *fail_at,
+        ),
+        args::Command::Run {
+            request,
+            task,
+            world,
+            ..
+        } => commands::run_world::run(
+            &commands::plan::PlanArgs::new(request, args::PlanFormat::Human),
+            task.as_deref(),
+            world.as_deref(),
         ),
         args::Command::Plan { request, format } => {
             commands::plan::run(&commands::plan::PlanArgs::new(request, *format))

@@ -57,6 +57,19 @@ pub fn plan_error(
             format!("planning ran out of its time budget after {searches} backtracks"),
         )
         .help("give a larger `--time-budget`, or none; a budget of 0 stops before the first search"),
+        PlanError::GoalOccupied { by } => Diagnostic::error(
+            codes::GOAL_OCCUPIED,
+            format!("`{}` stands where the goal puts the object", artifact.object_name(*by)),
+        )
+        .help(format!(
+            "choose a free goal, or move `{}` first (a task can do both in order)",
+            artifact.object_name(*by)
+        )),
+        PlanError::Absent { object } => Diagnostic::error(
+            codes::GOAL_OCCUPIED,
+            format!("`{}` is not in the world", artifact.object_name(*object)),
+        )
+        .help("place it in the cell's `world` or in the world document before moving it"),
         _ => Diagnostic::error(codes::UNREACHABLE, "no plan").help("check the request"),
     };
     if let Some((file, at)) = place {

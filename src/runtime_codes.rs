@@ -12,6 +12,13 @@ pub const NO_REQUEST: Code = Code("R0005");
 pub const TIME_BUDGET: Code = Code("R0006");
 /// Executing a plan failed for good: before the object left its start, or too often.
 pub const EXECUTION_FAILED: Code = Code("R0007");
+/// A world document that cannot be read (not JSON of its shape, or too large).
+pub const WORLD_DOCUMENT: Code = Code("R0008");
+/// A world that names what the cell lacks, a joint out of limits, or a placement that
+/// matches no state.
+pub const WORLD: Code = Code("R0009");
+/// The goal is where another object of the world stands, or the object is absent.
+pub const GOAL_OCCUPIED: Code = Code("R0010");
 /// Every code of this phase.
 pub const ALL: &[Code] = &[
     LOCATE,
@@ -19,4 +26,7 @@ pub const ALL: &[Code] = &[
     NO_REQUEST,
     TIME_BUDGET,
     EXECUTION_FAILED,
+    WORLD_DOCUMENT,
+    WORLD,
+    GOAL_OCCUPIED,
 ];

@@ -68,14 +68,34 @@ pub struct WorldDocument {
     pub objects: BTreeMap<String, ObjectEntry>,
 }
 
-/// Where one object of a world document is.
+/// Where one object of a world document is. Read through a JSON value so that a wrong
+/// entry is reported as what is wrong with it (an unknown field, a missing holder), not
+/// as "matches neither form".
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(untagged)]
+#[serde(untagged, try_from = "serde_json::Value")]
 pub enum ObjectEntry {
     /// `"absent"`: not in the scene (the same as leaving the object out).
     Absent(AbsentWord),
     /// Held or resting: the same parts as a placement in the cell language.
     Placed(PlacedEntry),
+}
+
+impl TryFrom<serde_json::Value> for ObjectEntry {
+    type Error = String;
+
+    fn try_from(value: serde_json::Value) -> Result<ObjectEntry, String> {
+        match value {
+            serde_json::Value::String(word) if word == "absent" => {
+                Ok(ObjectEntry::Absent(AbsentWord::Absent))
+            }
+            serde_json::Value::String(word) => Err(format!(
+                "`{word}` is not a placement: write \"absent\" or an object with a `holder`"
+            )),
+            other => serde_json::from_value(other)
+                .map(ObjectEntry::Placed)
+                .map_err(|e| e.to_string()),
+        }
+    }
 }
 
 /// The one word an absent object's entry may be.

@@ -9,3 +9,4 @@ pub mod import;
 pub mod info;
 pub mod plan;
 pub mod run;
+pub mod run_world;
