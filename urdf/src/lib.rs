@@ -27,7 +27,10 @@ mod description;
 mod geometry;
 mod validate;
 
-pub use chain::{Chain, ChainError, ChainJoint, JointError, JointKind, JointType, Motion};
+pub use chain::{
+    Chain, ChainError, ChainJoint, FingerJoint, JointError, JointKind, JointType, Motion,
+    MAX_FINGER_STROKE,
+};
 pub use description::{Description, ParseError};
 pub use geometry::{mesh_path, Collision, Geometry, MeshPathError};
 pub use validate::{PoseOf, Problem, MAX_ANGLE, MAX_LENGTH, MAX_MASS, MAX_SCALE, MIN_AXIS_NORM};

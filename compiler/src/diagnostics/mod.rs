@@ -9,7 +9,9 @@ use cellc_urdf::ParseError;
 
 use crate::model::Origin;
 
+mod kinematics;
 mod trust;
+pub use kinematics::*;
 pub use trust::*;
 
 /// Codes of the compiler phases.
@@ -102,6 +104,8 @@ pub mod codes {
     pub const URDF_NOT_A_TREE: Code = Code("E0406");
     /// A URDF number outside its domain (NaN, infinite, reversed or absurd).
     pub const URDF_BAD_VALUE: Code = Code("E0407");
+    /// A finger's prismatic joint on the chain between an arm's base and tip.
+    pub const FINGER_ON_CHAIN: Code = Code("E0422");
 
     /// A transition declared one way only.
     pub const ASYMMETRIC_TRANSITION: Code = Code("W0001");
@@ -157,6 +161,7 @@ pub mod codes {
         HOME_OUT_OF_LIMITS,
         URDF_NOT_A_TREE,
         URDF_BAD_VALUE,
+        FINGER_ON_CHAIN,
         ASYMMETRIC_TRANSITION,
         DEAD_END_STATE,
         UNUSED_GRASP,
