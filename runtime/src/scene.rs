@@ -7,8 +7,9 @@ use cellc_schema::{self as schema, sha256_hex, Artifact};
 use parry3d_f64::shape::SharedShape;
 
 use crate::collision::{
-    BuildError, Collision, CollisionError, CollisionScratch, CollisionWorld, CollisionWorldBuilder,
-    Configuration, Hand, Holder as CollisionHolder, ObjectState, Solid, SweepBounds,
+    BodyId, BuildError, Collision, CollisionError, CollisionScratch, CollisionWorld,
+    CollisionWorldBuilder, Configuration, Hand, Holder as CollisionHolder, ObjectState, Solid,
+    SweepBounds,
 };
 use crate::math::{aabb_from_schema, iso_from_schema, Aabb, Iso, Vec3};
 use crate::robot::{Robot, RobotError};
@@ -427,6 +428,30 @@ impl Scene {
             let (a, b) = self.world.names(&c);
             (a.to_string(), b.to_string())
         }))
+    }
+
+    /// Every colliding pair of the state [`Scene::collision`] describes, sorted (so reports
+    /// that pick one pick the same whatever the sweep order), written to `out`.
+    pub fn all_collisions(
+        &self,
+        arms: &[(u32, &[f64])],
+        object: u32,
+        placement: ObjectPlacement,
+        scratch: &mut SceneScratch,
+        out: &mut Vec<Collision>,
+    ) -> Result<(), QueryError> {
+        self.with_configuration(arms, object, placement, scratch, |state, scratch| {
+            self.world.all_collisions(state, scratch, out)
+        })
+    }
+
+    /// The end-effector whose arm (a link or its hand) `body` belongs to, if any.
+    pub fn arm_of(&self, body: BodyId) -> Option<u32> {
+        let robot = match body {
+            BodyId::Link { robot, .. } | BodyId::Hand { robot, .. } => robot,
+            BodyId::Fixed(_) | BodyId::Object(_) => return None,
+        };
+        self.robot_holder.get(robot).map(|&e| e as u32)
     }
 
     /// Whether the state [`Scene::collision`] describes is free, without naming anything

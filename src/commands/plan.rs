@@ -191,6 +191,17 @@ pub fn load(input: &str, seed: u64, format: PlanFormat) -> Result<Loaded, ExitCo
             return Err(ExitCode::from(1));
         }
     };
+    // A cell compiled now is checked as `cellc build` checks it: a scene wrong whatever
+    // the arc is refused before anything is verified or planned.
+    if let Some(scene) = cell.scene().filter(|_| fresh) {
+        let preflight = cellc_runtime::verify::preflight::preflight(cell.artifact(), scene);
+        if preflight.blocks_verification() {
+            let found = crate::scene_report::diagnostics(cell.artifact(), &preflight, &sources);
+            let errors: Vec<Diagnostic> = found.into_iter().filter(Diagnostic::is_error).collect();
+            emit(format, &errors, &sources);
+            return Err(ExitCode::from(1));
+        }
+    }
     if fresh {
         cell.verify(&VerifyOptions {
             seed,
