@@ -387,20 +387,35 @@ mod tests {
 
     #[test]
     fn finds_a_finger_after_the_arm_but_not_a_rail_under_it() {
-        let gripper = ARM.replace("</robot>", r#"<link name="finger"/>
+        let gripper = ARM.replace(
+            "</robot>",
+            r#"<link name="finger"/>
           <joint name="finger_joint" type="prismatic">
             <parent link="tool"/><child link="finger"/><axis xyz="0 1 0"/>
             <limit lower="0" upper="0.04" effort="1" velocity="1"/>
-          </joint></robot>"#);
+          </joint></robot>"#,
+        );
         let d = Description::parse(&gripper).expect("parses");
         let finger = d.chain("base", "finger").expect("a chain");
         let found = finger.finger_joint().expect("a finger");
-        assert_eq!((found.joint.name.as_str(), found.parent), ("finger_joint", "tool"));
-        assert_eq!(d.chain("base", "tool").expect("a chain").finger_joint(), None);
+        assert_eq!(
+            (found.joint.name.as_str(), found.parent),
+            ("finger_joint", "tool")
+        );
+        assert_eq!(
+            d.chain("base", "tool").expect("a chain").finger_joint(),
+            None
+        );
         // A long stroke is an axis, not a finger.
         let quill = Description::parse(&gripper.replace("upper=\"0.04\"", "upper=\"0.2\""))
             .expect("parses");
-        assert_eq!(quill.chain("base", "finger").expect("a chain").finger_joint(), None);
+        assert_eq!(
+            quill
+                .chain("base", "finger")
+                .expect("a chain")
+                .finger_joint(),
+            None
+        );
         // A rail under the arm comes before any turning joint.
         let rail = ARM
             .replace(
@@ -409,7 +424,10 @@ mod tests {
             )
             .replace(r#"lower="-1" upper="1""#, r#"lower="0" upper="0.05""#);
         let rail = Description::parse(&rail).expect("parses");
-        assert_eq!(rail.chain("base", "tool").expect("a chain").finger_joint(), None);
+        assert_eq!(
+            rail.chain("base", "tool").expect("a chain").finger_joint(),
+            None
+        );
     }
 
     #[test]
