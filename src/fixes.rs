@@ -289,12 +289,15 @@ impl<'a> Places<'a> {
                     units,
                     diagnostics: &mut Vec::new(),
                 };
-                let b = eval.aabb(&reach.aabb)?;
+                let ast::ReachExtent::Box(written) = &reach.extent else {
+                    return None;
+                };
+                let b = eval.aabb(written)?;
                 let same = (0..3).all(|k| {
                     (b.mins[k] - old.min[k]).abs() < SAME_BOX
                         && (b.maxs[k] - old.max[k]).abs() < SAME_BOX
                 });
-                same.then_some((file, reach.aabb.span, units))
+                same.then_some((file, written.span, units))
             })
         })
     }

@@ -13,6 +13,7 @@ pub mod fuzzing;
 pub mod import;
 pub mod output;
 pub mod plan_report;
+pub mod reach;
 pub mod render;
 pub mod runtime_codes;
 pub mod scene_report;

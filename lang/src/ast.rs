@@ -498,15 +498,25 @@ pub struct ObstacleItem {
     pub span: Span,
 }
 
-/// `reach NAME box center (...) size (...)`.
+/// `reach NAME box center (...) size (...)` or `reach NAME auto`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ReachItem {
     /// End-effector.
     pub end_effector: Name,
-    /// The cuboid.
-    pub aabb: Aabb,
+    /// The box written, or `auto`.
+    pub extent: ReachExtent,
     /// Whole item.
     pub span: Span,
+}
+
+/// What a `reach` line gives.
+#[derive(Clone, Debug, PartialEq)]
+pub enum ReachExtent {
+    /// A box, as written.
+    Box(Aabb),
+    /// `auto`: boxes computed from the arm's kinematics and its grasps (the span of the
+    /// word).
+    Auto(Span),
 }
 
 /// `object NAME { members }`.

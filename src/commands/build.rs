@@ -28,7 +28,7 @@ pub struct BuildOptions {
 /// Compiles a cell, verifies its arcs when it has arms, and writes its artifact.
 pub fn run(cell: &Path, output: Option<&Path>, options: &BuildOptions) -> ExitCode {
     let path = cell.to_string_lossy().to_string();
-    let compilation = cellc_compiler::compile(&FsFiles, &path);
+    let compilation = crate::reach::compile(&FsFiles, &path);
     let color = if std::io::stderr().is_terminal() {
         Color::Always
     } else {

@@ -15,7 +15,7 @@ pub fn run(files: &[PathBuf], deny_warnings: bool, report: &ReportFlags) -> Exit
     let mut failed = false;
     let mut all: Vec<(Vec<Diagnostic>, cellc_lang::SourceMap)> = Vec::new();
     for file in files {
-        let compilation = cellc_compiler::compile(&FsFiles, &file.to_string_lossy());
+        let compilation = crate::reach::compile(&FsFiles, &file.to_string_lossy());
         failed |= compilation
             .diagnostics
             .iter()

@@ -132,7 +132,7 @@ pub fn print(diagnostics: &[Diagnostic], sources: &SourceMap) {
 pub fn load(input: &str, seed: u64, format: PlanFormat) -> Result<Loaded, ExitCode> {
     let mut stale = Vec::new();
     let (artifact, sources, fresh) = if input.ends_with(".cell") {
-        let compilation = cellc_compiler::compile(&FsFiles, input);
+        let compilation = crate::reach::compile(&FsFiles, input);
         if compilation.has_errors() || compilation.cell.is_none() {
             emit(format, &compilation.diagnostics, &compilation.sources);
             return Err(ExitCode::from(1));

@@ -106,6 +106,8 @@ pub mod codes {
     pub const URDF_BAD_VALUE: Code = Code("E0407");
     /// A finger's prismatic joint on the chain between an arm's base and tip.
     pub const FINGER_ON_CHAIN: Code = Code("E0422");
+    /// `reach auto` that cannot be computed, or finds nothing.
+    pub const REACH_AUTO_FAILED: Code = Code("E0423");
 
     /// A transition declared one way only.
     pub const ASYMMETRIC_TRANSITION: Code = Code("W0001");
@@ -162,6 +164,7 @@ pub mod codes {
         URDF_NOT_A_TREE,
         URDF_BAD_VALUE,
         FINGER_ON_CHAIN,
+        REACH_AUTO_FAILED,
         ASYMMETRIC_TRANSITION,
         DEAD_END_STATE,
         UNUSED_GRASP,
