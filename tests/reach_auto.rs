@@ -307,3 +307,42 @@ fn cellc_info_shows_the_boxes_found_and_how_long_it_took() {
     // The arm's workspace over the table is derived from those boxes.
     assert!(stdout.contains("ws_left_table"), "{stdout}");
 }
+
+/// One file's text replaced, the rest from the disk.
+struct Edited {
+    path: &'static str,
+    text: String,
+}
+
+impl Files for Edited {
+    fn read(&self, path: &str) -> Result<Vec<u8>, FileError> {
+        if path == self.path {
+            return Ok(self.text.as_bytes().to_vec());
+        }
+        FsFiles.read(path)
+    }
+}
+
+#[test]
+fn a_base_on_its_table_is_reported_at_check_time_rather_than_no_reach() {
+    // With its reach computed, a cell is checked as `cellc build` checks it: the base
+    // standing on the table would make every sample fail, so E0421 says why instead of
+    // E0423 saying nothing was found.
+    let path = "tests/ui/cli/support/base_on_table.cell";
+    let text = std::fs::read_to_string(path).expect("readable");
+    let auto = Edited {
+        path,
+        text: text.replace(
+            "reach left box center (0.5, 0, 0.95) size (0.3, 0.4, 0.4)",
+            "reach left auto",
+        ),
+    };
+    assert_ne!(auto.text, text);
+    let compilation = cellc::reach::compile(&auto, path);
+    let codes: Vec<&str> = compilation
+        .diagnostics
+        .iter()
+        .map(|d| d.code.as_str())
+        .collect();
+    assert_eq!(codes, ["E0421"], "{:?}", compilation.diagnostics);
+}

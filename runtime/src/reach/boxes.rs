@@ -1,6 +1,6 @@
 //! The grid of a region and the largest box of columns that count.
 
-use super::{MAX_BOXES_PER_REGION, MAX_POINTS_PER_AXIS, MIN_SHARE};
+use super::{MAX_BOXES_PER_REGION, MAX_POINTS_PER_AXIS, MIN_STEPS};
 use crate::math::{Aabb, Point};
 
 /// Points from `lo` to `hi`, both included, evenly spaced at most `spacing` apart (and
@@ -20,8 +20,8 @@ pub(super) fn points(lo: f64, hi: f64, spacing: f64) -> Vec<f64> {
 
 /// Boxes covering the columns that count: the largest (see [`largest`]), then the
 /// largest of what it leaves, and so on, up to [`MAX_BOXES_PER_REGION`], keeping each
-/// next box only while it holds at least [`MIN_SHARE`] of the first one's volume and is
-/// two grid steps wide at least. Boxes may share faces, never volume.
+/// next box only while it is [`MIN_STEPS`] grid steps wide at least along x and y.
+/// Boxes may share faces, never volume.
 pub(super) fn cover(
     xs: &[f64],
     ys: &[f64],
@@ -35,13 +35,8 @@ pub(super) fn cover(
         let Some((b, (i0, i1), (j0, j1))) = largest(xs, ys, zs, spans, &taken) else {
             break;
         };
-        // A later box must be worth a workspace: a share of the first, and no sliver
-        // one grid step wide.
-        let sliver = i1 - i0 < 2 || j1 - j0 < 2;
-        if found
-            .first()
-            .is_some_and(|first| sliver || b.volume() < MIN_SHARE * first.volume())
-        {
+        // A later box must be worth a workspace: no sliver narrower than MIN_STEPS.
+        if !found.is_empty() && (i1 - i0).min(j1 - j0) < MIN_STEPS {
             break;
         }
         for j in j0..j1 {
@@ -173,11 +168,13 @@ mod tests {
 
     #[test]
     fn an_l_shaped_reach_is_two_boxes_sharing_a_face_and_slivers_are_left_out() {
-        let xs = [0.0, 1.0, 2.0, 3.0, 4.0];
-        let ys = [0.0, 1.0, 2.0, 3.0, 4.0];
+        // Two steps make the narrowest box kept after the first.
+        let h = 0.05;
+        let xs = [0.0, h, 2.0 * h, 3.0 * h, 4.0 * h];
+        let ys = xs;
         let zs = [0.0, 1.0];
         let (o, c) = (None, Some((1, 1)));
-        // An L: y 0..2 along all of x, and x 0..2 up to y 4.
+        // An L: y 0..2 steps along all of x, and x 0..2 steps up to y 4 steps.
         #[rustfmt::skip]
         let spans = [
             c, c, c, c, c,
@@ -191,8 +188,11 @@ mod tests {
         assert_eq!(
             corners,
             [
-                (Point::new(0.0, 0.0, 0.0), Point::new(4.0, 2.0, 1.0)),
-                (Point::new(0.0, 2.0, 0.0), Point::new(2.0, 4.0, 1.0)),
+                (Point::new(0.0, 0.0, 0.0), Point::new(4.0 * h, 2.0 * h, 1.0)),
+                (
+                    Point::new(0.0, 2.0 * h, 0.0),
+                    Point::new(2.0 * h, 4.0 * h, 1.0)
+                ),
             ]
         );
         // One step narrower, the L's upright is a sliver.

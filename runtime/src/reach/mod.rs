@@ -1,56 +1,65 @@
-//! Reach from kinematics: where over each surface an arm can use every one of its grasps,
-//! as one box per surface (`reach ARM auto` in a cell).
+//! Reach from kinematics: where over each surface an arm can take its objects and hold
+//! them with every one of its grasps, as a few boxes per surface (`reach ARM auto` in a
+//! cell).
 //!
 //! # Method
 //!
 //! Over a surface's reach space (its top face extruded by its reach height) a grid of
-//! columns is laid, [`ReachOptions::spacing`] apart (both edges included), and each
-//! column is tried, independently of the others and with its own generator (seeded from
-//! the arm, the surface and the column, so the answer does not depend on threads):
+//! *columns* is laid, [`ReachOptions::spacing`] apart along x and y (both edges
+//! included), with *heights* twice that apart from the top face up. A column counts when
 //!
-//! 1. *Taking and leaving on the surface*: for every resting pose on the surface and
-//!    every grasp of the arm that a declared transition joins to it, the object resting
-//!    there (centred on the column) is taken with the grasp: inverse kinematics for the
-//!    hand's pose, then the state is checked as verification checks a rest (joint limits,
-//!    collisions with the other arms at home, the object resting on the surface and held).
-//! 2. *Holding above it*: at each height of the column, a spacing apart from the top face
-//!    up, for every grasp of the arm, the object upright at that point is held (as
-//!    verification's holds are); a height where the object would cut into the surface
-//!    counts for no grasp (no such pose exists). The column's height is the last of the
-//!    heights, from the bottom, at which every grasp holds.
+//! 1. every *take* works there: for every resting pose on the surface and every grasp of
+//!    the arm that a declared transition joins to it, the object resting centred on the
+//!    column is taken with the grasp (inverse kinematics for the hand's pose, then the
+//!    state as verification checks a rest: joint limits, collisions with the other arms
+//!    at home, the object resting on the surface and held); and
+//! 2. the object is *held* up the column: at each height, from the bottom up, some grasp
+//!    holds the object upright there (as verification's holds do), and every grasp holds
+//!    it at some height. A hold whose object or hand would come within [`CLEARANCE`] of
+//!    the surface is not asked for: objects there rest, they are taken rather than held.
+//!    The column counts for boxes whose top lies between the height by which every
+//!    grasp has held and the last height held.
 //!
 //! A test passes when some yaw of the object about the vertical works, of
-//! [`ReachOptions::yaws`] evenly spaced from a drawn offset (a symmetric object may be
-//! taken at any of them; any other is wherever it is placed, so its box promises that
-//! some approach works, as a hand-written box does). A column counts when all
-//! of its tests of step 1 pass and at least one state was solved; the box is then the
-//! largest by volume whose grid columns all count and reach its top (from the top face
-//! up: objects rest there). Columns beyond the arm's reach (the sum of its links, its
-//! tip offset and its longest grasp, from the base) fail without a solve.
+//! [`ReachOptions::yaws`] evenly spaced from an offset drawn once per row (a symmetric
+//! object may be taken at any of them; any other stands wherever it is placed, so the
+//! box promises that some approach works, as a hand-written box does). Columns beyond
+//! the arm's reach (the sum of its links, its tip offset and its longest grasp, from the
+//! base) fail without a solve.
+//!
+//! The grid is tried at twice the spacing first, then at the spacing only near columns
+//! that counted. Rows run in parallel; along a row, each test is seeded with what worked
+//! in the column before (neighbouring poses have neighbouring solutions), and each row
+//! draws from its own generator, seeded from the seed, the arm, the surface and the row,
+//! so the answer does not depend on threads. The boxes are the largest by volume from
+//! the top face up whose grid cells have counting corners, then the largest of what is
+//! left, while it is worth a workspace ([`MAX_BOXES_PER_REGION`], [`MIN_STEPS`]). A column
+//! that failed between columns that count is tried again with more effort first: one
+//! cheap miss would split the boxes.
 //!
 //! # Error
 //!
-//! Only grid points are tried: a face of the box lies on the last column (or height)
-//! that passed, so it is up to one spacing inside where reach really ends, and a hole
-//! narrower than a spacing between tried points goes unseen. Each test tries the seeded
-//! restarts of [`ReachOptions::ik`]: a point that needs more is counted out (the box
-//! errs small). `docs/language.md` gives the measured error on the Vito cell.
+//! Only grid points are tried: a face of a box lies on the last column (or height) that
+//! passed, so up to one spacing inside where reach really ends, and a hole narrower than
+//! a spacing between tried points goes unseen. Each test tries the seeded restarts of
+//! [`ReachOptions::ik`]: a point that needs more is counted out (the box errs small), and
+//! the largest boxes leave out reach that is not box-shaped. `docs/language.md` gives the
+//! error measured on the Vito cell.
 
 mod boxes;
+mod column;
+
+pub use column::CLEARANCE;
 
 use std::time::{Duration, Instant};
 
 use cellc_schema::{self as schema, Artifact, EndEffectorId};
-use parry3d_f64::query;
-use rand::{Rng, SeedableRng};
+use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
-use rayon::prelude::*;
 
-use crate::kinematics::{solve_ik, IkError, IkOptions, IkTarget};
-use crate::math::{iso_from_schema, Aabb, Iso, Point, Quat, Vec3};
-use crate::scene::{Holder, ObjectPlacement, Scene, SceneScratch};
-use crate::termination::Termination;
-use crate::validity::{SceneValidity, StateValidity};
+use crate::kinematics::IkOptions;
+use crate::math::{iso_from_schema, Aabb, Iso};
+use crate::scene::{Holder, PlacedShape, Scene};
 
 /// How reach is sampled.
 #[derive(Clone, Debug)]
@@ -59,7 +68,7 @@ pub struct ReachOptions {
     /// [`MAX_POINTS_PER_AXIS`] columns along an axis: a larger surface gets a coarser
     /// grid).
     pub spacing: f64,
-    /// Yaws tried for an object that is not symmetric about the vertical.
+    /// Yaws of the object about the vertical tried per test.
     pub yaws: u32,
     /// Inverse kinematics of each test.
     pub ik: IkOptions,
@@ -74,9 +83,9 @@ pub const MAX_POINTS_PER_AXIS: usize = 41;
 /// (reach over a table beside a torso is an L more often than a rectangle).
 pub const MAX_BOXES_PER_REGION: usize = 3;
 
-/// A box after the first is kept when it holds at least this share of the first's
-/// volume; smaller ones would only cut workspaces into slivers.
-pub const MIN_SHARE: f64 = 0.2;
+/// A box after the first is kept when it is at least this many grid steps wide along x
+/// and y; narrower ones would only cut workspaces into slivers.
+pub const MIN_STEPS: usize = 2;
 
 impl Default for ReachOptions {
     fn default() -> ReachOptions {
@@ -154,10 +163,6 @@ impl Grip {
     }
 }
 
-/// How much farther than a turn of the object could explain an inverse-kinematics miss
-/// must be for the other yaws to be skipped, metres.
-const FAR_MISS: f64 = 0.05;
-
 /// A resting pose on the surface taken with one of the arm's grasps.
 #[derive(Clone, Copy, Debug)]
 struct Take {
@@ -175,7 +180,7 @@ struct Arm<'a> {
     home: &'a [f64],
     grips: Vec<Grip>,
     /// The solids of its hand, in the hand frame.
-    hand: &'a [crate::scene::PlacedShape],
+    hand: &'a [PlacedShape],
     /// How far from the base origin any object it holds can be.
     radius: f64,
     options: &'a ReachOptions,
@@ -261,306 +266,6 @@ fn grips(artifact: &Artifact, e: EndEffectorId) -> Vec<Grip> {
         }
     }
     out
-}
-
-/// How close (metres) to the surface a hold's object or hand may come before the hold
-/// is not asked for (see [`Arm::cuts_into`]).
-const CLEARANCE: f64 = 0.01;
-
-/// What one column's tests draw from and count.
-struct Trial<'a> {
-    rng: &'a mut ChaCha8Rng,
-    scratch: &'a mut SceneScratch,
-    solves: u64,
-}
-
-/// What a test leaves for the same test in the next column of the row: the yaws'
-/// offset, drawn once per row, and the yaw and solution that last worked (the next
-/// column's first seed: neighbouring poses have neighbouring solutions).
-#[derive(Clone, Debug, Default)]
-struct Memory {
-    offset: Option<f64>,
-    worked: Option<(u32, Vec<f64>)>,
-}
-
-/// The memories of one row: per take, per grasp and height, and per grasp the height at
-/// which it first held in the last column where it did.
-struct RowMemory {
-    takes: Vec<Memory>,
-    holds: Vec<Vec<Memory>>,
-    first: Vec<Option<usize>>,
-}
-
-/// One column's verdict.
-#[derive(Clone, Copy, Debug, Default)]
-struct Column {
-    /// Every take from the surface worked, and every grasp held somewhere.
-    counts: bool,
-    /// The height index by which every grasp has held at least once.
-    complete: usize,
-    /// The highest height index up to which some grasp holds at every height, from the
-    /// bottom up.
-    top: usize,
-    /// Whether it was tried at all (the fine grid skips columns far from reach).
-    tried: bool,
-    solves: u64,
-}
-
-impl Arm<'_> {
-    /// The boxes over one region, the columns tried and the solves run: a coarse grid
-    /// (twice the spacing) first, then the fine grid where a coarse column that counts
-    /// is near, so that most of a large surface out of reach costs a quarter of its
-    /// columns.
-    fn region(&self, artifact: &Artifact, region: &Region) -> (Vec<Aabb>, u64, u64) {
-        let Some(Holder::Surface { slab, .. }) = self.scene.holders.get(region.surface.index())
-        else {
-            return (Vec::new(), 0, 0);
-        };
-        let takes = takes(artifact, self, region.surface);
-        let space = &region.space;
-        let grid = |spacing: f64| {
-            (
-                boxes::points(space.mins.x, space.maxs.x, spacing),
-                boxes::points(space.mins.y, space.maxs.y, spacing),
-            )
-        };
-        // Heights twice the spacing apart: reach changes slowly with height over a
-        // surface, and holds are most of the cost.
-        let zs = boxes::points(space.mins.z, space.maxs.z, 2.0 * self.options.spacing);
-        let surface = (region.surface.0, slab);
-        let coarse_spacing = 2.0 * self.options.spacing;
-        let (cxs, cys) = grid(coarse_spacing);
-        let coarse = self.columns(surface, &takes, (&cxs, &cys), &zs, 0, &|_, _| true);
-        let near: Vec<(f64, f64)> = coarse
-            .iter()
-            .enumerate()
-            .filter(|(_, c)| c.counts)
-            .map(|(c, _)| (cxs[c % cxs.len()], cys[c / cxs.len()]))
-            .collect();
-        let reach = coarse_spacing * (1.0 + 1e-9);
-        let wanted = |x: f64, y: f64| {
-            near.iter()
-                .any(|&(cx, cy)| (x - cx).abs() <= reach && (y - cy).abs() <= reach)
-        };
-        let (xs, ys) = grid(self.options.spacing);
-        let fine = self.columns(surface, &takes, (&xs, &ys), &zs, 1, &wanted);
-        let tried = (coarse.len() + fine.iter().filter(|c| c.tried).count()) as u64;
-        let solves = coarse.iter().chain(&fine).map(|c| c.solves).sum();
-        let spans: Vec<Option<(usize, usize)>> = fine
-            .iter()
-            .map(|c| c.counts.then_some((c.complete, c.top)))
-            .collect();
-        (boxes::cover(&xs, &ys, &zs, &spans), tried, solves)
-    }
-
-    /// Tries the columns of a grid that are `wanted` (the others do not count), rows
-    /// (along x) in parallel, each column of a row seeded with what worked in the one
-    /// before it. `pass` tells the generators of two grids apart.
-    fn columns(
-        &self,
-        surface: (u32, &Aabb),
-        takes: &[Take],
-        (xs, ys): (&[f64], &[f64]),
-        zs: &[f64],
-        pass: u64,
-        wanted: &(dyn Fn(f64, f64) -> bool + Sync),
-    ) -> Vec<Column> {
-        let rows: Vec<Vec<Column>> = ys
-            .par_iter()
-            .enumerate()
-            .map_init(SceneScratch::default, |scratch, (j, &y)| {
-                let row = (pass << 32) | j as u64;
-                let mut rng = rng_for(self.options.seed, self.e, surface.0, row);
-                let mut memory = RowMemory {
-                    takes: vec![Memory::default(); takes.len()],
-                    holds: vec![vec![Memory::default(); zs.len()]; self.grips.len()],
-                    first: vec![None; self.grips.len()],
-                };
-                let mut trial = Trial {
-                    rng: &mut rng,
-                    scratch,
-                    solves: 0,
-                };
-                xs.iter()
-                    .map(|&x| {
-                        if !wanted(x, y) {
-                            return Column::default();
-                        }
-                        let before = trial.solves;
-                        let mut column =
-                            self.column(surface, takes, (x, y), zs, &mut memory, &mut trial);
-                        column.solves = trial.solves - before;
-                        column.tried = true;
-                        column
-                    })
-                    .collect()
-            })
-            .collect();
-        rows.into_iter().flatten().collect()
-    }
-
-    /// Tries one column at (x, y): the takes from the surface, then the holds at each
-    /// height from the bottom up.
-    fn column(
-        &self,
-        (surface, slab): (u32, &Aabb),
-        takes: &[Take],
-        (x, y): (f64, f64),
-        zs: &[f64],
-        memory: &mut RowMemory,
-        trial: &mut Trial<'_>,
-    ) -> Column {
-        let mut column = Column::default();
-        for (take, memory) in takes.iter().zip(&mut memory.takes) {
-            let at = Iso::translation(x, y, slab.maxs.z) * take.rest;
-            if !self.test(take.grip, at, Some(surface), memory, trial) {
-                return column;
-            }
-        }
-        // Up the column: at each height some grasp must hold (or none be asked for, the
-        // object or hand too close to the surface), and each grasp must hold at some
-        // height. A grasp that held already is tried again only until another holds at
-        // the height.
-        let mut first: Vec<Option<usize>> = vec![None; self.grips.len()];
-        // Each grasp is tried first where it first held in the column before, so that a
-        // grasp that holds only high up (a hand under the object) is not tried at every
-        // height on the way.
-        for (g, grip) in self.grips.iter().enumerate() {
-            let Some(k) = memory.first[g] else { continue };
-            let at = Iso::translation(x, y, zs[k]);
-            if !self.cuts_into(grip, &at, slab)
-                && self.test(*grip, at, None, &mut memory.holds[g][k], trial)
-            {
-                first[g] = Some(k);
-            }
-        }
-        for (k, &z) in zs.iter().enumerate().skip(1) {
-            let at = Iso::translation(x, y, z);
-            let (mut asked, mut held) = (false, false);
-            for ((grip, memory), first) in self.grips.iter().zip(&mut memory.holds).zip(&mut first)
-            {
-                if (held && first.is_some()) || self.cuts_into(grip, &at, slab) {
-                    continue;
-                }
-                asked = true;
-                if self.test(*grip, at, None, &mut memory[k], trial) {
-                    held = true;
-                    first.get_or_insert(k);
-                }
-            }
-            if asked && !held {
-                break;
-            }
-            column.top = k;
-        }
-        for (remembered, found) in memory.first.iter_mut().zip(&first) {
-            if found.is_some() {
-                *remembered = *found;
-            }
-        }
-        let complete = first.iter().try_fold(0, |most, f| f.map(|k| most.max(k)));
-        column.counts = complete.is_some();
-        column.complete = complete.unwrap_or(usize::MAX);
-        column
-    }
-
-    /// Whether the object held with `grip` at `pose`, or the hand holding it, comes
-    /// within [`CLEARANCE`] of the slab (at any yaw): such a hold is not asked for, so
-    /// the height counts for that grasp neither way. Objects on the surface are taken
-    /// from it (step 1); holding them just over it is no task of a cell.
-    fn cuts_into(&self, grip: &Grip, pose: &Iso, slab: &Aabb) -> bool {
-        let half = (slab.maxs - slab.mins) / 2.0;
-        let centre = Iso::translation(
-            slab.mins.x + half.x,
-            slab.mins.y + half.y,
-            slab.mins.z + half.z,
-        );
-        let cuboid = parry3d_f64::shape::Cuboid::new(half);
-        let cuts = |shape: &crate::scene::PlacedShape, at: Iso| {
-            query::distance(&(at * shape.local), shape.shape.as_ref(), &centre, &cuboid)
-                .map_or(true, |d| d < CLEARANCE)
-        };
-        // The hand turns with the yaw about the object's centre: its lowest reach is the
-        // same at every yaw for the object, and a hand solid's height too.
-        let hand = *pose * grip.grasp.inverse();
-        self.scene.object_shapes[grip.object as usize]
-            .iter()
-            .any(|s| cuts(s, *pose))
-            || self.hand.iter().any(|s| cuts(s, hand))
-    }
-
-    /// Whether the arm holds the object with `grip` at `pose` turned about the vertical
-    /// by some yaw tried, the object resting on surface `resting` when given. The yaw and
-    /// the solution that work are kept in `memory`, tried first the next time.
-    fn test(
-        &self,
-        grip: Grip,
-        pose: Iso,
-        resting: Option<u32>,
-        memory: &mut Memory,
-        trial: &mut Trial<'_>,
-    ) -> bool {
-        let centre = Point::from(pose.translation.vector);
-        if (centre - Point::from(self.base.translation.vector)).norm() > self.radius {
-            return false;
-        }
-        let n = self.options.yaws.max(1);
-        let offset = *memory
-            .offset
-            .get_or_insert_with(|| trial.rng.random::<f64>() * std::f64::consts::TAU);
-        let first = memory.worked.as_ref().map_or(0, |(i, _)| *i);
-        for step in 0..n {
-            let i = (first + step) % n;
-            let yaw = offset + std::f64::consts::TAU * f64::from(i) / f64::from(n);
-            let turn = Quat::from_axis_angle(&Vec3::z_axis(), yaw);
-            // Turned about the vertical through the object's centre.
-            let object_pose = Iso::from_parts(pose.translation, turn * pose.rotation);
-            let tip = object_pose * grip.grasp.inverse();
-            let seed = match &memory.worked {
-                Some((j, q)) if *j == i => q.as_slice(),
-                _ => self.home,
-            };
-            trial.solves += 1;
-            let q = match solve_ik(
-                self.robot,
-                &self.base,
-                &IkTarget::Pose(tip),
-                seed,
-                trial.rng,
-                &self.options.ik,
-                &Termination::never(),
-            ) {
-                Ok(q) => q,
-                // Another yaw moves the hand by at most twice the grasp's reach across
-                // the vertical: a miss by more is a miss at every yaw.
-                Err(IkError::NotConverged { position_error, .. })
-                    if position_error > 2.0 * grip.across + FAR_MISS =>
-                {
-                    return false;
-                }
-                Err(_) => continue,
-            };
-            let placement = match resting {
-                Some(on) => ObjectPlacement::Resting {
-                    on,
-                    pose: object_pose,
-                    by: Some(self.e),
-                },
-                None => ObjectPlacement::Held {
-                    by: self.e,
-                    grasp: grip.grasp,
-                },
-            };
-            let free = SceneValidity::new(self.scene, &[self.e], &[], grip.object, placement)
-                .ok()
-                .and_then(|v| v.is_valid(&q, trial.scratch).ok());
-            if free == Some(true) {
-                memory.worked = Some((i, q));
-                return true;
-            }
-        }
-        false
-    }
 }
 
 /// The takes of arm `arm` from `surface`: every resting pose on it joined by a declared
