@@ -510,7 +510,9 @@ pub struct ReachItem {
 }
 
 /// What a `reach` line gives.
+// As for `Item`: a box written is the common case, boxing it buys nothing.
 #[derive(Clone, Debug, PartialEq)]
+#[allow(clippy::large_enum_variant)]
 pub enum ReachExtent {
     /// A box, as written.
     Box(Aabb),

@@ -32,7 +32,12 @@ pub(super) fn cover(
     let mut taken = vec![false; cells];
     let mut found: Vec<Aabb> = Vec::new();
     while found.len() < MAX_BOXES_PER_REGION {
-        let Some((b, (i0, i1), (j0, j1))) = largest(xs, ys, zs, spans, &taken) else {
+        let Some(Found {
+            aabb: b,
+            cells_x: (i0, i1),
+            cells_y: (j0, j1),
+        }) = largest(xs, ys, zs, spans, &taken)
+        else {
             break;
         };
         // A later box must be worth a workspace: no sliver narrower than MIN_STEPS.
@@ -49,26 +54,35 @@ pub(super) fn cover(
     found
 }
 
+/// A box of grid cells: its corners, and its cells' ranges along x and y (first, one past
+/// the last).
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Found {
+    aabb: Aabb,
+    cells_x: (usize, usize),
+    cells_y: (usize, usize),
+}
+
 /// The largest box by volume, from `zs[0]` up to some `zs[t]`, over grid cells none of
 /// which is `taken` and whose corner columns all count at `t`: column
 /// `spans[i + j * xs.len()]` is `None` when it does not count at all, and
 /// `Some((lo, hi))` when it counts for a box whose top is at `zs[lo]` to `zs[hi]` (every
-/// grasp has held by `lo`; some grasp holds at every height up to `hi`). Returns the box
-/// with its cells' ranges along x and y. Ties go to the first found (lowest top, then
-/// lowest y, then lowest x), so the answer is the same on every run.
+/// grasp has held by `lo`; some grasp holds at every height up to `hi`). Ties go to the
+/// first found (lowest top, then lowest y, then lowest x), so the answer is the same on
+/// every run.
 fn largest(
     xs: &[f64],
     ys: &[f64],
     zs: &[f64],
     spans: &[Option<(usize, usize)>],
     taken: &[bool],
-) -> Option<(Aabb, (usize, usize), (usize, usize))> {
+) -> Option<Found> {
     let (nx, ny) = (xs.len(), ys.len());
     if spans.len() != nx * ny || nx < 2 || ny < 2 || zs.len() < 2 {
         return None;
     }
     let (cx, cy) = (nx - 1, ny - 1);
-    let mut best: Option<(f64, (Aabb, (usize, usize), (usize, usize)))> = None;
+    let mut best: Option<(f64, Found)> = None;
     let mut strip = vec![false; cx];
     for t in 1..zs.len() {
         let height = zs[t] - zs[0];
@@ -101,7 +115,12 @@ fn largest(
                                     Point::new(xs[i0], ys[j0], zs[0]),
                                     Point::new(xs[i], ys[j1 + 1], zs[t]),
                                 );
-                                best = Some((volume, (b, (i0, i), (j0, j1 + 1))));
+                                let found = Found {
+                                    aabb: b,
+                                    cells_x: (i0, i),
+                                    cells_y: (j0, j1 + 1),
+                                };
+                                best = Some((volume, found));
                             }
                         }
                         _ => {}
@@ -143,7 +162,7 @@ mod tests {
         ];
         let none = [false; 6];
         // Tall: 1 x 1 x 1 = 1; low: 3 x 2 x 0.5 = 3.
-        let (b, _, _) = largest(&xs, &ys, &zs, &spans, &none).expect("a box");
+        let b = largest(&xs, &ys, &zs, &spans, &none).expect("a box").aabb;
         assert_eq!(
             (b.mins, b.maxs),
             (Point::new(0.0, 0.0, 0.0), Point::new(3.0, 2.0, 0.5))
@@ -151,7 +170,7 @@ mod tests {
         // A column that does not count splits the block.
         let mut holed = spans;
         holed[1 + 4] = None;
-        let (b, _, _) = largest(&xs, &ys, &zs, &holed, &none).expect("a box");
+        let b = largest(&xs, &ys, &zs, &holed, &none).expect("a box").aabb;
         assert_eq!(
             (b.mins, b.maxs),
             (Point::new(2.0, 0.0, 0.0), Point::new(3.0, 2.0, 0.5))
@@ -162,7 +181,7 @@ mod tests {
         assert_eq!(largest(&xs, &ys, &zs, &[None; 12], &none), None);
         // A column whose grasps have not all held by a height does not count below it.
         let late = [Some((2, 2)); 12];
-        let (b, _, _) = largest(&xs, &ys, &zs, &late, &none).expect("a box");
+        let b = largest(&xs, &ys, &zs, &late, &none).expect("a box").aabb;
         assert_eq!(b.maxs.z, 1.0);
     }
 
