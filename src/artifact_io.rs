@@ -92,39 +92,42 @@ pub fn cell_or_artifact_reporting(
     report: Report,
     options: &cellc_compiler::CompileOptions,
 ) -> Option<Artifact> {
-    // Human text ends with a summary line after a compilation's errors.
-    let emit = |diagnostics: &[Diagnostic], sources: &SourceMap, summary: bool| {
-        report.emit(diagnostics, sources);
-        if summary && report == Report::Human {
-            eprintln!("{}", render::summary(diagnostics));
-        }
-    };
     if path.ends_with(".cell") {
-        let compilation = cellc_compiler::compile_with(&FsFiles, path, options);
-        let errors: Vec<Diagnostic> = compilation
-            .diagnostics
-            .iter()
-            .filter(|d| d.is_error())
-            .cloned()
-            .collect();
-        if !errors.is_empty() || compilation.cell.is_none() {
-            emit(&errors, &compilation.sources, true);
-            return None;
-        }
-        let cell = compilation.cell.as_ref()?;
-        return Some(cellc_compiler::artifact::lower(
-            cell,
-            &compilation.graphs,
-            &compilation.sources,
-        ));
+        return compiled_cell(path, report, options).map(|(artifact, _)| artifact);
     }
     match read(path) {
         Ok(artifact) => Some(artifact),
         Err(d) => {
-            emit(&[d], &SourceMap::new(), false);
+            report.emit(&[d], &SourceMap::new());
             None
         }
     }
+}
+
+/// A `.cell` file compiled now, with its compilation (for what only a compilation knows,
+/// such as how long `reach auto` took), or `None` after reporting its errors as `report`
+/// says (human text ends with a summary line).
+pub fn compiled_cell(
+    path: &str,
+    report: Report,
+    options: &cellc_compiler::CompileOptions,
+) -> Option<(Artifact, cellc_compiler::Compilation)> {
+    let compilation = crate::reach::compile(&FsFiles, path, options);
+    let errors: Vec<Diagnostic> = compilation
+        .diagnostics
+        .iter()
+        .filter(|d| d.is_error())
+        .cloned()
+        .collect();
+    let Some(cell) = compilation.cell.as_ref().filter(|_| errors.is_empty()) else {
+        report.emit(&errors, &compilation.sources);
+        if report == Report::Human {
+            eprintln!("{}", render::summary(&errors));
+        }
+        return None;
+    };
+    let artifact = cellc_compiler::artifact::lower(cell, &compilation.graphs, &compilation.sources);
+    Some((artifact, compilation))
 }
 
 /// Applies `f` to every file path an artifact holds (sources, URDFs, SRDFs, meshes).

@@ -49,7 +49,10 @@ pub fn edit(
         } => {
             let obj = artifact.objects.get(object.index())?;
             let grasp = |g: cellc_schema::GraspId| obj.grasps.get(g.index()).map(|x| &x.name);
-            let (from, to) = (name(grasp(*from_grasp)?), name(grasp(*to_grasp)?));
+            let (from, to) = (
+                written_name(grasp(*from_grasp)?),
+                written_name(grasp(*to_grasp)?),
+            );
             match reverse_of {
                 Some(span) => {
                     let (file, place, text) = at.span(span.0)?;
@@ -104,7 +107,11 @@ pub fn edit(
                 .filter_map(|s| at.span(s))
                 .max_by_key(|(f, place, _)| (*f, place.end));
             let (file, anchor, _) = declared.or_else(|| at.span(wb.span))?;
-            let line = format!("adjacent {} {}", name(&wa.name), name(&wb.name));
+            let line = format!(
+                "adjacent {} {}",
+                written_name(&wa.name),
+                written_name(&wb.name)
+            );
             at.line_after(file, anchor, &line)
         }
         Change::ExtendReaches {
@@ -130,7 +137,7 @@ pub fn edit(
             Some(SourceEdit {
                 file,
                 span: Span::new(end, end),
-                text: format!("{separator}{}", name(&w.name)),
+                text: format!("{separator}{}", written_name(&w.name)),
             })
         }
         Change::GrowReach {
@@ -153,16 +160,23 @@ pub fn edit(
                 None => {
                     let (file, place, _) = at.span(e.span)?;
                     let units = at.units(file)?;
-                    let line = format!("reach {} {}", name(&e.name), box_text(grown, units));
+                    let line =
+                        format!("reach {} {}", written_name(&e.name), box_text(grown, units));
                     at.line_after(file, place, &line)
                 }
             }
         }
         Change::AllowContact { a, b, .. } => {
-            let line = format!("allow contact {} {}", body(a), body(b));
-            at.line_before_end(FileId(0), &line)
+            let line = format!("allow contact {} {}", written_body(a), written_body(b));
+            allow_contact(artifact, &line, sources)
         }
     }
+}
+
+/// The edit that adds `line` (an `allow contact A B` line) to the cell: the last line of
+/// its main file's block, where the cell's own contacts go.
+pub fn allow_contact(artifact: &Artifact, line: &str, sources: &SourceMap) -> Option<SourceEdit> {
+    Places { artifact, sources }.line_before_end(FileId(0), line)
 }
 
 /// Applies edits of one file to its text, from the last to the first (so each span still
@@ -275,12 +289,15 @@ impl<'a> Places<'a> {
                     units,
                     diagnostics: &mut Vec::new(),
                 };
-                let b = eval.aabb(&reach.aabb)?;
+                let ast::ReachExtent::Box(written) = &reach.extent else {
+                    return None;
+                };
+                let b = eval.aabb(written)?;
                 let same = (0..3).all(|k| {
                     (b.mins[k] - old.min[k]).abs() < SAME_BOX
                         && (b.maxs[k] - old.max[k]).abs() < SAME_BOX
                 });
-                same.then_some((file, reach.aabb.span, units))
+                same.then_some((file, written.span, units))
             })
         })
     }
@@ -288,7 +305,7 @@ impl<'a> Places<'a> {
 
 /// A name as the language writes it: quoted when it is not a plain identifier or is a
 /// reserved word.
-fn name(text: &str) -> String {
+pub fn written_name(text: &str) -> String {
     if ast::needs_quotes(text) || cellc_lang::phrases::RESERVED.contains(&text) {
         format!("`{text}`")
     } else {
@@ -297,10 +314,10 @@ fn name(text: &str) -> String {
 }
 
 /// `left`, `left.lwr_link_7`.
-fn body(b: &BodyName) -> String {
+pub fn written_body(b: &BodyName) -> String {
     match &b.part {
-        Some(part) => format!("{}.{}", name(&b.owner), name(part)),
-        None => name(&b.owner),
+        Some(part) => format!("{}.{}", written_name(&b.owner), written_name(part)),
+        None => written_name(&b.owner),
     }
 }
 

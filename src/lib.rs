@@ -14,8 +14,10 @@ pub mod import;
 pub mod output;
 pub mod packages;
 pub mod plan_report;
+pub mod reach;
 pub mod render;
 pub mod runtime_codes;
+pub mod scene_report;
 pub mod snippet;
 pub mod verify_report;
 
@@ -29,6 +31,7 @@ pub fn all_codes() -> Vec<cellc_lang::Code> {
     codes.extend_from_slice(cellc_compiler::diagnostics::codes::ALL);
     codes.extend_from_slice(artifact_io::codes::ALL);
     codes.extend_from_slice(verify_report::codes::ALL);
+    codes.extend_from_slice(scene_report::codes::ALL);
     codes.extend_from_slice(plan_report::codes::ALL);
     codes.extend_from_slice(output::codes::ALL);
     codes.extend_from_slice(import::diagnostics::codes::ALL);

@@ -43,7 +43,8 @@ fn pages_show_real_output() {
             stale.push(format!("{path}: no ```cell example"));
             continue;
         };
-        let compilation = cellc_compiler::compile(&PageFiles { example }, "pick.cell");
+        let compilation =
+            cellc::reach::compile(&PageFiles { example }, "pick.cell", &Default::default());
         let mut real = cellc::render::human(
             &compilation.diagnostics,
             &compilation.sources,

@@ -36,7 +36,7 @@ fn ui() {
             failures.push(format!("{relative}: first line must be `// expect: CODE`"));
             return;
         };
-        let compilation = cellc_compiler::compile(&FsFiles, &relative);
+        let compilation = cellc::reach::compile(&FsFiles, &relative, &Default::default());
         let produced: BTreeSet<&str> = compilation
             .diagnostics
             .iter()

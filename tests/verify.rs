@@ -297,9 +297,17 @@ fn runtime_ui() {
                 &artifact.robots,
                 &artifact.spans,
             )],
+            // As `cellc build` does: the scene as a whole first, then every arc unless the
+            // scene is wrong whatever the arc.
             Ok(scene) => {
-                verify(&mut artifact, &scene, &VerifyOptions::default(), &|_, _| {});
-                cellc::verify_report::pruned_warnings(&artifact)
+                let preflight = cellc_runtime::verify::preflight::preflight(&artifact, &scene);
+                let mut found =
+                    cellc::scene_report::diagnostics(&artifact, &preflight, &compilation.sources);
+                if !preflight.blocks_verification() {
+                    verify(&mut artifact, &scene, &VerifyOptions::default(), &|_, _| {});
+                    found.extend(cellc::verify_report::pruned_warnings(&artifact));
+                }
+                found
             }
         };
         let codes: Vec<&str> = diagnostics.iter().map(|d| d.code.as_str()).collect();

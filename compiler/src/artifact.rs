@@ -215,6 +215,29 @@ fn placement(
     }
 }
 
+/// The scene part of a cell resolved so far, as an artifact: robots, end-effectors (with
+/// the reach written so far), holder kinds, objects with their grasps and declared
+/// transitions, obstacles and allowed contacts; no workspaces, empty graphs, no
+/// requests. What [`crate::reach::ReachSolver`] builds a scene from, before workspaces
+/// are derived.
+pub fn lower_scene(cell: &Cell, sources: &SourceMap) -> schema::Artifact {
+    let empty: Vec<ObjectGraph> = cell
+        .objects
+        .iter()
+        .map(|(object, _)| ObjectGraph::empty(object))
+        .collect();
+    let mut artifact = lower(cell, &empty, sources);
+    artifact.workspaces.clear();
+    artifact.requests.clear();
+    artifact.world.clear();
+    artifact.tasks.clear();
+    artifact.adjacency = None;
+    for e in &mut artifact.end_effectors {
+        e.reaches.clear();
+    }
+    artifact
+}
+
 /// The artifact form of one object; `transitions` are its own (indices into
 /// [`Cell::transitions`], in order), so lowering every object costs the transitions once.
 fn lower_object(

@@ -46,7 +46,9 @@ fn check_requests(cell: &Cell, diagnostics: &mut Vec<Diagnostic>) {
 
 fn check_reach(cell: &Cell, diagnostics: &mut Vec<Diagnostic>) {
     for (_, e) in cell.end_effectors.iter() {
-        if matches!(e.body, Body::Arm { .. }) && e.reach_boxes.is_empty() {
+        // `reach auto` that found nothing is reported where it was written (E0423).
+        if matches!(e.body, Body::Arm { .. }) && e.reach_boxes.is_empty() && e.reach_auto.is_none()
+        {
             diagnostics.push(diagnostics::no_reach(&e.name, e.origin));
         }
     }

@@ -71,6 +71,16 @@ pub struct ObjectGraph {
 }
 
 impl ObjectGraph {
+    /// The graph of `object` with no states (the scene of `reach auto` is lowered before
+    /// any graph is built).
+    pub fn empty(object: ObjectId) -> ObjectGraph {
+        ObjectGraph {
+            object,
+            graph: DiGraph::new(),
+            index: HashMap::new(),
+        }
+    }
+
     /// The node of a state, if the state exists.
     pub fn node(&self, state: State) -> Option<NodeIndex> {
         self.index.get(&state).copied()

@@ -2,7 +2,8 @@
 //! graphs.
 //!
 //! Pipeline: [`load`] (read and parse the main file and its includes) -> [`resolve`]
-//! (names to typed ids, quantities to SI) -> [`workspaces`] (derive workspaces, compute
+//! (names to typed ids, quantities to SI; [`reach`] for `reach ARM auto`, through a
+//! [`reach::ReachSolver`]) -> [`workspaces`] (derive workspaces, compute
 //! reach) -> [`checks`] -> [`budget`] (the graphs' size, counted) -> [`graph`] (one graph
 //! per object) -> [`expect`] (the cell's own
 //! requirements). [`compile`] runs it all. The compiler does no I/O: files come through
@@ -20,6 +21,7 @@ pub mod load;
 pub mod math;
 pub mod merge;
 pub mod model;
+pub mod reach;
 pub mod resolve;
 mod srdf;
 pub mod units;
@@ -61,13 +63,25 @@ pub struct CompileOptions {
     pub package_path: Vec<String>,
 }
 
-/// Compiles the cell at `path` (no package path besides the cell's `package` items).
+/// Compiles the cell at `path` without kinematics and with no package path besides the
+/// cell's `package` items: `reach ARM auto` is an error (E0423) that says to compile with
+/// `cellc`, which passes the runtime to [`compile_with`].
 pub fn compile(files: &dyn Files, path: &str) -> Compilation {
-    compile_with(files, path, &CompileOptions::default())
+    compile_with(
+        files,
+        &reach::NoReachSolver,
+        path,
+        &CompileOptions::default(),
+    )
 }
 
-/// Compiles the cell at `path` with `options`.
-pub fn compile_with(files: &dyn Files, path: &str, options: &CompileOptions) -> Compilation {
+/// Compiles the cell at `path` with `options`, computing `reach ARM auto` with `reach`.
+pub fn compile_with(
+    files: &dyn Files,
+    reach: &dyn reach::ReachSolver,
+    path: &str,
+    options: &CompileOptions,
+) -> Compilation {
     let loaded = load::load(files, path);
     let mut diagnostics = loaded.diagnostics.clone();
     // Items that failed to parse are missing from the trees, so resolving anyway would
@@ -80,7 +94,7 @@ pub fn compile_with(files: &dyn Files, path: &str, options: &CompileOptions) -> 
     let mut cell = None;
     let mut graphs = Vec::new();
     if main_parsed {
-        let resolved = resolve::resolve(files, &loaded, options, &mut diagnostics);
+        let resolved = resolve::resolve(files, reach, &loaded, options, &mut diagnostics);
         checks::check_cell(&resolved, &mut diagnostics);
         // Graph-level findings on a cell that already has errors would mostly repeat
         // them in other words, so they wait until the cell is clean.

@@ -194,8 +194,10 @@ pub struct EndEffector {
     pub kind: Option<HolderKindId>,
     /// Physical body.
     pub body: Body,
-    /// Reach cuboids (geometric cells).
+    /// Reach cuboids (geometric cells): declared, and computed for `reach auto`.
     pub reach_boxes: Vec<Aabb>,
+    /// The `reach NAME auto` line, when the arm's reach is computed from its kinematics.
+    pub reach_auto: Option<Origin>,
     /// Workspaces this end-effector reaches, sorted.
     pub reaches: Vec<WorkspaceId>,
     /// Declaration.
@@ -438,6 +440,9 @@ pub struct Cell {
     /// Pairs of bodies that may touch (`allow contact`), by collision-body name
     /// (`left`, `left/lwr_link_7`, `table`).
     pub allowed_contacts: Vec<(String, String, Origin)>,
+    /// What `reach auto` computed, per arm that asked (for `cellc info`; its boxes are in
+    /// the arms' `reach_boxes`).
+    pub auto_reach: Vec<crate::reach::AutoReach>,
 }
 
 impl Cell {

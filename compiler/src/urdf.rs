@@ -328,6 +328,18 @@ fn check_chain(
         ));
         return None;
     };
+    // A tip on a finger would make the finger an axis of the arm.
+    if let Some(finger) = chain.finger_joint() {
+        diagnostics.push(diagnostics::finger_on_chain(
+            &finger.joint.name,
+            (finger.joint.upper - finger.joint.lower).abs(),
+            finger.parent,
+            &tip,
+            file,
+            item.tip.as_ref().map_or(item.span, |t| t.span),
+        ));
+        return None;
+    }
     // The compiler records the joints the runtime will move; their axes and limits are
     // sound (checked with the whole file above), so the limits are intervals.
     let chain_joints: Vec<Joint> = chain

@@ -528,15 +528,27 @@ pub struct ObstacleItem {
     pub span: Span,
 }
 
-/// `reach NAME box center (...) size (...)`.
+/// `reach NAME box center (...) size (...)` or `reach NAME auto`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ReachItem {
     /// End-effector.
     pub end_effector: Name,
-    /// The cuboid.
-    pub aabb: Aabb,
+    /// The box written, or `auto`.
+    pub extent: ReachExtent,
     /// Whole item.
     pub span: Span,
+}
+
+/// What a `reach` line gives.
+// As for `Item`: a box written is the common case, boxing it buys nothing.
+#[derive(Clone, Debug, PartialEq)]
+#[allow(clippy::large_enum_variant)]
+pub enum ReachExtent {
+    /// A box, as written.
+    Box(Aabb),
+    /// `auto`: boxes computed from the arm's kinematics and its grasps (the span of the
+    /// word).
+    Auto(Span),
 }
 
 /// `object NAME { members }`.

@@ -166,7 +166,9 @@ pub fn phrase(rule: Rule) -> &'static str {
         Rule::surface_item => {
             "a surface like `surface table : tabletop box center (...) size (...)`"
         }
-        Rule::reach_item => "a reach like `reach left box center (...) size (...)`",
+        Rule::reach_item => {
+            "a reach like `reach left box center (...) size (...)` or `reach left auto`"
+        }
         Rule::object_item => "an object like `object cylinder { ... }`",
         Rule::object_body => "the members of the object",
         Rule::shape_item => "a shape like `shape cylinder radius 0.04 height 0.2`",
@@ -214,6 +216,7 @@ pub fn phrase(rule: Rule) -> &'static str {
         Rule::kw_arm => "`arm`",
         Rule::kw_with => "`with`",
         Rule::kw_home => "`home`",
+        Rule::kw_auto => "`auto`",
         Rule::kw_allow => "`allow`",
         Rule::kw_request => "`request`",
         Rule::kw_obstacle => "`obstacle`",

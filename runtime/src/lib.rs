@@ -24,6 +24,8 @@ pub mod motion;
 #[doc(hidden)]
 pub mod plan;
 #[doc(hidden)]
+pub mod reach;
+#[doc(hidden)]
 pub mod rest;
 #[doc(hidden)]
 pub mod robot;

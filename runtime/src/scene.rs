@@ -7,8 +7,9 @@ use cellc_schema::{self as schema, sha256_hex, Artifact, EndEffectorId, ObjectId
 use parry3d_f64::shape::SharedShape;
 
 use crate::collision::{
-    BuildError, Collision, CollisionError, CollisionScratch, CollisionWorld, CollisionWorldBuilder,
-    Configuration, Hand, Holder as CollisionHolder, ObjectState, Solid, SweepBounds,
+    BodyId, BuildError, Collision, CollisionError, CollisionScratch, CollisionWorld,
+    CollisionWorldBuilder, Configuration, Hand, Holder as CollisionHolder, ObjectState, Solid,
+    SweepBounds,
 };
 use crate::math::{aabb_from_schema, iso_from_schema, Aabb, Iso, Vec3};
 use crate::robot::{Robot, RobotError};
@@ -453,6 +454,37 @@ impl Scene {
             let (a, b) = self.world.names(&c);
             (a.to_string(), b.to_string())
         }))
+    }
+
+    /// Every colliding pair of the state [`Scene::collision`] describes, sorted (so reports
+    /// that pick one pick the same whatever the sweep order), written to `out`.
+    pub fn all_collisions(
+        &self,
+        arms: &[(EndEffectorId, &[f64])],
+        object: ObjectId,
+        placement: ObjectPlacement,
+        scratch: &mut SceneScratch,
+        out: &mut Vec<Collision>,
+    ) -> Result<(), QueryError> {
+        let at = Placed {
+            object,
+            placement,
+            obstacles: &[],
+        };
+        self.with_configuration(arms, at, scratch, |state, scratch| {
+            self.world.all_collisions(state, scratch, out)
+        })
+    }
+
+    /// The end-effector whose arm (a link or its hand) `body` belongs to, if any.
+    pub fn arm_of(&self, body: BodyId) -> Option<EndEffectorId> {
+        let robot = match body {
+            BodyId::Link { robot, .. } | BodyId::Hand { robot, .. } => robot,
+            BodyId::Fixed(_) | BodyId::Object(_) => return None,
+        };
+        self.robot_holder
+            .get(robot)
+            .map(|&e| EndEffectorId(e as u32))
     }
 
     /// Whether the state [`Scene::collision`] describes is free, without naming anything

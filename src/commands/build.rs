@@ -30,7 +30,7 @@ pub struct BuildOptions {
 /// Compiles a cell, verifies its arcs when it has arms, and writes its artifact.
 pub fn run(cell: &Path, output: Option<&Path>, options: &BuildOptions) -> ExitCode {
     let path = cell.to_string_lossy().to_string();
-    let compilation = cellc_compiler::compile_with(&FsFiles, &path, &options.compile);
+    let compilation = crate::reach::compile(&FsFiles, &path, &options.compile);
     let color = if std::io::stderr().is_terminal() {
         Color::Always
     } else {
@@ -50,10 +50,7 @@ pub fn run(cell: &Path, output: Option<&Path>, options: &BuildOptions) -> ExitCo
         None => None,
     };
     if let Some(artifact) = artifact.as_mut().filter(|a| options.verify && has_arms(a)) {
-        match verify(artifact, options.seed) {
-            Ok(warnings) => diagnostics.extend(warnings),
-            Err(error) => diagnostics.push(error),
-        }
+        diagnostics.extend(verify(artifact, options.seed, &compilation.sources));
     }
     if !diagnostics.is_empty() {
         eprint!(
@@ -121,10 +118,26 @@ fn has_arms(artifact: &Artifact) -> bool {
         .any(|e| matches!(e.body, Body::Arm { .. }))
 }
 
-/// Loads the scene and checks every arc; pruned arcs come back as warnings.
-fn verify(artifact: &mut Artifact, seed: u64) -> Result<Vec<Diagnostic>, Diagnostic> {
-    let scene = cellc_runtime::scene::Scene::load(artifact, &FsFiles)
-        .map_err(|e| crate::verify_report::scene_error_at(&e, &artifact.robots, &artifact.spans))?;
+/// Loads the scene, checks it as a whole (homes, permanent contacts, grasps), then every
+/// arc; pruned arcs come back as warnings. A scene wrong whatever the arc (a home that
+/// collides, a link touching a fixed body in every configuration) is reported and no arc
+/// is checked: each would be pruned for it.
+fn verify(artifact: &mut Artifact, seed: u64, sources: &cellc_lang::SourceMap) -> Vec<Diagnostic> {
+    let scene = match cellc_runtime::scene::Scene::load(artifact, &FsFiles) {
+        Ok(scene) => scene,
+        Err(e) => {
+            return vec![crate::verify_report::scene_error_at(
+                &e,
+                &artifact.robots,
+                &artifact.spans,
+            )]
+        }
+    };
+    let preflight = cellc_runtime::verify::preflight::preflight(artifact, &scene);
+    let mut found = crate::scene_report::diagnostics(artifact, &preflight, sources);
+    if preflight.blocks_verification() {
+        return found;
+    }
     let options = cellc_runtime::verify::VerifyOptions {
         seed,
         ..Default::default()
@@ -149,7 +162,8 @@ fn verify(artifact: &mut Artifact, seed: u64) -> Result<Vec<Diagnostic>, Diagnos
     if let Some(bar) = bar {
         bar.finish_and_clear();
     }
-    Ok(crate::verify_report::pruned_warnings(artifact))
+    found.extend(crate::verify_report::pruned_warnings(artifact));
+    found
 }
 
 /// `cells/fig3.cell` -> `cells/fig3.artifact.json` (or `.artifact.bin`).

@@ -5,8 +5,23 @@ use std::process::ExitCode;
 
 use cellc_schema::{Artifact, Body, EndEffectorId, Holder, WorkspaceId};
 
-/// Prints the summary of a cell (compiled now) or of an artifact file.
+use crate::artifact_io::Report;
+
+/// Prints the summary of a cell (compiled now, with what `reach auto` computed and how
+/// long it took) or of an artifact file.
 pub fn run(path: &str, options: &cellc_compiler::CompileOptions) -> ExitCode {
+    if path.ends_with(".cell") {
+        let Some((artifact, compilation)) =
+            crate::artifact_io::compiled_cell(path, Report::Human, options)
+        else {
+            return ExitCode::from(1);
+        };
+        print!("{}", describe(&artifact));
+        if let Some(cell) = &compilation.cell {
+            print!("{}", computed_reach(cell));
+        }
+        return ExitCode::SUCCESS;
+    }
     match crate::artifact_io::cell_or_artifact(path, options) {
         Some(artifact) => {
             print!("{}", describe(&artifact));
@@ -14,6 +29,45 @@ pub fn run(path: &str, options: &cellc_compiler::CompileOptions) -> ExitCode {
         }
         None => ExitCode::from(1),
     }
+}
+
+/// The boxes `reach auto` found per arm, with the work and the time it took (nothing
+/// when no arm asked). The time is the one thing here that changes from run to run; it
+/// is never in the artifact.
+pub fn computed_reach(cell: &cellc_compiler::Cell) -> String {
+    let mut out = String::new();
+    if cell.auto_reach.is_empty() {
+        return out;
+    }
+    let _ = writeln!(
+        out,
+        "\nreach auto ({})",
+        count(cell.auto_reach.len(), "arm")
+    );
+    for reach in &cell.auto_reach {
+        let arm = &cell.end_effectors[reach.end_effector].name;
+        let _ = writeln!(
+            out,
+            "  {arm}: {} over the surfaces, {} places tried, {} solves, {:.2} s",
+            count(reach.boxes.len(), "box"),
+            reach.tried,
+            reach.solves,
+            reach.elapsed.as_secs_f64()
+        );
+        for (surface, b) in &reach.boxes {
+            let _ = writeln!(
+                out,
+                "    over {surface}: box x {}..{}, y {}..{}, z {}..{} m",
+                m(b.mins.x),
+                m(b.maxs.x),
+                m(b.mins.y),
+                m(b.maxs.y),
+                m(b.mins.z),
+                m(b.maxs.z)
+            );
+        }
+    }
+    out
 }
 
 fn names<Id>(
@@ -37,12 +91,12 @@ fn ws_name(a: &Artifact, w: WorkspaceId) -> String {
     a.workspace_name(w).to_string()
 }
 
-/// `1 node`, `2 nodes`.
+/// `1 node`, `2 nodes`, `2 boxes`.
 fn count(n: usize, noun: &str) -> String {
-    if n == 1 {
-        format!("1 {noun}")
-    } else {
-        format!("{n} {noun}s")
+    match (n, noun.ends_with('x')) {
+        (1, _) => format!("1 {noun}"),
+        (_, true) => format!("{n} {noun}es"),
+        _ => format!("{n} {noun}s"),
     }
 }
 

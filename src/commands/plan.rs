@@ -136,7 +136,7 @@ pub fn load(args: &PlanArgs) -> Result<Loaded, ExitCode> {
     let (input, seed, format) = (args.input.as_str(), args.seed, args.format);
     let mut stale = Vec::new();
     let (artifact, sources, fresh) = if input.ends_with(".cell") {
-        let compilation = cellc_compiler::compile_with(&FsFiles, input, &args.compile);
+        let compilation = crate::reach::compile(&FsFiles, input, &args.compile);
         if compilation.has_errors() || compilation.cell.is_none() {
             emit(format, &compilation.diagnostics, &compilation.sources);
             return Err(ExitCode::from(1));
@@ -195,6 +195,17 @@ pub fn load(args: &PlanArgs) -> Result<Loaded, ExitCode> {
             return Err(ExitCode::from(1));
         }
     };
+    // A cell compiled now is checked as `cellc build` checks it: a scene wrong whatever
+    // the arc is refused before anything is verified or planned.
+    if let Some(scene) = cell.scene().filter(|_| fresh) {
+        let preflight = cellc_runtime::verify::preflight::preflight(cell.artifact(), scene);
+        if preflight.blocks_verification() {
+            let found = crate::scene_report::diagnostics(cell.artifact(), &preflight, &sources);
+            let errors: Vec<Diagnostic> = found.into_iter().filter(Diagnostic::is_error).collect();
+            emit(format, &errors, &sources);
+            return Err(ExitCode::from(1));
+        }
+    }
     if fresh {
         cell.verify(&VerifyOptions {
             seed,

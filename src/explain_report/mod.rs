@@ -8,7 +8,7 @@
 //! [`crate::fixes`]), and here the message, the labels and the notes.
 
 mod cut;
-mod suggestions;
+pub(crate) mod suggestions;
 pub(crate) mod words;
 
 use std::collections::BTreeSet;

@@ -226,6 +226,47 @@ impl Chain {
     pub fn movable(&self) -> impl Iterator<Item = (&ChainJoint, JointKind)> {
         self.joints.iter().filter_map(|j| Some((j, j.kind()?)))
     }
+
+    /// The first joint of the chain that opens a gripper's finger rather than moving the
+    /// arm: a prismatic joint after a turning one, with a stroke of at most
+    /// [`MAX_FINGER_STROKE`], with the link it hangs from. A tip chosen on a finger
+    /// (`panda_leftfinger`) puts such a joint on the chain, where inverse kinematics would
+    /// slide it as if it were an axis of the arm. A linear axis under an arm (a rail, a
+    /// conveyor) comes before the turning joints, and a SCARA's quill travels farther, so
+    /// neither is taken for a finger.
+    pub fn finger_joint(&self) -> Option<FingerJoint<'_>> {
+        let first_turning = self
+            .joints
+            .iter()
+            .position(|j| j.kind().is_some_and(JointKind::is_rotational))?;
+        let i = (first_turning + 1..self.joints.len()).find(|&i| {
+            let j = &self.joints[i];
+            j.joint_type == JointType::Prismatic && (j.upper - j.lower).abs() <= MAX_FINGER_STROKE
+        })?;
+        let parent = match i {
+            0 => self.base.as_str(),
+            _ => self.joints[i - 1].child.as_str(),
+        };
+        Some(FingerJoint {
+            joint: &self.joints[i],
+            parent,
+        })
+    }
+}
+
+/// The longest stroke, metres, of a prismatic joint taken for a finger when it follows a
+/// turning joint (a parallel gripper's finger travels a few centimetres; a SCARA's quill
+/// or a telescoping axis more than ten).
+pub const MAX_FINGER_STROKE: f64 = 0.1;
+
+/// A finger joint found on a chain ([`Chain::finger_joint`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FingerJoint<'c> {
+    /// The joint.
+    pub joint: &'c ChainJoint,
+    /// The link it hangs from: the last link of the arm above the finger, where the chain
+    /// should end.
+    pub parent: &'c str,
 }
 
 /// Why no chain could be walked.
@@ -342,6 +383,51 @@ mod tests {
         assert_eq!((shoulder.lower, shoulder.upper), (-1.0, 1.0));
         assert_eq!(chain.joints[1].motion(), Ok(None));
         assert_eq!(chain.joints[2].limits(), (f64::NEG_INFINITY, f64::INFINITY));
+    }
+
+    #[test]
+    fn finds_a_finger_after_the_arm_but_not_a_rail_under_it() {
+        let gripper = ARM.replace(
+            "</robot>",
+            r#"<link name="finger"/>
+          <joint name="finger_joint" type="prismatic">
+            <parent link="tool"/><child link="finger"/><axis xyz="0 1 0"/>
+            <limit lower="0" upper="0.04" effort="1" velocity="1"/>
+          </joint></robot>"#,
+        );
+        let d = Description::parse(&gripper).expect("parses");
+        let finger = d.chain("base", "finger").expect("a chain");
+        let found = finger.finger_joint().expect("a finger");
+        assert_eq!(
+            (found.joint.name.as_str(), found.parent),
+            ("finger_joint", "tool")
+        );
+        assert_eq!(
+            d.chain("base", "tool").expect("a chain").finger_joint(),
+            None
+        );
+        // A long stroke is an axis, not a finger.
+        let quill = Description::parse(&gripper.replace("upper=\"0.04\"", "upper=\"0.2\""))
+            .expect("parses");
+        assert_eq!(
+            quill
+                .chain("base", "finger")
+                .expect("a chain")
+                .finger_joint(),
+            None
+        );
+        // A rail under the arm comes before any turning joint.
+        let rail = ARM
+            .replace(
+                r#"<joint name="shoulder" type="revolute">"#,
+                r#"<joint name="shoulder" type="prismatic">"#,
+            )
+            .replace(r#"lower="-1" upper="1""#, r#"lower="0" upper="0.05""#);
+        let rail = Description::parse(&rail).expect("parses");
+        assert_eq!(
+            rail.chain("base", "tool").expect("a chain").finger_joint(),
+            None
+        );
     }
 
     #[test]

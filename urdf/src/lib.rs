@@ -36,7 +36,10 @@ pub mod package;
 mod srdf;
 mod validate;
 
-pub use chain::{Chain, ChainError, ChainJoint, JointError, JointKind, JointType, Motion};
+pub use chain::{
+    Chain, ChainError, ChainJoint, FingerJoint, JointError, JointKind, JointType, Motion,
+    MAX_FINGER_STROKE,
+};
 pub use description::{is_xacro_path, Description, ParseError};
 pub use geometry::{mesh_path, Collision, Geometry, MeshPathError, MeshPaths};
 pub use package::{PackagePath, ResolveError};

@@ -9,8 +9,10 @@ use cellc_urdf::ParseError;
 
 use crate::model::Origin;
 
+mod kinematics;
 mod robots;
 mod trust;
+pub use kinematics::*;
 pub use robots::*;
 mod world;
 pub use trust::*;
@@ -125,6 +127,10 @@ pub mod codes {
     pub const UNKNOWN_SRDF_NAME: Code = Code("E0411");
     /// A robot item whose chain has no tip (none written, or a group that gives none).
     pub const CHAIN_NOT_GIVEN: Code = Code("E0412");
+    /// A finger's prismatic joint on the chain between an arm's base and tip.
+    pub const FINGER_ON_CHAIN: Code = Code("E0422");
+    /// `reach auto` that cannot be computed, or finds nothing.
+    pub const REACH_AUTO_FAILED: Code = Code("E0423");
 
     /// A transition declared one way only.
     pub const ASYMMETRIC_TRANSITION: Code = Code("W0001");
@@ -189,6 +195,8 @@ pub mod codes {
         SRDF_INVALID,
         UNKNOWN_SRDF_NAME,
         CHAIN_NOT_GIVEN,
+        FINGER_ON_CHAIN,
+        REACH_AUTO_FAILED,
         ASYMMETRIC_TRANSITION,
         DEAD_END_STATE,
         UNUSED_GRASP,

@@ -199,6 +199,7 @@ impl Resolver<'_, '_> {
             kind: None,
             body,
             reach_boxes: Vec::new(),
+            reach_auto: None,
             reaches: Vec::new(),
             origin: o,
         });

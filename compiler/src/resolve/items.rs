@@ -102,8 +102,18 @@ impl Resolver<'_, '_> {
                     ));
                     return;
                 }
-                if let Some(b) = self.eval(file, units).aabb(&r.aabb) {
-                    self.cell.end_effectors[id].reach_boxes.push(b);
+                match &r.extent {
+                    ast::ReachExtent::Box(written) => {
+                        if let Some(b) = self.eval(file, units).aabb(written) {
+                            self.cell.end_effectors[id].reach_boxes.push(b);
+                        }
+                    }
+                    // Computed once every reference is resolved (`crate::reach`); written
+                    // twice, it is computed once.
+                    ast::ReachExtent::Auto(_) => {
+                        let arm = &mut self.cell.end_effectors[id];
+                        arm.reach_auto = arm.reach_auto.or(Some(o));
+                    }
                 }
             }
             ast::Item::Object(obj) => self.resolve_object(file, obj),

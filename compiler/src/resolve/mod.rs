@@ -12,12 +12,14 @@
 //!    objects with their shapes, symmetries and grasps, obstacles, weights.
 //! 3. **Resolve references** (`items.rs`): an arm's robot, kind and home configuration,
 //!    a surface's kind, `reach` boxes, each grasp's holder, each transition's grasps.
-//! 4. **Derive workspaces** ([`crate::workspaces::assign`]): from the reach boxes now
+//! 4. **Allowed contacts and computed reach**: `allow contact` bodies (`contacts.rs`),
+//!    then the reach of arms declared with `reach ARM auto` ([`crate::reach`]), which
+//!    builds the scene those contacts shape.
+//! 5. **Derive workspaces** ([`crate::workspaces::assign`]): from the reach boxes now
 //!    known; the derived names join the namespace.
-//! 5. **Late references**, which may name derived workspaces: `allow contact` bodies
-//!    (`contacts.rs`), abstract `reaches` lists and `adjacent` pairs (`items.rs`), then
-//!    `expect` requirements and `request`s (`requirements.rs`), the `world` and `task`s
-//!    (`world.rs`).
+//! 6. **Late references**, which may name derived workspaces: abstract `reaches` lists
+//!    and `adjacent` pairs (`items.rs`), then `expect` requirements and `request`s
+//!    (`requirements.rs`), the `world` and `task`s (`world.rs`).
 //!
 //! Name lookups with their "did you mean" live in `lookup.rs`. A reference that fails to
 //! resolve is reported and the item is dropped or left partial; resolution always goes
@@ -41,6 +43,7 @@ use crate::diagnostics::{self, Sort};
 use crate::ids::*;
 use crate::load::Loaded;
 use crate::model::*;
+use crate::reach::ReachSolver;
 use crate::units::{Eval, FileUnits};
 
 /// Default height of a surface's reach above its top face: tall enough for the objects
@@ -70,10 +73,12 @@ impl Entry {
     }
 }
 
-/// Resolves every loaded file into one cell, deriving workspaces on the way (see
-/// [`crate::workspaces`]). Diagnostics are appended to `diagnostics`.
+/// Resolves every loaded file into one cell, computing `reach auto` with `reach` and
+/// deriving workspaces on the way (see [`crate::reach`] and [`crate::workspaces`]).
+/// Diagnostics are appended to `diagnostics`.
 pub fn resolve(
     files: &dyn Files,
+    reach: &dyn ReachSolver,
     loaded: &Loaded,
     options: &crate::CompileOptions,
     diagnostics: &mut Vec<Diagnostic>,
@@ -117,6 +122,16 @@ pub fn resolve(
             r.resolve_item(*id, units[i], item);
         }
     }
+    // Allowed contacts name bodies, never workspaces: they are resolved before reach is
+    // computed, which builds the scene they shape.
+    for (id, _, file) in &files {
+        for item in &file.items {
+            if let ast::Item::Allow(a) = item {
+                r.resolve_allow(*id, a);
+            }
+        }
+    }
+    r.cell.auto_reach = crate::reach::compute(&mut r.cell, &loaded.sources, reach, r.diagnostics);
     // Workspaces are derived before anything that may name them is resolved.
     crate::workspaces::assign(&mut r.cell, r.diagnostics);
     let derived: Vec<(String, WorkspaceId, Origin)> = r
@@ -129,13 +144,6 @@ pub fn resolve(
     for (name, id, origin) in derived {
         r.names.insert(name.clone(), Entry::Workspace(id));
         r.origins.insert(name, origin);
-    }
-    for (id, _, file) in &files {
-        for item in &file.items {
-            if let ast::Item::Allow(a) = item {
-                r.resolve_allow(*id, a);
-            }
-        }
     }
     // Abstract reach lists, adjacencies and requirements may name derived workspaces.
     for (id, _, file) in &files {

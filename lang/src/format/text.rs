@@ -224,7 +224,10 @@ pub(super) fn item_text(item: &Item) -> String {
             }
             out
         }
-        Item::Reach(r) => format!("reach {} {}", name(&r.end_effector), aabb(&r.aabb)),
+        Item::Reach(r) => match &r.extent {
+            ReachExtent::Box(b) => format!("reach {} {}", name(&r.end_effector), aabb(b)),
+            ReachExtent::Auto(_) => format!("reach {} auto", name(&r.end_effector)),
+        },
         Item::Allow(a) => format!("allow contact {} {}", qualified(&a.a), qualified(&a.b)),
         Item::Obstacle(o) => format!("obstacle {} {}", name(&o.name), aabb(&o.aabb)),
         Item::Request(r) => format!(

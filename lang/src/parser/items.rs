@@ -178,11 +178,19 @@ impl Builder<'_, '_> {
                     span,
                 })
             }
-            Rule::reach_item => Item::Reach(ReachItem {
-                end_effector: self.name(inner.next()?)?,
-                aabb: self.aabb(inner.next()?)?,
-                span,
-            }),
+            Rule::reach_item => {
+                let end_effector = self.name(inner.next()?)?;
+                let extent = inner.next()?;
+                let extent = match extent.as_rule() {
+                    Rule::kw_auto => ReachExtent::Auto(span_of(&extent)),
+                    _ => ReachExtent::Box(self.aabb(extent)?),
+                };
+                Item::Reach(ReachItem {
+                    end_effector,
+                    extent,
+                    span,
+                })
+            }
             Rule::object_item => {
                 let name = self.name(inner.next()?)?;
                 let mut members: Vec<ObjectMember> = Vec::new();

@@ -9,6 +9,7 @@ use rand::Rng;
 use rand_chacha::ChaCha8Rng;
 
 use super::VerifyOptions;
+use crate::collision::{BodyId, Collision};
 use crate::kinematics::{solve_ik, IkError, IkTarget};
 use crate::math::Aabb;
 use crate::math::{iso_from_schema, iso_to_schema, Iso, Point};
@@ -204,8 +205,60 @@ pub(super) fn invalidity(
     };
     match validity.check(q, scratch) {
         Ok(None) => None,
-        Ok(Some(StateFault::Collision { a, b })) => Some((a, b)),
+        Ok(Some(StateFault::Collision { a, b })) => {
+            Some(blamed(scene, (arms, q), object, placement, scratch, (a, b)))
+        }
         Ok(Some(fault)) => Some(("joint limits".to_string(), fault.to_string())),
         Err(error) => Some(("collision query".to_string(), format!("{error:?}"))),
     }
+}
+
+/// The colliding pair a failed check reports: the first pair found (`found`) when it
+/// involves an arm of the check or its object, else the first pair, in body order, that
+/// does (the first one found may be an arm standing by at its home touching a fixed
+/// body), so a reason names the bodies of the arc in question. When nothing of the check
+/// collides, the first pair found stays: a standing arm's own collision, which `cellc
+/// build` refuses before verifying (E0420), so a built artifact never blames it.
+fn blamed(
+    scene: &Scene,
+    (arms, q): (&[EndEffectorId], &[f64]),
+    object: ObjectId,
+    placement: ObjectPlacement,
+    scratch: &mut SceneScratch,
+    found: (String, String),
+) -> (String, String) {
+    let involves = |body: BodyId| {
+        body == BodyId::Object(object.index())
+            || scene.arm_of(body).is_some_and(|e| arms.contains(&e))
+    };
+    let mut all = Vec::new();
+    let moving: Option<Vec<(EndEffectorId, &[f64])>> =
+        crate::validity::arm_slices(scene, arms).ok().map(|slices| {
+            slices
+                .iter()
+                .map(|s| {
+                    (
+                        s.end_effector,
+                        q.get(s.offset..s.offset + s.len).unwrap_or(&[]),
+                    )
+                })
+                .collect()
+        });
+    let listed = moving.is_some_and(|moving| {
+        scene
+            .all_collisions(&moving, object, placement, scratch, &mut all)
+            .is_ok()
+    });
+    if !listed {
+        return found;
+    }
+    let ours = || all.iter().filter(|c| involves(c.a) || involves(c.b));
+    let names = |c: &Collision| {
+        let (a, b) = scene.world.names(c);
+        (a.to_string(), b.to_string())
+    };
+    if ours().any(|c| names(c) == found) {
+        return found;
+    }
+    ours().next().map_or(found, names)
 }

@@ -27,6 +27,7 @@
 //! state is judged by [`crate::validity::SceneValidity`].
 
 mod attempt;
+pub mod preflight;
 mod witness;
 
 use std::collections::BTreeMap;
