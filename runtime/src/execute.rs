@@ -10,7 +10,7 @@
 
 use cellc_schema::{Artifact, EndEffectorId, GraspId, Node, ObjectId};
 
-use crate::math::{iso_from_schema, Iso};
+use crate::math::Iso;
 use crate::plan::planner::{Planner, WorldState};
 use crate::plan::{Command, Plan, PlanError, PlanOptions, Step};
 use crate::scene::{Holder, Scene};
@@ -237,13 +237,7 @@ impl<'a> Simulator<'a> {
     }
 
     fn grasp_pose(&self, g: GraspId) -> Iso {
-        self.artifact
-            .objects
-            .get(self.object.index())
-            .and_then(|o| o.grasps.get(g.index()))
-            .and_then(|g| g.pose.as_ref())
-            .map(iso_from_schema)
-            .unwrap_or_else(Iso::identity)
+        self.artifact.grasp_pose(self.object, g)
     }
 
     fn set_arms(&mut self, configurations: &[(EndEffectorId, Vec<f64>)]) {

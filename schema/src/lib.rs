@@ -588,6 +588,17 @@ impl Artifact {
         self.objects.get(o.index()).map_or("?", |x| x.name.as_str())
     }
 
+    /// The pose of grasp (or resting pose) `g` of object `o` in its holder's frame; the
+    /// identity when it has none (abstract cells).
+    pub fn grasp_pose(&self, o: ObjectId, g: GraspId) -> math::Iso {
+        self.objects
+            .get(o.index())
+            .and_then(|x| x.grasps.get(g.index()))
+            .and_then(|x| x.pose.as_ref())
+            .map(math::iso_from_schema)
+            .unwrap_or_else(math::Iso::identity)
+    }
+
     /// The name of grasp (or resting pose) `g` of object `o`.
     pub fn grasp_name(&self, o: ObjectId, g: GraspId) -> &str {
         self.objects

@@ -1,9 +1,7 @@
 //! One arm reaching one object pose (the IK solve, the state check, the witness), and
 //! what the failed attempts of a check report.
 
-use cellc_schema::{
-    self as schema, Artifact, EndEffectorId, GraspId, Infeasibility, ObjectId, Witness,
-};
+use cellc_schema::{self as schema, EndEffectorId, Infeasibility, ObjectId, Witness};
 use nalgebra as na;
 use rand::Rng;
 use rand_chacha::ChaCha8Rng;
@@ -12,7 +10,7 @@ use super::VerifyOptions;
 use crate::collision::{BodyId, Collision};
 use crate::kinematics::{solve_ik, IkError, IkTarget};
 use crate::math::Aabb;
-use crate::math::{iso_from_schema, iso_to_schema, Iso, Point};
+use crate::math::{iso_to_schema, Iso, Point};
 use crate::robot::Robot;
 use crate::scene::{Holder, ObjectPlacement, Scene, SceneScratch};
 use crate::termination::Termination;
@@ -35,15 +33,6 @@ pub(super) fn sample_point(boxes: &[Aabb], rng: &mut ChaCha8Rng) -> Option<Point
     Some(Point::from(na::Vector3::from_fn(|i, _| {
         chosen.mins[i] + rng.random::<f64>() * (chosen.maxs[i] - chosen.mins[i])
     })))
-}
-
-/// The pose of grasp (or resting pose) `g` of `object`; the identity when it has none.
-pub(super) fn grasp_pose(artifact: &Artifact, object: ObjectId, g: GraspId) -> Iso {
-    artifact.objects[object.index()].grasps[g.index()]
-        .pose
-        .as_ref()
-        .map(iso_from_schema)
-        .unwrap_or_else(Iso::identity)
 }
 
 /// Keeps the smallest IK errors seen, for the reason of a failed check.

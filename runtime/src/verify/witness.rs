@@ -8,7 +8,7 @@ use cellc_schema::{
 use rand::Rng;
 use rand_chacha::ChaCha8Rng;
 
-use super::attempt::{arm, grasp_pose, invalidity, sample_point, Attempt, Outcome};
+use super::attempt::{arm, invalidity, sample_point, Attempt, Outcome};
 use super::{rng_for, Check, VerifyOptions};
 use crate::closed_chain::{solve_handoff, HandoffProblem};
 use crate::math::{iso_to_schema, Iso, Point, Quat, Vec3};
@@ -87,7 +87,7 @@ impl Answer<'_> {
                 detail: "the holder is not an arm".into(),
             });
         };
-        let grasp = grasp_pose(artifact, object, g);
+        let grasp = artifact.grasp_pose(object, g);
         // A robot with fewer than six joints (a conveyor) cannot take an arbitrary
         // pose: sample its joints instead and keep a placement inside the workspace.
         if robot.n_joints() < 6 {
@@ -204,8 +204,8 @@ impl Answer<'_> {
             let problem = HandoffProblem {
                 a: (robot_a, base_a),
                 b: (robot_b, base_b),
-                grasp_a: grasp_pose(artifact, object, ga),
-                grasp_b: grasp_pose(artifact, object, gb) * turn,
+                grasp_a: artifact.grasp_pose(object, ga),
+                grasp_b: artifact.grasp_pose(object, gb) * turn,
                 target,
                 bounds,
             };
@@ -271,8 +271,8 @@ impl Answer<'_> {
                 detail: "the support is not a surface".into(),
             });
         };
-        let rest = grasp_pose(artifact, object, r);
-        let grasp = grasp_pose(artifact, object, g);
+        let rest = artifact.grasp_pose(object, r);
+        let grasp = artifact.grasp_pose(object, g);
         // The object rests on the top face, anywhere and turned any way about the
         // vertical, as long as its centre lies in the workspace.
         let regions = RestRegions::new(slab, &scene.workspaces[w.index()], &rest);

@@ -7,7 +7,7 @@
 use cellc_schema::world::{ObjectEntry, PlacedEntry};
 use cellc_schema::{Artifact, EndEffectorId, ObjectId, WorldDocument};
 
-use super::{grasp_pose, Whereabouts, World};
+use super::{Whereabouts, World};
 use crate::math::{Iso, Quat, Vec3};
 use crate::plan::locate::{grasps_of, locate, locate_abstract};
 use crate::plan::{names, LocateError, Placement, PlacementByName, PlanOptions};
@@ -208,7 +208,7 @@ impl World {
                     }
                 };
                 let tip = self.tip(scene, holder);
-                let fk = tip.map(|t| t * grasp_pose(artifact, object, grasp));
+                let fk = tip.map(|t| t * artifact.grasp_pose(object, grasp));
                 if let (Some(given), Some(fk)) = (placement.pose, fk) {
                     let symmetries = &artifact.objects[object.index()].symmetries;
                     let position_error = (given.translation.vector - fk.translation.vector).norm();
@@ -232,13 +232,6 @@ impl World {
                     pose: fk,
                 };
                 let state = locate(artifact, scene, object, &at, options).map_err(in_graph)?;
-                if let Some(other) = self.held_by(holder).filter(|&o| o != object) {
-                    return Err(WorldError::HandFull {
-                        hand: holder_name,
-                        first: artifact.object_name(other).to_string(),
-                        second: name,
-                    });
-                }
                 Whereabouts::Placed { state, pose: None }
             }
             Some((scene, _)) => {
@@ -257,18 +250,20 @@ impl World {
             }
             None => {
                 let state = locate_abstract(artifact, object, placement).map_err(in_graph)?;
-                if artifact.end_effectors[holder.index()].movable {
-                    if let Some(other) = self.held_by(holder).filter(|&o| o != object) {
-                        return Err(WorldError::HandFull {
-                            hand: holder_name,
-                            first: artifact.object_name(other).to_string(),
-                            second: name,
-                        });
-                    }
-                }
                 Whereabouts::Placed { state, pose: None }
             }
         };
+        // A hand (an arm, a conveyor, an abstract movable end-effector) holds one object;
+        // surfaces hold many.
+        if artifact.end_effectors[holder.index()].movable {
+            if let Some(other) = self.held_by(holder).filter(|&o| o != object) {
+                return Err(WorldError::HandFull {
+                    hand: holder_name,
+                    first: artifact.object_name(other).to_string(),
+                    second: name,
+                });
+            }
+        }
         self.set_object(object, whereabouts);
         Ok(())
     }

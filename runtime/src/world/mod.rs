@@ -19,7 +19,7 @@ mod build;
 
 use cellc_schema::{Artifact, EndEffectorId, Node, ObjectId};
 
-use crate::math::{iso_from_schema, Iso};
+use crate::math::Iso;
 use crate::scene::{Holder, ObjectPlacement, Obstacle, Scene};
 
 pub use build::WorldError;
@@ -102,15 +102,18 @@ impl World {
         let Whereabouts::Placed { state, pose } = self.whereabouts(o) else {
             return None;
         };
-        let Some(Holder::Arm { robot, base, .. }) =
-            scene.and_then(|s| s.holders.get(state.end_effector.index()))
-        else {
-            return *pose;
-        };
-        let robot = scene?.robots.get(*robot)?;
-        let q = self.arm(state.end_effector)?;
-        let grasp = grasp_pose(artifact, o, state.grasp);
-        (q.len() == robot.n_joints()).then(|| robot.tip_pose(base, q) * grasp)
+        let scene = scene.filter(|s| {
+            matches!(
+                s.holders.get(state.end_effector.index()),
+                Some(Holder::Arm { .. })
+            )
+        });
+        match scene {
+            Some(scene) => {
+                Some(self.tip(scene, state.end_effector)? * artifact.grasp_pose(o, state.grasp))
+            }
+            None => *pose,
+        }
     }
 
     /// Sets arm `e`'s joints (the caller checked them against the arm's chain).
@@ -142,7 +145,7 @@ impl World {
             let placement = match (scene.holders.get(state.end_effector.index()), pose) {
                 (Some(Holder::Arm { .. }), _) => ObjectPlacement::Held {
                     by: state.end_effector,
-                    grasp: grasp_pose(artifact, object, state.grasp),
+                    grasp: artifact.grasp_pose(object, state.grasp),
                 },
                 (Some(Holder::Surface { .. }), Some(pose)) => ObjectPlacement::Resting {
                     on: state.end_effector,
@@ -155,15 +158,4 @@ impl World {
         }
         out
     }
-}
-
-/// The pose of grasp (or resting pose) `g` of object `o` in its holder's frame.
-pub(crate) fn grasp_pose(artifact: &Artifact, o: ObjectId, g: cellc_schema::GraspId) -> Iso {
-    artifact
-        .objects
-        .get(o.index())
-        .and_then(|x| x.grasps.get(g.index()))
-        .and_then(|x| x.pose.as_ref())
-        .map(iso_from_schema)
-        .unwrap_or_else(Iso::identity)
 }

@@ -38,13 +38,7 @@ impl Planner<'_> {
             return None;
         };
         let obj = &self.artifact.objects[object.index()];
-        let pose_of = |g: GraspId| {
-            obj.grasps[g.index()]
-                .pose
-                .as_ref()
-                .map(iso_from_schema)
-                .unwrap_or_else(Iso::identity)
-        };
+        let pose_of = |g: GraspId| self.artifact.grasp_pose(object, g);
         let rest = pose_of(rest_node.grasp);
         let turns = crate::symmetry::candidates(&obj.symmetries);
         let works = |pose: &Iso, rng: &mut ChaCha8Rng| -> bool {
@@ -187,7 +181,7 @@ impl Planner<'_> {
             // the objects already in it.
             if let Some((surface, arm)) = surface_and_arm.filter(|(s, _)| *s == to) {
                 if let Holder::Surface { slab, .. } = &scene.holders[surface.end_effector.index()] {
-                    let rest = crate::world::grasp_pose(self.artifact, object, surface.grasp);
+                    let rest = self.artifact.grasp_pose(object, surface.grasp);
                     let regions =
                         RestRegions::new(slab, &scene.workspaces[surface.workspace.index()], &rest);
                     for _ in 0..PUT_DOWN_SAMPLES {
@@ -239,7 +233,7 @@ impl Planner<'_> {
         if obstacles.is_empty() {
             return None;
         }
-        let grasp = |n: Node| crate::world::grasp_pose(self.artifact, object, n.grasp);
+        let grasp = |n: Node| self.artifact.grasp_pose(object, n.grasp);
         let is_arm = |n: Node| {
             matches!(
                 scene.holders.get(n.end_effector.index()),
@@ -294,11 +288,7 @@ impl Planner<'_> {
         stop: &Termination,
     ) -> Result<Exchange, Infeasibility> {
         let obj = &self.artifact.objects[object.index()];
-        let grasp = obj.grasps[arm.grasp.index()]
-            .pose
-            .as_ref()
-            .map(iso_from_schema)
-            .unwrap_or_else(Iso::identity);
+        let grasp = self.artifact.grasp_pose(object, arm.grasp);
         let Holder::Arm { robot, base, home } = &scene.holders[arm.end_effector.index()] else {
             return Err(Infeasibility::NoPlacement {
                 detail: "not an arm".into(),

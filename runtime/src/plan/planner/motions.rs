@@ -4,7 +4,6 @@ use cellc_schema::{EndEffectorId, GraspId, Infeasibility, Node, ObjectId};
 use rand_chacha::ChaCha8Rng;
 
 use super::{step_arc, Failure, Planner, WorldState};
-use crate::math::{iso_from_schema, Iso};
 use crate::motion::{MotionError, MotionProblem};
 use crate::plan::{ArmConfigurations, Command, Step};
 use crate::scene::{Holder, ObjectPlacement, SceneScratch};
@@ -28,14 +27,7 @@ impl Planner<'_> {
         let Some(scene) = self.scene.filter(|s| s.has_kinematics()) else {
             return Ok(());
         };
-        let obj = &self.artifact.objects[object.index()];
-        let grasp_pose = |g: GraspId| {
-            obj.grasps
-                .get(g.index())
-                .and_then(|g| g.pose.as_ref())
-                .map(iso_from_schema)
-                .unwrap_or_else(Iso::identity)
-        };
+        let grasp_pose = |g: GraspId| self.artifact.grasp_pose(object, g);
         let is_arm =
             |e: EndEffectorId| matches!(scene.holders.get(e.index()), Some(Holder::Arm { .. }));
         let mut arms = start.arms.clone();
