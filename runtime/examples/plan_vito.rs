@@ -24,18 +24,23 @@ fn vito_artifact() -> Vec<u8> {
 }
 
 pub fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let name = std::env::args().nth(1).unwrap_or("handoff_cylinder".into());
+    run(&std::env::args().nth(1).unwrap_or("handoff_cylinder".into()))
+}
 
+/// Plans and executes the cell's request `name`.
+pub fn run(name: &str) -> Result<(), Box<dyn std::error::Error>> {
     let mut cell = Cell::load(&vito_artifact(), &Disk)?;
     cell.verify(&VerifyOptions::default());
     let request = cell
-        .named_request(&name, PlanOptions::default())
+        .named_request(name, PlanOptions::default())
         .ok_or("no such request")?;
     let plan = cell.plan(&request)?;
     println!("{name}: {} in {} steps", plan.strategy, plan.steps.len());
     let mut simulator = cell.simulator(&plan);
     let run = cell.execute(plan, &mut simulator, &ExecuteOptions::default())?;
-    let holder = &cell.artifact().end_effectors[run.final_state.end_effector.index()].name;
+    let holder = cell
+        .artifact()
+        .end_effector_name(run.final_state.end_effector);
     println!("done: held by `{holder}` after {} steps", run.steps_done);
     Ok(())
 }
