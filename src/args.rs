@@ -79,6 +79,21 @@ pub struct RequestArgs {
     /// Give up when planning takes longer than this many milliseconds.
     #[arg(long)]
     pub time_budget: Option<u64>,
+    /// A task the cell declares: its moves one after the other, in the world.
+    #[arg(long, conflicts_with_all = ["request", "object", "moves"])]
+    pub task: Option<String>,
+    /// A move of a task given here, `OBJECT to PLACEMENT` (e.g. `ball to bin in
+    /// ws_right_bin`); repeat it for several moves, carried out in the order given.
+    #[arg(long = "move", value_name = "MOVE", conflicts_with_all = ["request", "object"])]
+    pub moves: Vec<String>,
+    /// Start from this world document (docs/world.md): a task's or moves' world instead
+    /// of the cell's `world`; for a request, the other objects and the arms (the
+    /// request's object is put at its start).
+    #[arg(long)]
+    pub world: Option<PathBuf>,
+    /// Output format.
+    #[arg(long, value_enum, default_value = "human")]
+    pub format: PlanFormat,
 }
 
 fn parse_weights(text: &str) -> Result<(f64, f64), String> {
@@ -188,9 +203,6 @@ pub enum Command {
         /// The request.
         #[command(flatten)]
         request: RequestArgs,
-        /// Output format.
-        #[arg(long, value_enum, default_value = "human")]
-        format: PlanFormat,
     },
     /// Plan a request as `cellc plan` does, then execute it in the kinematic simulator and
     /// report the object's final pose and its error.
@@ -198,15 +210,10 @@ pub enum Command {
         /// The request.
         #[command(flatten)]
         request: RequestArgs,
-        /// Make the motion of this step (1-based) fail, to see recovery.
+        /// Make the motion of this step (1-based, over the whole run) fail, to see
+        /// recovery.
         #[arg(long)]
         fail_at: Option<usize>,
-        /// Run a task the cell declares: its moves one after the other, in the world.
-        #[arg(long, conflicts_with_all = ["request", "object"])]
-        task: Option<String>,
-        /// Start from this world document (docs/world.md) instead of the cell's `world`.
-        #[arg(long)]
-        world: Option<PathBuf>,
     },
     /// Explain a diagnostic code, e.g. `cellc explain E0101`.
     Explain {

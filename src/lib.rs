@@ -13,6 +13,7 @@ pub mod fuzzing;
 pub mod import;
 pub mod output;
 pub mod packages;
+pub mod plan_json;
 pub mod plan_report;
 pub mod reach;
 pub mod render;
@@ -20,6 +21,7 @@ pub mod runtime_codes;
 pub mod scene_report;
 pub mod snippet;
 pub mod verify_report;
+pub mod world_report;
 
 use std::process::ExitCode;
 
@@ -94,27 +96,11 @@ pub fn dispatch() -> ExitCode {
             &file.to_string_lossy(),
             &packages::compile_options(packages),
         ),
-        args::Command::Run {
-            request,
-            fail_at,
-            task: None,
-            world: None,
-        } => commands::run::run(
-            &commands::plan::PlanArgs::new(request, args::PlanFormat::Human),
-            *fail_at,
-        ),
-        args::Command::Run {
-            request,
-            task,
-            world,
-            ..
-        } => commands::run_world::run(
-            &commands::plan::PlanArgs::new(request, args::PlanFormat::Human),
-            task.as_deref(),
-            world.as_deref(),
-        ),
-        args::Command::Plan { request, format } => {
-            commands::plan::run(&commands::plan::PlanArgs::new(request, *format))
+        args::Command::Run { request, fail_at } => {
+            commands::run::run(&commands::plan::PlanArgs::new(request), *fail_at)
+        }
+        args::Command::Plan { request } => {
+            commands::plan::run(&commands::plan::PlanArgs::new(request))
         }
         args::Command::Graph {
             file,

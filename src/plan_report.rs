@@ -7,7 +7,6 @@ use cellc_lang::{Diagnostic, FileId, SourceMap};
 use cellc_runtime::math::Iso;
 use cellc_runtime::plan::{Command, LocateError, Plan, PlanError};
 use cellc_schema::{Artifact, EndEffectorId, GraspId, WorkspaceId};
-use serde::Serialize;
 
 pub use crate::runtime_codes as codes;
 
@@ -70,6 +69,7 @@ pub fn plan_error(
             format!("`{}` is not in the world", artifact.object_name(*object)),
         )
         .help("place it in the cell's `world` or in the world document before moving it"),
+        PlanError::World(e) => crate::world_report::world_diagnostic(e, "the request's start"),
         _ => Diagnostic::error(codes::UNREACHABLE, "no plan").help("check the request"),
     };
     if let Some((file, at)) = place {
@@ -188,141 +188,4 @@ pub fn describe(artifact: &Artifact, name: &str, plan: &Plan) -> String {
         let _ = writeln!(out, "{:>3}. {line}{motion}", i + 1);
     }
     out
-}
-
-#[derive(Serialize)]
-struct JsonPlan<'a> {
-    request: &'a str,
-    object: &'a str,
-    strategy: String,
-    cost: f64,
-    backtracks: u32,
-    holders: Vec<&'a str>,
-    states: Vec<JsonState<'a>>,
-    steps: Vec<JsonStep<'a>>,
-}
-
-#[derive(Serialize)]
-struct JsonState<'a> {
-    end_effector: &'a str,
-    grasp: &'a str,
-    workspace: &'a str,
-}
-
-#[derive(Serialize)]
-struct JsonStep<'a> {
-    command: &'static str,
-    end_effector: &'a str,
-    grasp: Option<&'a str>,
-    workspace: &'a str,
-    object_position: Option<[f64; 3]>,
-    object_rotation: Option<[f64; 4]>,
-    configurations: Vec<(&'a str, Vec<f64>)>,
-    motion: Option<JsonTrajectory<'a>>,
-}
-
-#[derive(Serialize)]
-struct JsonTrajectory<'a> {
-    arms: Vec<&'a str>,
-    /// (time in s, concatenated joints of `arms`).
-    points: &'a [(f64, Vec<f64>)],
-}
-
-pub fn json<'a>(artifact: &'a Artifact, name: &'a str, plan: &'a Plan) -> impl Serialize + 'a {
-    let object = &artifact.objects[plan.object.index()];
-    let grasp = |g: GraspId| artifact.grasp_name(plan.object, g);
-    let mut holders: Vec<&str> = Vec::new();
-    for s in &plan.states {
-        let h = ee(artifact, s.end_effector);
-        if holders.last() != Some(&h) {
-            holders.push(h);
-        }
-    }
-    let pose = |p: &Option<Iso>| {
-        p.as_ref().map(|p| {
-            let s = cellc_runtime::math::iso_to_schema(p);
-            (s.translation, s.rotation)
-        })
-    };
-    JsonPlan {
-        request: name,
-        object: &object.name,
-        strategy: plan.strategy.to_string(),
-        cost: plan.cost,
-        backtracks: plan.backtracks,
-        holders,
-        states: plan
-            .states
-            .iter()
-            .map(|s| JsonState {
-                end_effector: ee(artifact, s.end_effector),
-                grasp: grasp(s.grasp),
-                workspace: ws(artifact, s.workspace),
-            })
-            .collect(),
-        steps: plan
-            .steps
-            .iter()
-            .map(|step| {
-                let (command, holder, g, w, p, configurations) = match &step.command {
-                    Command::Move {
-                        holder,
-                        workspace,
-                        object,
-                        configurations,
-                    } => (
-                        "move",
-                        *holder,
-                        None,
-                        *workspace,
-                        pose(object),
-                        configurations.clone(),
-                    ),
-                    Command::Grasp {
-                        holder,
-                        grasp: g,
-                        workspace,
-                        object,
-                        configurations,
-                    } => (
-                        "grasp",
-                        *holder,
-                        Some(grasp(*g)),
-                        *workspace,
-                        pose(object),
-                        configurations.clone(),
-                    ),
-                    Command::Ungrasp {
-                        holder,
-                        grasp: g,
-                        workspace,
-                        object,
-                    } => (
-                        "ungrasp",
-                        *holder,
-                        Some(grasp(*g)),
-                        *workspace,
-                        pose(object),
-                        Vec::new(),
-                    ),
-                };
-                JsonStep {
-                    command,
-                    end_effector: ee(artifact, holder),
-                    grasp: g,
-                    workspace: ws(artifact, w),
-                    object_position: p.map(|p| p.0),
-                    object_rotation: p.map(|p| p.1),
-                    configurations: configurations
-                        .into_iter()
-                        .map(|(e, q)| (ee(artifact, e), q))
-                        .collect(),
-                    motion: step.motion.as_ref().map(|t| JsonTrajectory {
-                        arms: t.arms.iter().map(|&e| ee(artifact, e)).collect(),
-                        points: &t.points,
-                    }),
-                }
-            })
-            .collect(),
-    }
 }

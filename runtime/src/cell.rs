@@ -150,9 +150,51 @@ impl Cell {
         Some(crate::plan::named_request(named, options))
     }
 
-    /// Plans a request from the cell at rest (every arm at home).
+    /// Plans a request in the cell with no other object: every arm at home, except that
+    /// a hand holding the object at the start stands where it holds it
+    /// ([`World::for_request`]).
+    ///
+    /// # Errors
+    /// See [`PlanError`]; [`PlanError::World`] when the start's hand cannot hold the object
+    /// there.
     pub fn plan(&self, request: &Request) -> Result<Plan, PlanError> {
-        self.planner().plan(request)
+        let empty = World::at_home(&self.artifact, self.scene.as_ref());
+        self.plan_request_in(&empty, request)
+    }
+
+    /// Plans a request in `world`: the request's object is put where the request's start
+    /// says (its hand's arm moved to hold it there), everything else stays where `world`
+    /// has it.
+    ///
+    /// # Errors
+    /// See [`Cell::plan`].
+    pub fn plan_request_in(&self, world: &World, request: &Request) -> Result<Plan, PlanError> {
+        let world = self.request_world(world, request)?;
+        self.plan_in(&world, request.object, &request.goal, &request.options)
+    }
+
+    /// `world` with the request's object at its start ([`World::for_request`]): where a
+    /// simulator of the request's plan starts.
+    ///
+    /// # Errors
+    /// [`PlanError::World`] when the start's hand cannot hold the object there.
+    pub fn request_world(&self, world: &World, request: &Request) -> Result<World, PlanError> {
+        world
+            .for_request(
+                &self.artifact,
+                self.scene.as_ref(),
+                request.object,
+                &request.start,
+                &request.options,
+            )
+            .map_err(|e| match e {
+                // A start that names nothing or matches no state is the request's error,
+                // as when it is located for planning.
+                WorldError::Name(error) | WorldError::Placement { error, .. } => {
+                    PlanError::Locate(error)
+                }
+                e => PlanError::World(e),
+            })
     }
 
     /// The world the cell declares (`world { ... }`): arms at home, the objects where it
@@ -199,14 +241,16 @@ impl Cell {
         crate::execute::execute(&self.planner(), plan, executor, options)
     }
 
-    /// A kinematic simulator of the cell, starting where `plan` starts.
+    /// A kinematic simulator of the cell, starting where `plan` starts (the arms where
+    /// the plan found them).
     pub fn simulator(&self, plan: &Plan) -> Simulator<'_> {
-        Simulator::new(
+        Simulator::with_arms(
             &self.artifact,
             self.scene.as_ref(),
             plan.object,
             plan.states[0],
             plan.start_pose,
+            plan.start_arms.clone(),
         )
     }
 

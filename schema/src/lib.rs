@@ -569,6 +569,19 @@ impl Graph {
 /// range (a bug, or an artifact edited by hand) reads `?` rather than panicking: reports
 /// run on what validation already accepted, but never trust that alone.
 impl Artifact {
+    /// The URDF names of an arm's chain joints, base to tip, in the order its joint values
+    /// are given everywhere (empty for what is not an arm).
+    pub fn joint_names(&self, e: EndEffectorId) -> Vec<&str> {
+        match self.end_effectors.get(e.index()).map(|x| &x.body) {
+            Some(Body::Arm { robot, .. }) => self
+                .robots
+                .get(*robot as usize)
+                .map(|r| r.joints.iter().map(|j| j.name.as_str()).collect())
+                .unwrap_or_default(),
+            _ => Vec::new(),
+        }
+    }
+
     /// The end-effector's name.
     pub fn end_effector_name(&self, e: EndEffectorId) -> &str {
         self.end_effectors

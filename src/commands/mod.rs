@@ -7,6 +7,6 @@ pub mod fmt;
 pub mod graph;
 pub mod import;
 pub mod info;
+pub mod job;
 pub mod plan;
 pub mod run;
-pub mod run_world;

@@ -38,23 +38,35 @@ pub struct PlanArgs {
     pub time_budget: Option<std::time::Duration>,
     /// What a compilation of the cell is told (the package path).
     pub compile: cellc_compiler::CompileOptions,
+    /// A task of the cell to carry out instead of a request.
+    pub task: Option<String>,
+    /// Moves given on the command line (`OBJECT to PLACEMENT`), instead of a request.
+    pub moves: Vec<String>,
+    /// A world document to start from.
+    pub world: Option<String>,
 }
 
 impl PlanArgs {
     /// From the command line's request flags.
-    pub fn new(request: &crate::args::RequestArgs, format: PlanFormat) -> PlanArgs {
+    pub fn new(request: &crate::args::RequestArgs) -> PlanArgs {
         PlanArgs {
             input: request.input.to_string_lossy().to_string(),
             request: request.request.clone(),
             object: request.object.clone(),
             from: request.from.clone(),
             to: request.to.clone(),
-            format,
+            format: request.format,
             seed: request.seed,
             motions: !request.no_motions,
             weights: request.weights,
             time_budget: request.time_budget.map(std::time::Duration::from_millis),
             compile: crate::packages::compile_options(&request.packages),
+            task: request.task.clone(),
+            moves: request.moves.clone(),
+            world: request
+                .world
+                .as_ref()
+                .map(|p| p.to_string_lossy().into_owned()),
         }
     }
 
@@ -88,7 +100,13 @@ impl Loaded {
     /// Prints diagnostics against the cell's sources; a label in a file that changed
     /// since the build is replaced by a note saying so.
     pub fn report(&self, diagnostics: &[Diagnostic]) {
-        let shown: Vec<Diagnostic> = diagnostics
+        emit(self.format, &self.shown(diagnostics), &self.sources);
+    }
+
+    /// The diagnostics as they are shown: labels in files that changed since the build
+    /// replaced by a note.
+    pub fn shown(&self, diagnostics: &[Diagnostic]) -> Vec<Diagnostic> {
+        diagnostics
             .iter()
             .map(|d| {
                 let mut d = d.clone();
@@ -107,8 +125,14 @@ impl Loaded {
                 }
                 d
             })
-            .collect();
-        emit(self.format, &shown, &self.sources);
+            .collect()
+    }
+
+    /// The JSON report of `diagnostics` (the schema of `cellc check --format json`) as a
+    /// value, to embed in a plan's or run's document.
+    pub fn json_report(&self, diagnostics: &[Diagnostic]) -> serde_json::Value {
+        let text = render::json(&self.shown(diagnostics), &self.sources);
+        serde_json::from_str(&text).unwrap_or(serde_json::Value::Null)
     }
 }
 
@@ -221,7 +245,7 @@ pub fn load(args: &PlanArgs) -> Result<Loaded, ExitCode> {
 }
 
 /// A placement given on the command line; numbers without units are metres and degrees.
-fn placement_from_text(
+pub fn placement_from_text(
     text: &str,
     what: &str,
 ) -> Result<PlacementByName, Box<(Diagnostic, SourceMap)>> {
@@ -327,37 +351,90 @@ pub fn prepare(args: &PlanArgs, loaded: &Loaded) -> Result<Prepared, ExitCode> {
     }
 }
 
-/// Plans a request and prints the plan.
+/// Plans each move of the job `args` ask for, in the world, and prints the plans: the
+/// world after one move (as its plan leaves it) is where the next is planned.
 pub fn run(args: &PlanArgs) -> ExitCode {
     let loaded = match load(args) {
         Ok(l) => l,
         Err(code) => return code,
     };
-    let Prepared {
-        request,
-        name,
-        span,
-    } = match prepare(args, &loaded) {
-        Ok(p) => p,
+    let super::job::Job {
+        mut world,
+        moves,
+        title,
+    } = match super::job::job(args, &loaded) {
+        Ok(j) => j,
         Err(code) => return code,
     };
-    let artifact = loaded.cell.artifact();
-    match loaded.cell.plan(&request) {
-        Ok(plan) => {
-            match args.format {
-                PlanFormat::Human => print!("{}", plan_report::describe(artifact, &name, &plan)),
-                PlanFormat::Json => println!(
-                    "{}",
-                    serde_json::to_string_pretty(&plan_report::json(artifact, &name, &plan))
-                        .unwrap_or_default()
-                ),
+    let cell = &loaded.cell;
+    let artifact = cell.artifact();
+    let options = args.options();
+    let human = args.format == PlanFormat::Human;
+    let single = moves.len() == 1 && title.starts_with("request");
+    let mut plans = Vec::new();
+    let mut failure = None;
+    for (i, m) in moves.iter().enumerate() {
+        let label = if single {
+            title
+                .trim_start_matches("request `")
+                .trim_end_matches('`')
+                .to_string()
+        } else {
+            format!("move {} of {}", i + 1, moves.len())
+        };
+        if human && !single {
+            println!(
+                "{title}, move {} of {}: `{}`",
+                i + 1,
+                moves.len(),
+                artifact.object_name(m.object)
+            );
+        }
+        match cell.plan_in(&world, m.object, &m.goal, &options) {
+            Ok(plan) => {
+                if human {
+                    print!("{}", plan_report::describe(artifact, &label, &plan));
+                } else if let Ok(v) =
+                    serde_json::to_value(crate::plan_json::plan(artifact, &label, &plan))
+                {
+                    plans.push(v);
+                }
+                world = world.after_plan(artifact, &plan);
             }
-            ExitCode::SUCCESS
+            Err(error) => {
+                let mut d =
+                    plan_report::plan_error(artifact, &error, m.span, Some(&loaded.sources));
+                if !single {
+                    d = d.note(format!(
+                        "move {} of {} of the {title} has no plan; the moves before it were planned",
+                        i + 1,
+                        moves.len()
+                    ));
+                }
+                failure = Some(d);
+                break;
+            }
         }
-        Err(error) => {
-            let d = plan_report::plan_error(artifact, &error, span, Some(&loaded.sources));
-            loaded.report(&[d]);
-            ExitCode::from(1)
-        }
+    }
+    let ok = failure.is_none();
+    let diagnostics: Vec<Diagnostic> = failure.into_iter().collect();
+    if human {
+        loaded.report(&diagnostics);
+    } else {
+        let document = crate::plan_json::JsonRun {
+            version: crate::plan_json::VERSION,
+            kind: "plan",
+            ok,
+            plans,
+            moves: Vec::new(),
+            world: Some(crate::plan_json::world(cell, &world)),
+            report: loaded.json_report(&diagnostics),
+        };
+        println!("{}", crate::plan_json::to_text(&document));
+    }
+    if ok {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::from(1)
     }
 }

@@ -1,116 +1,234 @@
-//! `cellc run ...`: plans a request like `cellc plan`, then executes it in the kinematic
-//! simulator, replanning from where the object is when a step fails. The final error is
-//! measured on the simulated object, whose pose comes from the kinematics of its holders.
+//! `cellc run ...`: plans each move of a job (a request, a task, `--move`s) in the world,
+//! executes it in the kinematic simulator (replanning from where things are when a step
+//! fails), and brings the world up to date from what the simulator reports before the
+//! next move. The final error is measured on the simulated object, whose pose comes from
+//! the kinematics of its holders. A failing move is reported with its place in the job;
+//! the world printed at the end is as it really is: the objects moved so far stay moved.
 
 use std::process::ExitCode;
 
 use cellc_lang::Diagnostic;
-use cellc_runtime::{ExecuteOptions, ExecutionError};
+use cellc_runtime::{ExecuteOptions, Execution, ExecutionError, Executor};
 
-use super::plan::{load, prepare, PlanArgs, Prepared};
+use super::job::{job, world_text, Job};
+use super::plan::{load, Loaded, PlanArgs};
+use crate::args::PlanFormat;
+use crate::plan_json::{self, JsonMove, JsonRun};
 use crate::plan_report::{codes, describe, plan_error};
 
-/// Plans and simulates; `fail_at` makes the motion of that step (1-based) fail.
+/// Runs the job `args` ask for; `fail_at` makes the motion of that step (1-based) of the
+/// first move fail.
 pub fn run(args: &PlanArgs, fail_at: Option<usize>) -> ExitCode {
     let loaded = match load(args) {
         Ok(l) => l,
         Err(code) => return code,
     };
-    let Prepared {
-        request,
-        name,
-        span,
-    } = match prepare(args, &loaded) {
-        Ok(p) => p,
+    let Job {
+        mut world,
+        moves,
+        title,
+    } = match job(args, &loaded) {
+        Ok(j) => j,
         Err(code) => return code,
     };
     let cell = &loaded.cell;
     let artifact = cell.artifact();
-    let plan = match cell.plan(&request) {
-        Ok(plan) => plan,
-        Err(e) => {
-            loaded.report(&[plan_error(artifact, &e, span, Some(&loaded.sources))]);
-            return ExitCode::from(1);
+    let options = args.options();
+    let human = args.format == PlanFormat::Human;
+    let mut done: Vec<JsonMove> = Vec::new();
+    let mut failure: Option<Diagnostic> = None;
+    let several = moves.len() > 1 || !title.starts_with("request");
+    for (i, m) in moves.iter().enumerate() {
+        let name = artifact.object_name(m.object);
+        let label = if title.starts_with("request") {
+            title
+                .trim_start_matches("request `")
+                .trim_end_matches('`')
+                .to_string()
+        } else {
+            format!("move {} of {}", i + 1, moves.len())
+        };
+        if human && several {
+            println!("{title}, move {} of {}: `{name}`", i + 1, moves.len());
         }
-    };
-    print!("{}", describe(artifact, &name, &plan));
-    let goal_pose = plan.goal.pose;
-    let mut simulator = cell.simulator(&plan);
-    if let Some(step) = fail_at {
-        simulator = simulator.fail_motion_at(step.saturating_sub(1));
-    }
-    let options = ExecuteOptions {
-        max_replans: 5,
-        plan: request.options.clone(),
-    };
-    let result = cell.execute(plan, &mut simulator, &options);
-    println!("simulation:");
-    for line in &simulator.log {
-        println!("  {line}");
-    }
-    match result {
-        Ok(run) => {
-            for (i, replan) in run.plans.iter().enumerate().skip(1) {
-                println!("replan {i}, from where the object was:");
-                print!("{}", describe(artifact, &name, replan));
+        let in_job = |d: Diagnostic| {
+            if several {
+                d.note(format!(
+                    "move {} of {} of the {title} failed; the moves before it were carried out",
+                    i + 1,
+                    moves.len()
+                ))
+            } else {
+                d
             }
-            let object = &artifact.objects[run.plans[0].object.index()];
-            let holder = &artifact.end_effectors[run.final_state.end_effector.index()].name;
-            let grasp = &object.grasps[run.final_state.grasp.index()].name;
-            let ws = &artifact.workspaces[run.final_state.workspace.index()].name;
-            println!(
-                "done: `{}` held by `{holder}` with `{grasp}` in `{ws}`",
-                object.name
-            );
-            if let Some(pose) = run.final_pose {
-                let t = pose.translation.vector;
-                print!("final object pose: ({:.4}, {:.4}, {:.4})", t.x, t.y, t.z);
-                match goal_pose {
-                    Some(g) => {
-                        // A turn by one of the object's symmetries leaves it unchanged.
-                        let d = g.inverse() * pose;
-                        let rotation =
-                            cellc_runtime::symmetry::residual(&d.rotation, &object.symmetries);
-                        println!(
-                            "; error {:.2} mm, {:.3} deg from the goal",
-                            (pose.translation.vector - g.translation.vector).norm() * 1000.0,
-                            rotation.to_degrees()
-                        );
-                    }
-                    None => println!(),
-                }
+        };
+        let plan = match cell.plan_in(&world, m.object, &m.goal, &options) {
+            Ok(plan) => plan,
+            Err(e) => {
+                failure = Some(in_job(plan_error(
+                    artifact,
+                    &e,
+                    m.span,
+                    Some(&loaded.sources),
+                )));
+                break;
             }
-            ExitCode::SUCCESS
+        };
+        if human {
+            print!("{}", describe(artifact, &label, &plan));
         }
-        Err(ExecutionError::Replan(e)) => {
-            loaded.report(&[plan_error(artifact, &e, span, Some(&loaded.sources))]);
-            ExitCode::from(1)
+        let goal_pose = plan.goal.pose;
+        let first = plan.clone();
+        let mut simulator = cell.simulator_in(&world, &plan);
+        if let Some(step) = fail_at.filter(|_| i == 0) {
+            simulator = simulator.fail_motion_at(step.saturating_sub(1));
         }
-        Err(ExecutionError::FailedAtStart { error }) => {
-            let d = Diagnostic::error(
-                codes::EXECUTION_FAILED,
-                format!("{error}, before the object left its start"),
-            )
-            .help(
-                "nothing moved, so there is nothing to recover from: fix the cause and run again",
-            );
-            loaded.report(&[d]);
-            ExitCode::from(1)
+        let execute = ExecuteOptions {
+            max_replans: 5,
+            plan: options.clone(),
+        };
+        let result = cell.execute_in(&mut world, plan, &mut simulator, &execute);
+        if human {
+            println!("simulation:");
+            for line in &simulator.log {
+                println!("  {line}");
+            }
         }
-        Err(ExecutionError::TooManyFailures { replans, last }) => {
-            let d = Diagnostic::error(
-                codes::EXECUTION_FAILED,
-                format!("steps kept failing ({last}); gave up after {replans} replans"),
-            )
-            .help("the object is where the last step left it; see the simulation log above");
-            loaded.report(&[d]);
-            ExitCode::from(1)
+        let observed = simulator.object_state();
+        let (final_state, final_pose, position_error, rotation_error) = plan_json::final_place(
+            artifact,
+            m.object,
+            Some((observed.state, observed.pose)),
+            goal_pose,
+        );
+        let plans = match &result {
+            Ok(run) => run.plans.clone(),
+            Err(_) => vec![first],
+        };
+        if human {
+            if let Ok(run) = &result {
+                print!(
+                    "{}",
+                    done_text(&loaded, &label, run, position_error, rotation_error)
+                );
+            }
         }
-        Err(e) => {
-            let d = Diagnostic::error(codes::EXECUTION_FAILED, format!("execution failed: {e}"))
-                .help("see the simulation log above");
-            loaded.report(&[d]);
-            ExitCode::from(1)
+        done.push(JsonMove {
+            object: name,
+            plans: Vec::new(),
+            log: simulator.log.clone(),
+            done: result.is_ok(),
+            final_state,
+            final_pose,
+            position_error,
+            rotation_error,
+        });
+        let index = done.len() - 1;
+        done[index].plans = plans
+            .iter()
+            .map(|p| serde_json::to_value(plan_json::plan(artifact, &label, p)))
+            .filter_map(Result::ok)
+            .collect();
+        if let Err(e) = result {
+            failure = Some(in_job(execution_error(artifact, &e, m.span, &loaded)));
+            break;
         }
+    }
+    let ok = failure.is_none();
+    let diagnostics: Vec<Diagnostic> = failure.into_iter().collect();
+    if human {
+        // A lone request's world is the request itself; a world given or several moves
+        // are worth showing as they end.
+        if several || args.world.is_some() {
+            print!("{}", world_text(cell, &world));
+        }
+        loaded.report(&diagnostics);
+    } else {
+        let document = JsonRun {
+            version: plan_json::VERSION,
+            kind: "run",
+            ok,
+            plans: Vec::new(),
+            moves: done,
+            world: Some(plan_json::world(cell, &world)),
+            report: loaded.json_report(&diagnostics),
+        };
+        println!("{}", plan_json::to_text(&document));
+    }
+    if ok {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::from(1)
+    }
+}
+
+/// "done: ..." and the final pose's error, after a move's simulation (and its replans).
+fn done_text(
+    loaded: &Loaded,
+    label: &str,
+    run: &Execution,
+    position_error: Option<f64>,
+    rotation_error: Option<f64>,
+) -> String {
+    use std::fmt::Write as _;
+    let artifact = loaded.cell.artifact();
+    let mut out = String::new();
+    for (i, replan) in run.plans.iter().enumerate().skip(1) {
+        let _ = writeln!(out, "replan {i}, from where the object was:");
+        out.push_str(&describe(artifact, label, replan));
+    }
+    let object = run.plans[0].object;
+    let s = run.final_state;
+    let _ = writeln!(
+        out,
+        "done: `{}` held by `{}` with `{}` in `{}`",
+        artifact.object_name(object),
+        artifact.end_effector_name(s.end_effector),
+        artifact.grasp_name(object, s.grasp),
+        artifact.workspace_name(s.workspace)
+    );
+    if let Some(pose) = run.final_pose {
+        let t = pose.translation.vector;
+        let _ = write!(
+            out,
+            "final object pose: ({:.4}, {:.4}, {:.4})",
+            t.x, t.y, t.z
+        );
+        match position_error.zip(rotation_error) {
+            Some((p, r)) => {
+                let _ = writeln!(
+                    out,
+                    "; error {:.2} mm, {:.3} deg from the goal",
+                    p * 1000.0,
+                    r.to_degrees()
+                );
+            }
+            None => out.push('\n'),
+        }
+    }
+    out
+}
+
+/// An execution failure as a diagnostic.
+fn execution_error(
+    artifact: &cellc_schema::Artifact,
+    e: &ExecutionError,
+    span: Option<u32>,
+    loaded: &Loaded,
+) -> Diagnostic {
+    match e {
+        ExecutionError::Replan(e) => plan_error(artifact, e, span, Some(&loaded.sources)),
+        ExecutionError::FailedAtStart { error } => Diagnostic::error(
+            codes::EXECUTION_FAILED,
+            format!("{error}, before the object left its start"),
+        )
+        .help("nothing moved, so there is nothing to recover from: fix the cause and run again"),
+        ExecutionError::TooManyFailures { replans, last } => Diagnostic::error(
+            codes::EXECUTION_FAILED,
+            format!("steps kept failing ({last}); gave up after {replans} replans"),
+        )
+        .help("the object is where the last step left it; see the simulation log above"),
+        e => Diagnostic::error(codes::EXECUTION_FAILED, format!("execution failed: {e}"))
+            .help("see the simulation log above; the world is where it stopped"),
     }
 }

@@ -274,6 +274,9 @@ pub struct Plan {
     pub goal: PlanGoal,
     /// The other objects it was planned around (a replan keeps them).
     pub around: Surroundings,
+    /// Every arm's joints when the plan starts (index = end-effector; `None` for what is
+    /// not an arm): where an executor's arms must stand for the first motions to apply.
+    pub start_arms: Vec<Option<Vec<f64>>>,
     /// The state path, simplified (one move per run of moves).
     pub states: Vec<Node>,
     /// Commands in order.
@@ -345,6 +348,9 @@ pub enum PlanError {
     Locate(LocateError),
     /// No path from the start to the goal.
     Unreachable(Box<Unreachable>),
+    /// The request's start cannot be put into the world (its hand's arm cannot hold the
+    /// object there, or the start matches no state).
+    World(crate::world::WorldError),
     /// The object to move is not in the world.
     Absent {
         /// The object.
@@ -371,6 +377,7 @@ impl std::fmt::Display for PlanError {
                 "no plan reaches the goal ({} states reachable from the start)",
                 u.reachable.len()
             ),
+            PlanError::World(e) => write!(f, "the request's start: {e:?}"),
             PlanError::Absent { object } => write!(f, "{object} is not in the world"),
             PlanError::GoalOccupied { by } => write!(f, "{by} stands at the goal"),
             PlanError::TimeBudget { searches } => {

@@ -81,6 +81,14 @@ pub enum WorldError {
         /// Angle between the two orientations up to the object's symmetries, radians.
         rotation_error: f64,
     },
+    /// A request starts with the object in a hand, and no configuration of the hand's arm
+    /// found holds it there clear of the rest of the world.
+    NoHold {
+        /// The object.
+        object: String,
+        /// The hand.
+        holder: String,
+    },
     /// Two objects in one hand.
     HandFull {
         /// The hand.

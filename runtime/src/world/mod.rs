@@ -16,6 +16,7 @@
 //! world, with [`WorldError`]s that carry names and values for the caller to word.
 
 mod build;
+mod request;
 
 use cellc_schema::{Artifact, EndEffectorId, Node, ObjectId};
 

@@ -332,6 +332,7 @@ impl<'a> Planner<'a> {
                         start_pose,
                         goal: goal.clone(),
                         around: state.around.clone(),
+                        start_arms: state.arms.clone(),
                         strategy: classify(self.artifact, &states),
                         states,
                         steps,

@@ -1,0 +1,215 @@
+//! What `cellc plan` and `cellc run` are asked to do, as one value: a world to start from
+//! and the moves to carry out in it, one after the other.
+//!
+//! - A request (`--request NAME`, the first declared, or `--object/--from/--to`) is one
+//!   move. It is a scenario of its own: its object where the request's start says, the
+//!   arms at home (the hand holding the object where it holds it), and no other object,
+//!   unless `--world FILE` gives the rest of the cell.
+//! - A task (`--task NAME`, declared in the cell) or `--move` flags are several moves,
+//!   starting from the cell's `world` (or `--world FILE`).
+
+use std::fmt::Write as _;
+use std::process::ExitCode;
+
+use cellc_lang::Diagnostic;
+use cellc_runtime::plan::{Goal, GoalByName};
+use cellc_runtime::{Cell, ObjectId, Whereabouts, World};
+
+use super::plan::{placement_from_text, prepare, Loaded, PlanArgs, Prepared};
+use crate::plan_report::{self, codes};
+use crate::world_report::{read_world, world_diagnostic};
+
+/// One move of a job.
+pub struct Move {
+    /// The object.
+    pub object: ObjectId,
+    /// Where it must go.
+    pub goal: Goal,
+    /// The request's span (for labels), when the move is a named request.
+    pub span: Option<u32>,
+}
+
+/// A world and the moves to carry out in it.
+pub struct Job {
+    /// Where everything is before the first move.
+    pub world: World,
+    /// The moves, in order.
+    pub moves: Vec<Move>,
+    /// What the moves are, in words: "request `trash`", "task `clear_table`", "moves".
+    pub title: String,
+}
+
+/// The job `args` ask for; reports what is wrong and gives the exit code otherwise.
+pub fn job(args: &PlanArgs, loaded: &Loaded) -> Result<Job, ExitCode> {
+    let cell = &loaded.cell;
+    let options = args.options();
+    let fail = |d: Diagnostic| {
+        loaded.report(&[d]);
+        ExitCode::from(1)
+    };
+    let given = match &args.world {
+        Some(path) => Some(read_world(cell, path, &options).map_err(fail)?),
+        None => None,
+    };
+    let declared = || {
+        cell.initial_world(&options)
+            .map_err(|e| world_diagnostic(&e, "the cell's `world`"))
+            .map_err(fail)
+    };
+    if let Some(name) = &args.task {
+        let moves = cell.task(name).ok_or_else(|| fail(no_task(cell, name)))?;
+        return Ok(Job {
+            world: match given {
+                Some(w) => w,
+                None => declared()?,
+            },
+            moves: moves
+                .into_iter()
+                .map(|(object, goal)| Move {
+                    object,
+                    goal,
+                    span: None,
+                })
+                .collect(),
+            title: format!("task `{name}`"),
+        });
+    }
+    if !args.moves.is_empty() {
+        let moves = args
+            .moves
+            .iter()
+            .map(|text| parse_move(args, loaded, text))
+            .collect::<Result<Vec<_>, _>>()?;
+        return Ok(Job {
+            world: match given {
+                Some(w) => w,
+                None => declared()?,
+            },
+            moves,
+            title: "moves".to_string(),
+        });
+    }
+    let Prepared {
+        request,
+        name,
+        span,
+    } = prepare(args, loaded)?;
+    let base = given.unwrap_or_else(|| World::at_home(cell.artifact(), cell.scene()));
+    let world = cell.request_world(&base, &request).map_err(|e| {
+        fail(plan_report::plan_error(
+            cell.artifact(),
+            &e,
+            Some(span).flatten(),
+            Some(&loaded.sources),
+        ))
+    })?;
+    Ok(Job {
+        world,
+        moves: vec![Move {
+            object: request.object,
+            goal: request.goal,
+            span,
+        }],
+        title: format!("request `{name}`"),
+    })
+}
+
+/// `OBJECT to PLACEMENT`, as `--move` gives it; reports what is wrong.
+fn parse_move(args: &PlanArgs, loaded: &Loaded, text: &str) -> Result<Move, ExitCode> {
+    let cell = &loaded.cell;
+    let Some((object, to)) = text.split_once(" to ") else {
+        loaded.report(&[Diagnostic::error(
+            codes::LOCATE,
+            format!("`{}` is not a move", crate::render::escape(text)),
+        )
+        .help("write `OBJECT to PLACEMENT`, e.g. `ball to bin in ws_right_bin` or `cylinder to table at (0.4, -0.3, 1.0)`")]);
+        return Err(ExitCode::from(2));
+    };
+    let placement = placement_from_text(to.trim(), "move").map_err(|failure| {
+        let (d, sources) = *failure;
+        super::plan::emit(args.format, &[d], &sources);
+        ExitCode::from(2)
+    })?;
+    let object = object.trim();
+    let request = cell
+        .object(object)
+        .and_then(|id| {
+            cellc_runtime::plan::names::goal(cell.artifact(), id, &GoalByName::Placement(placement))
+                .map(|goal| (id, goal))
+        })
+        .map_err(|e| {
+            loaded.report(&[plan_report::plan_error(
+                cell.artifact(),
+                &cellc_runtime::plan::PlanError::Locate(e),
+                None,
+                None,
+            )]);
+            ExitCode::from(1)
+        })?;
+    Ok(Move {
+        object: request.0,
+        goal: request.1,
+        span: None,
+    })
+}
+
+fn no_task(cell: &Cell, name: &str) -> Diagnostic {
+    let known: Vec<&str> = cell
+        .artifact()
+        .tasks
+        .iter()
+        .map(|t| t.name.as_str())
+        .collect();
+    let help = cellc_lang::diagnostic::did_you_mean(name, known.iter().copied())
+        .map(|s| format!("did you mean `{s}`?"))
+        .unwrap_or_else(|| {
+            if known.is_empty() {
+                "declare one: `task NAME { OBJECT to PLACEMENT ... }`".to_string()
+            } else {
+                format!("the cell's tasks are {}", quoted(&known))
+            }
+        });
+    Diagnostic::error(
+        codes::NO_REQUEST,
+        format!("the cell declares no task `{name}`"),
+    )
+    .help(help)
+}
+
+/// The world, one line per object.
+pub fn world_text(cell: &Cell, world: &World) -> String {
+    let a = cell.artifact();
+    let mut out = String::from("world:\n");
+    for (i, o) in a.objects.iter().enumerate() {
+        let id = ObjectId(i as u32);
+        match world.whereabouts(id) {
+            Whereabouts::Absent => {
+                let _ = writeln!(out, "  `{}`: absent", o.name);
+            }
+            Whereabouts::Placed { state, .. } => {
+                let _ = write!(
+                    out,
+                    "  `{}`: `{}`.`{}` in `{}`",
+                    o.name,
+                    a.end_effector_name(state.end_effector),
+                    a.grasp_name(id, state.grasp),
+                    a.workspace_name(state.workspace)
+                );
+                if let Some(p) = world.pose(a, cell.scene(), id) {
+                    let t = p.translation.vector;
+                    let _ = write!(out, " at ({:.3}, {:.3}, {:.3})", t.x, t.y, t.z);
+                }
+                out.push('\n');
+            }
+        }
+    }
+    out
+}
+
+fn quoted(names: &[&str]) -> String {
+    names
+        .iter()
+        .map(|n| format!("`{n}`"))
+        .collect::<Vec<_>>()
+        .join(", ")
+}
