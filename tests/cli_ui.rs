@@ -1,5 +1,6 @@
 //! Command-line UI tests: each `tests/ui/cli/CODE_what.args` holds one `cellc` command line
-//! (arguments separated by spaces, run from the repository root). The command must fail
+//! (split as a POSIX shell would: quote an argument that has spaces; run from the
+//! repository root). The command must fail
 //! with exactly that code in a rendered diagnostic, never panic, and its output (exit
 //! status, standard output, standard error) is snapshotted.
 
@@ -12,7 +13,7 @@ fn cli_ui() {
         let name = path.file_name().unwrap().to_string_lossy().to_string();
         let code = name.split('_').next().unwrap_or_default().to_string();
         let line = std::fs::read_to_string(path).expect("readable");
-        let args: Vec<&str> = line.split_whitespace().collect();
+        let args: Vec<String> = shlex::split(&line).expect("a command line");
         let out = Command::new(env!("CARGO_BIN_EXE_cellc"))
             .args(&args)
             .current_dir(env!("CARGO_MANIFEST_DIR"))
