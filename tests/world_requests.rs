@@ -261,3 +261,37 @@ fn plan_json_commands_follow_the_plan() {
         assert_eq!(json["command"], expected);
     }
 }
+
+/// `cellc info` lists the cell's world and tasks (the moves in order).
+#[test]
+fn info_lists_the_world_and_the_tasks() {
+    let out = Command::new(env!("CARGO_BIN_EXE_cellc"))
+        .args(["info", "cells/vito.cell"])
+        .output()
+        .expect("cellc runs");
+    assert!(out.status.success());
+    let text = String::from_utf8_lossy(&out.stdout);
+    let cell = vito();
+    let a = cell.artifact();
+    assert!(
+        text.contains(&format!("world ({} objects)", a.world.len())),
+        "{text}"
+    );
+    for p in &a.world {
+        let line = format!("  {}: {}", a.object_name(p.object), "table at (");
+        assert!(text.contains(&line), "{line} in\n{text}");
+    }
+    let task = &a.tasks[0];
+    let header = format!("  {} ({} moves):", task.name, task.steps.len());
+    let at = text
+        .find(&header)
+        .unwrap_or_else(|| panic!("{header} in\n{text}"));
+    let listed: Vec<&str> = text[at..].lines().skip(1).take(task.steps.len()).collect();
+    for (line, step) in listed.iter().zip(&task.steps) {
+        assert!(
+            line.trim_start()
+                .starts_with(&format!("{} to ", a.object_name(step.object))),
+            "{line}"
+        );
+    }
+}

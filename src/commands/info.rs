@@ -3,7 +3,9 @@
 use std::fmt::Write;
 use std::process::ExitCode;
 
-use cellc_schema::{Artifact, Body, EndEffectorId, Holder, WorkspaceId};
+use cellc_schema::{
+    Artifact, Body, EndEffectorId, Holder, ObjectId, RequestPlacement, WorkspaceId,
+};
 
 use crate::artifact_io::Report;
 
@@ -207,6 +209,60 @@ pub fn describe(a: &Artifact) -> String {
                 "    {by_kind} of the grasps {verb} declared per holder kind"
             );
         }
+    }
+    if !a.world.is_empty() {
+        let _ = writeln!(out, "\nworld ({})", count(a.world.len(), "object"));
+        for p in &a.world {
+            let _ = writeln!(
+                out,
+                "  {}: {}",
+                a.object_name(p.object),
+                placement_text(a, p.object, &p.placement)
+            );
+        }
+    }
+    if !a.requests.is_empty() {
+        let _ = writeln!(out, "\nrequests ({})", a.requests.len());
+        for r in &a.requests {
+            let _ = writeln!(
+                out,
+                "  {}: {} from {} to {}",
+                r.name,
+                a.object_name(r.object),
+                placement_text(a, r.object, &r.from),
+                placement_text(a, r.object, &r.to)
+            );
+        }
+    }
+    if !a.tasks.is_empty() {
+        let _ = writeln!(out, "\ntasks ({})", a.tasks.len());
+        for t in &a.tasks {
+            let _ = writeln!(out, "  {} ({}):", t.name, count(t.steps.len(), "move"));
+            for s in &t.steps {
+                let _ = writeln!(
+                    out,
+                    "    {} to {}",
+                    a.object_name(s.object),
+                    placement_text(a, s.object, &s.to)
+                );
+            }
+        }
+    }
+    out
+}
+
+/// A placement as the language writes it: `HOLDER[.GRASP] [in WS] [at (x, y, z) m]`.
+fn placement_text(a: &Artifact, object: ObjectId, p: &RequestPlacement) -> String {
+    let mut out = a.end_effector_name(p.end_effector).to_string();
+    if let Some(g) = p.grasp {
+        let _ = write!(out, ".{}", a.grasp_name(object, g));
+    }
+    if let Some(w) = p.workspace {
+        let _ = write!(out, " in {}", a.workspace_name(w));
+    }
+    if let Some(pose) = &p.pose {
+        let [x, y, z] = pose.translation;
+        let _ = write!(out, " at ({}, {}, {}) m", m(x), m(y), m(z));
     }
     out
 }
