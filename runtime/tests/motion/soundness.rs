@@ -74,9 +74,8 @@ fn certified_segments_are_free_at_any_resolution() {
 }
 
 proptest::proptest! {
-    // The regressions stay next to this file (`soundness.proptest-regressions`): by
-    // default proptest would put them under `tests/proptest-regressions/`, having found
-    // this binary's `main.rs`.
+    // Regressions are kept next to this file (`soundness.proptest-regressions`), not under
+    // `tests/proptest-regressions/` where proptest would put them, having found `main.rs`.
     #![proptest_config(proptest::prelude::ProptestConfig {
         cases: 8,
         failure_persistence: Some(Box::new(
