@@ -1,0 +1,140 @@
+//! Soundness at any resolution: segments the certified check accepts, and trajectories
+//! planned between random free configurations, re-checked independently and finer.
+
+use cellc_runtime::math::Iso;
+use cellc_runtime::motion::{
+    check_trajectory, CertifiedMotion, MotionError, MotionOptions, MotionValidity,
+};
+use cellc_runtime::plan::{MotionContext, Trajectory};
+use cellc_runtime::scene::{Holder, ObjectPlacement, SceneScratch};
+use cellc_runtime::termination::Termination;
+use cellc_runtime::validity::StateValidity;
+use cellc_runtime::{EndEffectorId, ObjectId};
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+use super::{problem, scene, ARM, PILLAR};
+
+/// Straight segments between random configurations around the pillar and over a table,
+/// with a can in the hand: every segment the certified check accepts is free when
+/// re-checked fifty times finer than the planner's resolution (the sampled check at that
+/// resolution is not: a contact shallower than one step can lie between its samples).
+#[test]
+fn certified_segments_are_free_at_any_resolution() {
+    let table = ("table", [0.35, -0.3, 0.0], [0.8, 0.3, 0.3]);
+    let scene = scene(&[ARM], &[PILLAR, table]);
+    let Holder::Arm { robot, .. } = &scene.holders[0] else {
+        panic!("end-effector 0 is an arm");
+    };
+    let robot = &scene.robots[*robot];
+    let mut case = problem(&scene, vec![0], Vec::new(), Vec::new());
+    case.placement = ObjectPlacement::Held {
+        by: EndEffectorId(0),
+        grasp: Iso::translation(0.0, 0.0, 0.25),
+    };
+    let validity = case.validity().expect("a valid layout");
+    let options = MotionOptions::default();
+    let mut certified = CertifiedMotion::new(&validity, options.step, options.collision_resolution);
+    let mut rng = ChaCha8Rng::seed_from_u64(12);
+    let mut scratch = SceneScratch::default();
+    let (mut accepted, mut refused) = (0, 0);
+    let mut a = vec![0.0; 7];
+    for _ in 0..300 {
+        // A free start, and a goal up to a radian away per joint.
+        loop {
+            robot.sample_configuration(&mut rng, &mut a);
+            if validity.is_valid(&a, &mut scratch).expect("well formed") {
+                break;
+            }
+        }
+        let mut b: Vec<f64> = a.iter().map(|v| v + rng.random_range(-1.0..1.0)).collect();
+        robot.clamp_to_limits(&mut b);
+        if !certified
+            .check_motion(&a, &b, &mut scratch)
+            .expect("well formed")
+        {
+            refused += 1;
+            continue;
+        }
+        accepted += 1;
+        let t = Trajectory {
+            arms: vec![EndEffectorId(0)],
+            points: vec![(0.0, a.clone()), (1.0, b)],
+        };
+        let fine = options.collision_resolution / 50.0;
+        let checked =
+            check_trajectory(&scene, &t, ObjectId(0), &case.context(), fine, &mut scratch);
+        assert_eq!(checked, Ok(()), "{:?}", t.points);
+    }
+    // Both answers are exercised.
+    assert!(
+        accepted > 100 && refused > 30,
+        "{accepted} accepted, {refused} refused"
+    );
+}
+
+proptest::proptest! {
+    // Regressions are kept next to this file (`soundness.proptest-regressions`), not under
+    // `tests/proptest-regressions/` where proptest would put them, having found `main.rs`.
+    #![proptest_config(proptest::prelude::ProptestConfig {
+        cases: 8,
+        failure_persistence: Some(Box::new(
+            proptest::test_runner::FileFailurePersistence::WithSource("proptest-regressions"),
+        )),
+        ..Default::default()
+    })]
+
+    /// Random collision-free start and goal around the pillar: every trajectory point is
+    /// within limits and collision-free, and so is every configuration between them at
+    /// the planner's resolution. Random pairs can be hard (an arm folded around the
+    /// pillar): not finding a path in time is allowed, a wrong path is not.
+    #[test]
+    fn random_motions_are_valid(seed in 0u64..1_000_000) {
+        let scene = scene(&[ARM], &[PILLAR]);
+        let Holder::Arm { robot, .. } = &scene.holders[0] else {
+            panic!("end-effector 0 is an arm");
+        };
+        let robot = &scene.robots[*robot];
+        let mut rng = ChaCha8Rng::seed_from_u64(seed);
+        let mut scratch = SceneScratch::default();
+        let free = |q: &[f64], scratch: &mut SceneScratch| {
+            scene
+                .collision(&[(EndEffectorId(0), q)], ObjectId(0), ObjectPlacement::Absent, &[], scratch)
+                .expect("the query is well formed")
+                .is_none()
+        };
+        let mut random_free = || loop {
+            let mut q = vec![0.0; 7];
+            robot.sample_configuration(&mut rng, &mut q);
+            if free(&q, &mut scratch) {
+                break q;
+            }
+        };
+        let (start, goal) = (random_free(), random_free());
+        let p = problem(&scene, vec![0], start, goal);
+        let options = MotionOptions::default();
+        let mut rng = ChaCha8Rng::seed_from_u64(seed);
+        let t = match p.solve(&options, &mut rng, &Termination::never()) {
+            Ok(t) => t,
+            Err(MotionError::NoPath { .. }) => return Ok(()),
+            Err(e) => panic!("{e}"),
+        };
+        for (time, q) in &t.points {
+            proptest::prop_assert!(robot.within_limits(q), "at {time} s: {q:?}");
+            proptest::prop_assert!(free(q, &mut scratch), "at {time} s: {q:?}");
+        }
+        let checked = check_trajectory(
+            &scene,
+            &t,
+            ObjectId(0),
+            &MotionContext {
+                stationary: Vec::new(),
+                placement: ObjectPlacement::Absent,
+                obstacles: Vec::new(),
+            },
+            options.collision_resolution,
+            &mut scratch,
+        );
+        proptest::prop_assert_eq!(checked, Ok(()));
+    }
+}
