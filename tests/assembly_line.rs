@@ -305,3 +305,94 @@ fn the_sequence_does_not_depend_on_the_seed() {
         plan_and_run(seed);
     }
 }
+
+/// The task `two_cylinders`: the second cylinder, then the first, each down the whole line
+/// to bench 4, planned in the world (the first move's cylinder stands on bench 4 while the
+/// second is planned, and is in its obstacles) and executed in the simulator; the world
+/// after each move is what the simulator reports, and every trajectory of the second
+/// move is free of the first cylinder, re-checked four times finer than planned.
+#[test]
+fn the_line_moves_two_cylinders_one_after_the_other() {
+    use cellc_runtime::motion::{check_trajectory, MotionOptions};
+    use cellc_runtime::plan::MotionContext;
+    use cellc_runtime::scene::SceneScratch;
+    use cellc_runtime::{Cell, Executor};
+
+    let compilation = cellc_compiler::compile(&FsFiles, CELL);
+    let artifact = cellc_compiler::artifact::lower(
+        compilation.cell.as_ref().expect("resolved"),
+        &compilation.graphs,
+        &compilation.sources,
+    );
+    let mut cell = Cell::from_artifact(artifact, &FsFiles).expect("loads");
+    cell.verify(&VerifyOptions::default());
+    let options = PlanOptions::default();
+    let mut world = cell.initial_world(&options).expect("the declared world");
+    let moves = cell.task("two_cylinders").expect("declared");
+    assert_eq!(moves.len(), 2);
+    let scene = cell.scene().expect("geometric");
+    for (i, (object, goal)) in moves.iter().enumerate() {
+        let plan = cell
+            .plan_in(&world, *object, goal, &options)
+            .unwrap_or_else(|e| panic!("move {}: {e}", i + 1));
+        // The second cylinder starts on bench 2, so its chain is the paper's from there.
+        let expected: &[&str] = if i == 0 { &PAPERS[3..] } else { &PAPERS };
+        assert_eq!(holders(cell.artifact(), &plan), expected, "move {}", i + 1);
+        let others = world.obstacles(cell.artifact(), scene, *object);
+        assert_eq!(
+            others.len(),
+            1,
+            "move {}: the other cylinder is in the way",
+            i + 1
+        );
+        let fine = MotionOptions::default().collision_resolution / 4.0;
+        let mut checked = 0;
+        for step in &plan.steps {
+            let (Some(t), Some(context)) = (&step.motion, &step.motion_context) else {
+                continue;
+            };
+            let context = MotionContext {
+                obstacles: others.clone(),
+                ..context.clone()
+            };
+            check_trajectory(
+                scene,
+                t,
+                *object,
+                &context,
+                fine,
+                &mut SceneScratch::default(),
+            )
+            .unwrap_or_else(|e| panic!("move {}: {e:?}", i + 1));
+            checked += 1;
+        }
+        assert!(checked >= 10, "move {}: {checked} trajectories", i + 1);
+        let mut simulator = cell.simulator_in(&world, &plan);
+        cell.execute_in(&mut world, plan, &mut simulator, &ExecuteOptions::default())
+            .unwrap_or_else(|e| panic!("move {}: {e}", i + 1));
+        let seen = simulator.object_state();
+        assert_eq!(world.state(*object), Some(seen.state), "move {}", i + 1);
+        let pose = world
+            .pose(cell.artifact(), Some(scene), *object)
+            .expect("on bench 4");
+        let reported = seen.pose.expect("a pose");
+        assert!((pose.translation.vector - reported.translation.vector).norm() < 1e-9);
+        for (e, q) in simulator.arms().into_iter().enumerate() {
+            let e = cellc_schema::EndEffectorId(e as u32);
+            assert_eq!(world.arm(e).map(<[f64]>::to_vec), q, "move {}", i + 1);
+        }
+    }
+    // Both end on bench 4, 20 cm apart, where the task put them.
+    let bench4 = end_effector(cell.artifact(), "bench4");
+    let mut xs = Vec::new();
+    for (object, _) in &moves {
+        let state = world.state(*object).expect("placed");
+        assert_eq!(state.end_effector, bench4);
+        let p = world.pose(cell.artifact(), Some(scene), *object).unwrap();
+        xs.push(p.translation.vector.x);
+    }
+    assert!(
+        (xs[0] - 5.9).abs() < 1e-3 && (xs[1] - 6.1).abs() < 1e-3,
+        "{xs:?}"
+    );
+}
