@@ -83,16 +83,89 @@ pub fn artifact_plan(data: &[u8]) {
     let Ok(cell) = cell else {
         return;
     };
+    let options = PlanOptions {
+        motions: false,
+        max_backtracks: 16,
+        ..PlanOptions::default()
+    };
     for named in &cell.artifact().requests {
-        let options = PlanOptions {
-            motions: false,
-            max_backtracks: 16,
-            ..PlanOptions::default()
-        };
-        if let Some(request) = cell.named_request(&named.name, options) {
+        if let Some(request) = cell.named_request(&named.name, options.clone()) {
             if let Err(cellc_runtime::PlanError::Unreachable(u)) = cell.plan(&request) {
                 let _ = cell.explain(&u);
             }
+        }
+    }
+    // The declared world and every task, each move planned where the plans before it
+    // leave the world.
+    if let Ok(world) = cell.initial_world(&options) {
+        for task in &cell.artifact().tasks {
+            let mut world = world.clone();
+            for (object, goal) in cell.task(&task.name).unwrap_or_default() {
+                match cell.plan_in(&world, object, &goal, &options) {
+                    Ok(plan) => world = world.after_plan(cell.artifact(), &plan),
+                    Err(_) => break,
+                }
+            }
+        }
+    }
+}
+
+/// A cell with a world and a task, abstract (no geometry), that world documents are
+/// checked against by [`world_document`].
+const WORLD_CELL: &str = "cell tidy {
+  workspace w1
+  workspace w2
+  fixed table reaches w1, w2
+  movable gripper reaches w1, w2
+  object cube {
+    grasp on_table by table
+    grasp held by gripper
+    transition on_table <-> held
+  }
+  object ball {
+    grasp on_table by table
+    grasp held by gripper
+    transition on_table <-> held
+  }
+  world {
+    cube: table in w1
+    ball: table in w1
+  }
+  task clear_w1 {
+    cube to table in w2
+    ball to gripper.held in w2
+  }
+}
+";
+
+/// A world document (JSON) read and checked against a small cell, then its moves planned:
+/// every malformed document is an error value, never a panic, and a world that is
+/// accepted plans.
+pub fn world_document(data: &[u8]) {
+    use std::sync::OnceLock;
+    static CELL: OnceLock<Option<Cell>> = OnceLock::new();
+    let cell = CELL.get_or_init(|| {
+        let files = MemoryFiles::new([("tidy.cell", WORLD_CELL)]);
+        let compilation = cellc_compiler::compile(&files, "tidy.cell");
+        let lowered = compilation.cell.as_ref().map(|c| {
+            cellc_compiler::artifact::lower(c, &compilation.graphs, &compilation.sources)
+        })?;
+        Cell::from_artifact(lowered, &files).ok()
+    });
+    let Some(cell) = cell else {
+        return;
+    };
+    let Ok(document) = cellc_schema::WorldDocument::from_json(data) else {
+        return;
+    };
+    let options = PlanOptions::default();
+    let Ok(mut world) = cell.world(&document, &options) else {
+        return;
+    };
+    for (object, goal) in cell.task("clear_w1").unwrap_or_default() {
+        match cell.plan_in(&world, object, &goal, &options) {
+            Ok(plan) => world = world.after_plan(cell.artifact(), &plan),
+            Err(_) => break,
         }
     }
 }

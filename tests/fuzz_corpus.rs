@@ -42,3 +42,8 @@ fn artifact_plan_corpus() {
 fn urdf_mesh_corpus() {
     assert!(replay("urdf_mesh", cellc::fuzzing::urdf_mesh) >= 3);
 }
+
+#[test]
+fn world_document_corpus() {
+    assert!(replay("world_document", cellc::fuzzing::world_document) >= 5);
+}
