@@ -5,6 +5,7 @@
 use std::process::ExitCode;
 
 use cellc_lang::Diagnostic;
+use cellc_runtime::execute::SimulatorTolerance;
 use cellc_runtime::{ExecuteOptions, ExecutionError};
 
 use super::plan::{load, prepare, PlanArgs, Prepared};
@@ -35,7 +36,12 @@ pub fn run(args: &PlanArgs, fail_at: Option<usize>) -> ExitCode {
     };
     print!("{}", describe(artifact, &name, &plan));
     let goal_pose = plan.goal.pose;
-    let mut simulator = cell.simulator(&plan);
+    // An object let go above its surface by no more than the request calls resting
+    // falls onto it (the planner put it down there).
+    let mut simulator = cell.simulator(&plan).with_tolerance(SimulatorTolerance {
+        drop: request.options.position_tolerance,
+        ..SimulatorTolerance::default()
+    });
     if let Some(step) = fail_at {
         simulator = simulator.fail_motion_at(step.saturating_sub(1));
     }
