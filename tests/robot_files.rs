@@ -1,5 +1,6 @@
 //! Robot files as ROS ships them: the shipped Franka Panda and UR5 descriptions load
-//! unmodified through the real readers; the cells that use them build, verify and plan;
+//! unmodified through the real readers; the cells that use them find their reach from
+//! kinematics (`reach auto`), build, verify, plan and run;
 //! `package://` files are found through a cell's `package` item, `--package-path` and
 //! `ROS_PACKAGE_PATH` (and an artifact needs none of them); an SRDF's disabled pair
 //! changes a verdict.
@@ -8,9 +9,12 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
 use cellc::fs_files::FsFiles;
+use cellc_runtime::execute::SimulatorTolerance;
+use cellc_runtime::plan::PlanOptions;
 use cellc_runtime::robot::Robot;
 use cellc_runtime::scene::Scene;
 use cellc_runtime::verify::{verify, VerifyOptions};
+use cellc_runtime::{Cell, ExecuteOptions, ExecutionError, StepError};
 use cellc_schema::{Artifact, Infeasibility, MeshFile};
 use cellc_urdf::{package, Description, MeshPaths, PackagePath, Srdf};
 
@@ -131,8 +135,10 @@ fn the_panda_srdf_gives_the_chain_and_the_home() {
         "seven arm joints and the finger"
     );
 
-    // In a cell: the home is the state's arm joints, in chain order.
-    let compilation = cellc_compiler::compile(&FsFiles, "cells/two_pandas.cell");
+    // In a cell (compiled as the binary does: its reach is `auto`): the home is the
+    // state's arm joints, in chain order.
+    let compilation = cellc::reach::compile(&FsFiles, "cells/two_pandas.cell", &Default::default());
+    assert!(!compilation.has_errors());
     let cell = compilation.cell.expect("resolves");
     let (_, left) = cell
         .end_effectors
@@ -158,48 +164,164 @@ fn the_panda_srdf_gives_the_chain_and_the_home() {
     assert_eq!(expected[3], -2.35619);
 }
 
-fn build_and_plan(cell: &str, requests: &[(&str, &str)]) {
+/// A shipped cell whose arms use `reach auto`: what `cellc info` says it found, per arm.
+struct AutoCell {
+    path: &'static str,
+    /// Per arm: its name and how many boxes were found over each surface, in order.
+    boxes: &'static [(&'static str, &'static [(&'static str, usize)])],
+    /// Named requests and the strategy each plans.
+    requests: &'static [(&'static str, &'static str)],
+}
+
+/// The error of the simulated object from the goal that `cellc run` reports, millimetres
+/// (none when the goal is a grasp in a workspace, not a pose).
+fn final_error_mm(said: &str) -> Option<f64> {
+    let line = said
+        .lines()
+        .find(|l| l.starts_with("final object pose:"))
+        .unwrap_or_else(|| panic!("no final pose:\n{said}"));
+    let (_, after) = line.split_once("; error ")?;
+    let (mm, _) = after.split_once(" mm").expect("millimetres");
+    Some(mm.parse().expect("a number"))
+}
+
+/// The cell's reach is found (as `cellc info` reports it), it builds with every arc
+/// verified, and every named request plans with its strategy from the cell and from the
+/// artifact, and runs in the simulator to within the request's tolerance of its goal.
+fn builds_verifies_plans_and_runs(cell: &AutoCell) {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let path = cell.path;
+    let info = cellc(&["info", path], root, &[]);
+    let said = text(&info);
+    assert!(info.status.success(), "{path}:\n{said}");
+    let arms = if cell.boxes.len() == 1 { "arm" } else { "arms" };
+    assert!(
+        said.contains(&format!("reach auto ({} {arms})", cell.boxes.len())),
+        "{said}"
+    );
+    for (arm, surfaces) in cell.boxes {
+        let total: usize = surfaces.iter().map(|(_, n)| n).sum();
+        let header = format!("  {arm}: {total} boxes over the surfaces, ");
+        let at = said
+            .find(&header)
+            .unwrap_or_else(|| panic!("{path}: no `{header}` in\n{said}"));
+        // The work and the time it took, then one line per box.
+        let (summary, rest) = said[at..].split_once('\n').expect("lines");
+        assert!(summary.ends_with(" s"), "{summary}");
+        assert!(summary.contains("places tried") && summary.contains("solves"));
+        let listed: Vec<&str> = rest.lines().take(total).collect();
+        for (surface, n) in *surfaces {
+            let over = format!("    over {surface}: box x ");
+            let found = listed.iter().filter(|l| l.starts_with(&over)).count();
+            assert_eq!(found, *n, "{path}, {arm} over {surface}:\n{said}");
+        }
+    }
+
     let out = std::env::temp_dir().join(format!(
         "cellc-robot-files-{}-{}.json",
         std::process::id(),
-        Path::new(cell).file_stem().unwrap().to_string_lossy()
+        Path::new(path).file_stem().unwrap().to_string_lossy()
     ));
     let out_text = out.to_string_lossy().to_string();
-    let built = cellc(&["build", cell, "-o", &out_text], root, &[]);
-    assert!(built.status.success(), "{cell}:\n{}", text(&built));
-    assert!(text(&built).contains("verified"), "{}", text(&built));
+    let built = cellc(&["build", path, "-o", &out_text], root, &[]);
+    assert!(built.status.success(), "{path}:\n{}", text(&built));
+    assert!(text(&built).contains(": 0 pruned"), "{}", text(&built));
     let artifact = std::fs::read_to_string(&out).expect("artifact written");
     // The artifact records where each `package://` mesh was found.
     assert!(artifact.contains("\"written\":\"package://example-robot-data/"));
-    for (request, strategy) in requests {
-        for input in [cell, out_text.as_str()] {
-            let planned = cellc(&["plan", input, "--request", request], root, &[]);
-            let said = text(&planned);
-            assert!(planned.status.success(), "{input} {request}:\n{said}");
-            assert!(said.contains(strategy), "{input} {request}:\n{said}");
+    for (request, strategy) in cell.requests {
+        let from_cell = text(&cellc(&["plan", path, "--request", request], root, &[]));
+        let planned = cellc(&["plan", &out_text, "--request", request], root, &[]);
+        let said = text(&planned);
+        assert!(planned.status.success(), "{path} {request}:\n{said}");
+        assert!(said.contains(strategy), "{path} {request}:\n{said}");
+        // The cell gives the artifact's boxes, so the same plan.
+        assert_eq!(from_cell, said, "{path} {request}");
+
+        let run = cellc(&["run", &out_text, "--request", request], root, &[]);
+        let said = text(&run);
+        assert!(run.status.success(), "{path} {request}:\n{said}");
+        assert!(!said.contains("replan"), "{path} {request}:\n{said}");
+        assert!(said.contains("\ndone: "), "{path} {request}:\n{said}");
+        // Within the request's position tolerance (the default, 1 cm).
+        if let Some(error) = final_error_mm(&said) {
+            assert!(error <= 10.0, "{path} {request}: {error} mm off:\n{said}");
         }
     }
     let _ = std::fs::remove_file(&out);
 }
 
 #[test]
-fn two_pandas_builds_verifies_and_plans() {
-    build_and_plan(
-        "cells/two_pandas.cell",
-        &[
+fn two_pandas_builds_verifies_plans_and_runs() {
+    builds_verifies_plans_and_runs(&AutoCell {
+        path: "cells/two_pandas.cell",
+        boxes: &[("left", &[("table", 3)]), ("right", &[("table", 3)])],
+        requests: &[
             ("handoff", "handoff"),
             ("pick_and_place", "pick-and-place"),
             ("regrasp", "regrasp"),
         ],
-    );
+    });
 }
 
 #[test]
-fn ur_shelf_builds_verifies_and_plans() {
-    build_and_plan(
-        "cells/ur_shelf.cell",
-        &[("table_to_shelf", "pick-and-place")],
+fn ur_shelf_builds_verifies_plans_and_runs() {
+    builds_verifies_plans_and_runs(&AutoCell {
+        path: "cells/ur_shelf.cell",
+        boxes: &[("ur", &[("table", 3), ("shelf", 1)])],
+        requests: &[("table_to_shelf", "pick-and-place")],
+    });
+}
+
+/// The shelf's goal is written 1.5 mm above the board (a carry from the table may touch
+/// only the table, so it must end clear of the board): the carton is let go there and
+/// falls onto the board, as the request's position tolerance says it may; with no drop
+/// allowed the simulator refuses the put-down.
+#[test]
+fn a_carton_let_go_just_above_the_shelf_falls_onto_it() {
+    let compilation = cellc::reach::compile(&FsFiles, "cells/ur_shelf.cell", &Default::default());
+    assert!(!compilation.has_errors());
+    let artifact = cellc_compiler::artifact::lower(
+        compilation.cell.as_ref().expect("resolved"),
+        &compilation.graphs,
+        &compilation.sources,
+    );
+    let mut cell = Cell::from_artifact(artifact, &FsFiles).expect("loads");
+    cell.verify(&VerifyOptions::default());
+    let request = cell
+        .named_request("table_to_shelf", PlanOptions::default())
+        .expect("declared");
+    let plan = cell.plan(&request).expect("plans");
+    let goal = plan.goal.pose.expect("a goal pose");
+    let once = ExecuteOptions {
+        max_replans: 0,
+        ..ExecuteOptions::default()
+    };
+
+    let mut strict = cell.simulator(&plan).with_tolerance(SimulatorTolerance {
+        drop: 0.0,
+        ..SimulatorTolerance::default()
+    });
+    match cell.execute(plan.clone(), &mut strict, &once) {
+        Err(ExecutionError::TooManyFailures {
+            last: StepError::NotResting { height_error, .. },
+            ..
+        }) => assert!((height_error - 0.0015).abs() < 2e-4, "{height_error}"),
+        other => panic!("a floating put-down was accepted: {other:?}"),
+    }
+
+    let mut simulator = cell.simulator(&plan).with_tolerance(SimulatorTolerance {
+        drop: request.options.position_tolerance,
+        ..SimulatorTolerance::default()
+    });
+    let run = cell.execute(plan, &mut simulator, &once).expect("runs");
+    let pose = run.final_pose.expect("a final pose");
+    // On the board (top 1.125 m, the carton's centre 6.25 cm above it), under the goal.
+    assert!((pose.translation.z - 1.1875).abs() < 2e-4, "{pose:?}");
+    let off = pose.translation.vector - goal.translation.vector;
+    assert!(
+        off.xy().norm() < 2e-4 && (off.z + 0.0015).abs() < 2e-4,
+        "{off:?}"
     );
 }
 
@@ -353,7 +475,7 @@ fn a_package_item_comes_before_the_search_folders() {
 }
 
 fn verified(path: &str) -> Artifact {
-    let compilation = cellc_compiler::compile(&FsFiles, path);
+    let compilation = cellc::reach::compile(&FsFiles, path, &Default::default());
     assert!(!compilation.has_errors(), "{path} has errors");
     let cell = compilation.cell.as_ref().expect("resolved");
     let mut artifact =

@@ -13,8 +13,10 @@ use cellc_schema::{
     ArcKind, Artifact, Body, Encoding, EndEffectorId, GraspId, Infeasibility, ObjectId,
 };
 
+/// The artifact of `path` as `cellc build --no-verify` gives it (with the runtime's
+/// kinematics for `reach auto`).
 fn build(path: &str) -> Artifact {
-    let compilation = cellc_compiler::compile(&FsFiles, path);
+    let compilation = cellc::reach::compile(&FsFiles, path, &Default::default());
     assert!(!compilation.has_errors(), "{path} has errors");
     let cell = compilation.cell.as_ref().expect("resolved");
     cellc_compiler::artifact::lower(cell, &compilation.graphs, &compilation.sources)

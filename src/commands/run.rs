@@ -8,6 +8,7 @@
 use std::process::ExitCode;
 
 use cellc_lang::Diagnostic;
+use cellc_runtime::execute::SimulatorTolerance;
 use cellc_runtime::{ExecuteOptions, Execution, ExecutionError, Executor};
 
 use super::job::{job, world_text, Job};
@@ -79,7 +80,14 @@ pub fn run(args: &PlanArgs, fail_at: Option<usize>) -> ExitCode {
         }
         let goal_pose = plan.goal.pose;
         let first = plan.clone();
-        let mut simulator = cell.simulator_in(&world, &plan);
+        // An object let go above its surface by no more than the request calls resting
+        // falls onto it (the planner put it down there).
+        let mut simulator = cell
+            .simulator_in(&world, &plan)
+            .with_tolerance(SimulatorTolerance {
+                drop: options.position_tolerance,
+                ..SimulatorTolerance::default()
+            });
         if let Some(step) = fail_at.filter(|_| i == 0) {
             simulator = simulator.fail_motion_at(step.saturating_sub(1));
         }
