@@ -42,8 +42,11 @@ fn on_table() -> impl Strategy<Value = (f64, f64)> {
     (0.27..0.58f64, -0.40..0.68f64)
 }
 
+/// A position on the table (x, y), metres.
+type Xy = (f64, f64);
+
 /// Three positions whose footprints are at least 3 cm apart.
-fn clear((a, b, c): &((f64, f64), (f64, f64), (f64, f64))) -> bool {
+fn clear((a, b, c): &(Xy, Xy, Xy)) -> bool {
     let p = [a, b, c];
     (0..3).all(|i| {
         (i + 1..3).all(|j| {
