@@ -700,3 +700,21 @@ fn placed(
         shape,
     }))
 }
+
+/// Collision queries by body id, for callers that name what collides by its ids (the
+/// planner's blocking objects, `plan::planner::blocking`) rather than by the names
+/// [`Scene::collision`] gives.
+impl Scene {
+    /// The first colliding pair of the state [`Scene::collision`] describes, as body ids
+    /// (an object's body is [`BodyId::Object`] with its object index).
+    pub(crate) fn first_collision_ids(
+        &self,
+        arms: &[(EndEffectorId, &[f64])],
+        object: ObjectId,
+        placement: ObjectPlacement,
+        obstacles: &[Obstacle],
+        scratch: &mut SceneScratch,
+    ) -> Result<Option<Collision>, QueryError> {
+        self.first_collision(arms, object, placement, obstacles, scratch)
+    }
+}
