@@ -12,12 +12,15 @@
 //!
 //! Where a blocking object goes: a resting pose of one of its surface states, sampled
 //! from the workspace ([`RestRegions`], as put-downs are), clear of every other object of
-//! the world and of the goal, and as far as possible from where it was in the way (the
-//! goal, the object's start, the places the failed steps needed and where the blocking
-//! object stands): the same workspace first (the cheapest move), then the same surface,
-//! then any. The work is bounded: at most [`MAX_CLEARING_MOVES`] moves, a few candidate
-//! poses per blocking object, all within the request's time budget; every random draw
-//! comes from the request's seed.
+//! the world and of the goal. Poses at least [`CLEARANCE`] from every place the blocked
+//! move needs (the goal, the object's start, the places the failed steps needed, where
+//! the blocking object stands) come first; then the same workspace (the cheapest move),
+//! the same surface, any; then the farthest. A pose is taken only if the request, planned
+//! without motions with the object standing there, is not blocked by it again ("not where
+//! it blocks again"). The work is bounded: at most [`MAX_CLEARING_MOVES`] moves, a few
+//! candidate poses checked and planned per blocking object with few backtracks, all
+//! within the request's one time budget; every random draw comes from the request's
+//! seed.
 
 use std::time::Instant;
 
