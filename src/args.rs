@@ -91,6 +91,11 @@ pub struct RequestArgs {
     /// request's object is put at its start).
     #[arg(long)]
     pub world: Option<PathBuf>,
+    /// When other objects are in a move's way (one stands at its goal, or they block
+    /// every way there), move them to free resting poses first; the output shows those
+    /// moves, then the move itself.
+    #[arg(long)]
+    pub clear: bool,
     /// Output format.
     #[arg(long, value_enum, default_value = "human")]
     pub format: PlanFormat,

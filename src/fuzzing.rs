@@ -102,7 +102,7 @@ pub fn artifact_plan(data: &[u8]) {
             let mut world = world.clone();
             for (object, goal) in cell.task(&task.name).unwrap_or_default() {
                 match cell.plan_in(&world, object, &goal, &options) {
-                    Ok(plan) => world = world.after_plan(cell.artifact(), &plan),
+                    Ok(plan) => world = cell.world_after(&world, &plan),
                     Err(_) => break,
                 }
             }
@@ -164,7 +164,7 @@ pub fn world_document(data: &[u8]) {
     };
     for (object, goal) in cell.task("clear_w1").unwrap_or_default() {
         match cell.plan_in(&world, object, &goal, &options) {
-            Ok(plan) => world = world.after_plan(cell.artifact(), &plan),
+            Ok(plan) => world = cell.world_after(&world, &plan),
             Err(_) => break,
         }
     }

@@ -265,6 +265,10 @@ pub fn world<'a>(cell: &'a Cell, world: &World) -> JsonWorld<'a> {
 pub struct JsonMove<'a> {
     /// The object moved.
     pub object: &'a str,
+    /// For a move that takes an object out of the way (`--clear`): the object of the move
+    /// it clears the way for.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub clears: Option<&'a str>,
     /// The plans executed, in order: the first, then one per replan (each a [`JsonPlan`]).
     pub plans: Vec<serde_json::Value>,
     /// The simulator's log, one line per step.

@@ -61,7 +61,7 @@ pub fn plan_error(
             format!("`{}` stands where the goal puts the object", artifact.object_name(*by)),
         )
         .help(format!(
-            "choose a free goal, or move `{}` first (a task can do both in order)",
+            "choose a free goal, or move `{}` first (`--clear` does, or a task in order)",
             artifact.object_name(*by)
         )),
         PlanError::Absent { object } => Diagnostic::error(

@@ -295,3 +295,60 @@ fn info_lists_the_world_and_the_tasks() {
         );
     }
 }
+
+/// The ball stands where `handoff_cylinder` puts the cylinder: refused with R0010 naming
+/// it; with `--clear`, `cellc run` first moves the ball to a free place, then the cylinder
+/// to its goal, and the JSON shows both moves.
+#[test]
+fn clear_moves_the_object_in_the_way_first() {
+    let world = "tests/ui/cli/support/goal_taken_world.json";
+    let base = [
+        "run",
+        "cells/vito.cell",
+        "--request",
+        "handoff_cylinder",
+        "--world",
+        world,
+        "--no-motions",
+        "--format",
+        "json",
+    ];
+    let (ok, doc) = cellc(&base);
+    assert!(!ok);
+    assert_eq!(doc["diagnostics"][0]["code"], "R0010", "{doc}");
+    assert!(doc["diagnostics"][0]["message"]
+        .as_str()
+        .unwrap()
+        .contains("`ball`"));
+
+    let mut args = base.to_vec();
+    args.push("--clear");
+    let (ok, doc) = cellc(&args);
+    assert!(ok, "{doc}");
+    let moves = doc["moves"].as_array().expect("moves");
+    assert_eq!(moves.len(), 2, "{doc}");
+    assert_eq!(moves[0]["object"], "ball");
+    assert_eq!(moves[0]["clears"], "cylinder");
+    assert_eq!(moves[1]["object"], "cylinder");
+    assert!(moves.iter().all(|m| m["done"] == true));
+    assert!(moves[1]["position_error"].as_f64().unwrap() < 1e-3);
+    // The ball left the goal: its footprint (5 cm) and the cylinder's (4 cm) are apart.
+    let pose = |name: &str| {
+        let o = doc["world"]["objects"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|o| o["object"] == name)
+            .unwrap()
+            .clone();
+        let p = o["pose"]["position"].as_array().unwrap().clone();
+        (p[0].as_f64().unwrap(), p[1].as_f64().unwrap())
+    };
+    let (b, c) = (pose("ball"), pose("cylinder"));
+    let d = ((b.0 - c.0).powi(2) + (b.1 - c.1).powi(2)).sqrt();
+    assert!(d > 0.09, "ball {b:?}, cylinder {c:?}");
+    assert!(
+        (c.0 - 0.4).abs() < 1e-3 && (c.1 + 0.3).abs() < 1e-3,
+        "{c:?}"
+    );
+}

@@ -230,6 +230,34 @@ impl Cell {
         self.planner().plan_in(world, object, goal, options)
     }
 
+    /// Plans moving `object` to `goal` in `world` as [`Cell::plan_in`] does, and when
+    /// other objects are in the way (one stands at the goal, or they block every way
+    /// there), moves them to free resting poses first: the plans in the order to carry
+    /// them out, the request's last, each made in the world the ones before leave. See
+    /// [`Planner::plan_clearing`].
+    ///
+    /// ```rust,ignore
+    /// for plan in cell.plan_clearing(&world, object, &goal, &options)? {
+    ///     let mut simulator = cell.simulator_in(&world, &plan);
+    ///     cell.execute_in(&mut world, plan, &mut simulator, &ExecuteOptions::default())?;
+    /// }
+    /// ```
+    pub fn plan_clearing(
+        &self,
+        world: &World,
+        object: ObjectId,
+        goal: &Goal,
+        options: &PlanOptions,
+    ) -> Result<Vec<Plan>, PlanError> {
+        self.planner().plan_clearing(world, object, goal, options)
+    }
+
+    /// The world once `plan` (made in `world`) has been carried out as planned, without
+    /// carrying it out ([`World::after`]).
+    pub fn world_after(&self, world: &World, plan: &Plan) -> World {
+        world.after(&self.artifact, self.scene.as_ref(), plan)
+    }
+
     /// Executes a plan on `executor`, replanning from where the object is when a step
     /// fails; the plan carries its goal.
     pub fn execute(

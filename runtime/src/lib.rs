@@ -43,15 +43,18 @@ pub mod verify;
 pub mod world;
 
 pub use cell::{Cell, LoadError};
-pub use cellc_schema::{Artifact, EndEffectorId, GraspId, NodeId, ObjectId, WorkspaceId};
+pub use cellc_schema::{
+    Artifact, BlockedPart, BlockedStep, Blocker, EndEffectorId, GraspId, NodeId, ObjectId,
+    WorkspaceId,
+};
 pub use execute::{
     ExecuteOptions, Execution, ExecutionError, Executor, ObservedObject, Simulator, StepError,
 };
 pub use explain::{Explanation, NoStates};
 pub use math::Iso;
 pub use plan::{
-    Command, Goal, GoalByName, LocateError, Placement, PlacementByName, Plan, PlanError, PlanGoal,
-    PlanOptions, Request, Step, Strategy, Trajectory, Unreachable,
+    Around, Command, Detour, Goal, GoalByName, LocateError, Placement, PlacementByName, Plan,
+    PlanError, PlanGoal, PlanOptions, Request, Step, Strategy, Trajectory, Unreachable,
 };
 pub use verify::VerifyOptions;
 pub use world::{Whereabouts, World, WorldError};

@@ -15,6 +15,7 @@ use std::sync::OnceLock;
 
 use cellc_schema::{EndEffectorId, ObjectId};
 
+use crate::collision::Collision;
 use crate::scene::{Holder, ObjectPlacement, Obstacle, Placed, QueryError, Scene, SceneScratch};
 use crate::swept::{SweptBodies, LOOKAHEAD};
 
@@ -292,6 +293,19 @@ impl<'a> SceneValidity<'a> {
                 joint,
                 value,
             }
+        })
+    }
+
+    /// The first colliding pair at `q` as body ids (joint limits are not looked at), for
+    /// reports that name what collides by id: which of the world's objects blocks a step.
+    pub(crate) fn first_contact(
+        &self,
+        q: &[f64],
+        scratch: &mut SceneScratch,
+    ) -> Result<Option<Collision>, QueryError> {
+        self.with_arms(q, |arms| {
+            self.scene
+                .first_collision(arms, self.object, self.placement, self.obstacles, scratch)
         })
     }
 

@@ -17,6 +17,7 @@
 
 use serde::{Deserialize, Serialize};
 
+pub mod blocked;
 pub mod files;
 pub mod hash;
 pub mod ids;
@@ -29,6 +30,7 @@ pub use files::{FileError, Files, MemoryFiles};
 pub use hash::sha256_hex;
 pub mod rules;
 pub mod world;
+pub use blocked::{BlockedPart, BlockedStep, Blocker};
 pub use ids::{EndEffectorId, GraspId, NodeId, ObjectId, RobotId, SpanId, WorkspaceId};
 pub use world::{InitialPlacement, NamedTask, TaskStep, WorldDocument};
 
@@ -205,6 +207,9 @@ pub enum Infeasibility {
         /// What it holds.
         holds: ObjectId,
     },
+    /// Another object of the world is in the way (planning in a world): the step is
+    /// feasible without it.
+    Blocked(Blocker),
 }
 
 /// An arc removed by verification, kept with its reason for explanations.

@@ -483,6 +483,19 @@ impl Validator<'_> {
                 self.index("hand", *hand, n, "end-effectors")?;
                 self.index("holds", *holds, self.a.objects.len(), "objects")
             }
+            Infeasibility::Blocked(blocker) => {
+                self.index("by", blocker.by, self.a.objects.len(), "objects")?;
+                match blocker.part {
+                    crate::BlockedPart::Arm(e) | crate::BlockedPart::Hand(e) => {
+                        self.index("part", e, n, "end-effectors")?
+                    }
+                    crate::BlockedPart::Object => {}
+                }
+                match blocker.during.position() {
+                    Some(at) => at.iter().try_for_each(|&x| self.number("at", x)),
+                    None => Ok(()),
+                }
+            }
             Infeasibility::Collision { .. } | Infeasibility::NoPlacement { .. } => Ok(()),
         }
     }

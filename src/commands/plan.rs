@@ -44,6 +44,8 @@ pub struct PlanArgs {
     pub moves: Vec<String>,
     /// A world document to start from.
     pub world: Option<String>,
+    /// Move objects in the way first.
+    pub clear: bool,
 }
 
 impl PlanArgs {
@@ -63,6 +65,7 @@ impl PlanArgs {
             compile: crate::packages::compile_options(&request.packages),
             task: request.task.clone(),
             moves: request.moves.clone(),
+            clear: request.clear,
             world: request
                 .world
                 .as_ref()
@@ -390,16 +393,28 @@ pub fn run(args: &PlanArgs) -> ExitCode {
                 artifact.object_name(m.object)
             );
         }
-        match cell.plan_in(&world, m.object, &m.goal, &options) {
-            Ok(plan) => {
-                if human {
-                    print!("{}", plan_report::describe(artifact, &label, &plan));
-                } else if let Ok(v) =
-                    serde_json::to_value(crate::plan_json::plan(artifact, &label, &plan))
-                {
-                    plans.push(v);
+        match super::job::plans_for(cell, &world, m, &options, args.clear) {
+            Ok(found) => {
+                let count = found.len();
+                for (k, plan) in found.iter().enumerate() {
+                    let label = if k + 1 < count {
+                        let blocker = artifact.object_name(plan.object);
+                        if human {
+                            println!("`{blocker}` is in the way: moving it to a free place first");
+                        }
+                        format!("clearing for {}", artifact.object_name(m.object))
+                    } else {
+                        label.clone()
+                    };
+                    if human {
+                        print!("{}", plan_report::describe(artifact, &label, plan));
+                    } else if let Ok(v) =
+                        serde_json::to_value(crate::plan_json::plan(artifact, &label, plan))
+                    {
+                        plans.push(v);
+                    }
+                    world = cell.world_after(&world, plan);
                 }
-                world = world.after_plan(artifact, &plan);
             }
             Err(error) => {
                 let mut d =

@@ -63,8 +63,8 @@ pub fn run(args: &PlanArgs, fail_at: Option<usize>) -> ExitCode {
                 d
             }
         };
-        let plan = match cell.plan_in(&world, m.object, &m.goal, &options) {
-            Ok(plan) => plan,
+        let plans = match super::job::plans_for(cell, &world, m, &options, args.clear) {
+            Ok(plans) => plans,
             Err(e) => {
                 failure = Some(in_job(plan_error(
                     artifact,
@@ -75,70 +75,63 @@ pub fn run(args: &PlanArgs, fail_at: Option<usize>) -> ExitCode {
                 break;
             }
         };
-        if human {
-            print!("{}", describe(artifact, &label, &plan));
-        }
-        let goal_pose = plan.goal.pose;
-        let first = plan.clone();
-        // An object let go above its surface by no more than the request calls resting
-        // falls onto it (the planner put it down there).
-        let mut simulator = cell
-            .simulator_in(&world, &plan)
-            .with_tolerance(SimulatorTolerance {
-                drop: options.position_tolerance,
-                ..SimulatorTolerance::default()
-            });
-        if let Some(step) = fail_at.filter(|_| i == 0) {
-            simulator = simulator.fail_motion_at(step.saturating_sub(1));
-        }
-        let execute = ExecuteOptions {
-            max_replans: 5,
-            plan: options.clone(),
-        };
-        let result = cell.execute_in(&mut world, plan, &mut simulator, &execute);
-        if human {
-            println!("simulation:");
-            for line in &simulator.log {
-                println!("  {line}");
+        let count = plans.len();
+        let mut replanned = false;
+        let mut stopped = false;
+        for (k, mut plan) in plans.into_iter().enumerate() {
+            let clearing = k + 1 < count;
+            if !clearing && replanned {
+                // A clearing move needed a replan, so its object may stand elsewhere than
+                // the request's plan assumed: plan the request again in the world as it is.
+                plan = match cell.plan_in(&world, m.object, &m.goal, &options) {
+                    Ok(p) => p,
+                    Err(e) => {
+                        failure = Some(in_job(plan_error(
+                            artifact,
+                            &e,
+                            m.span,
+                            Some(&loaded.sources),
+                        )));
+                        stopped = true;
+                        break;
+                    }
+                };
+            }
+            let label = if clearing {
+                format!("clearing for {name}")
+            } else {
+                label.clone()
+            };
+            if human {
+                if clearing {
+                    println!(
+                        "`{}` is in the way: moving it to a free place first",
+                        artifact.object_name(plan.object)
+                    );
+                }
+                print!("{}", describe(artifact, &label, &plan));
+            }
+            let (record, result) = execute_plan(
+                &loaded,
+                &mut world,
+                plan,
+                &options,
+                &label,
+                fail_at.filter(|_| i == 0 && k == 0),
+            );
+            replanned |= result.as_ref().is_ok_and(|r| r.plans.len() > 1);
+            let record = JsonMove {
+                clears: clearing.then_some(name),
+                ..record
+            };
+            done.push(record);
+            if let Err(e) = result {
+                failure = Some(in_job(execution_error(artifact, &e, m.span, &loaded)));
+                stopped = true;
+                break;
             }
         }
-        let observed = simulator.object_state();
-        let (final_state, final_pose, position_error, rotation_error) = plan_json::final_place(
-            artifact,
-            m.object,
-            Some((observed.state, observed.pose)),
-            goal_pose,
-        );
-        let plans = match &result {
-            Ok(run) => run.plans.clone(),
-            Err(_) => vec![first],
-        };
-        if human {
-            if let Ok(run) = &result {
-                print!(
-                    "{}",
-                    done_text(&loaded, &label, run, position_error, rotation_error)
-                );
-            }
-        }
-        done.push(JsonMove {
-            object: name,
-            plans: Vec::new(),
-            log: simulator.log.clone(),
-            done: result.is_ok(),
-            final_state,
-            final_pose,
-            position_error,
-            rotation_error,
-        });
-        let index = done.len() - 1;
-        done[index].plans = plans
-            .iter()
-            .map(|p| serde_json::to_value(plan_json::plan(artifact, &label, p)))
-            .filter_map(Result::ok)
-            .collect();
-        if let Err(e) = result {
-            failure = Some(in_job(execution_error(artifact, &e, m.span, &loaded)));
+        if stopped {
             break;
         }
     }
@@ -168,6 +161,81 @@ pub fn run(args: &PlanArgs, fail_at: Option<usize>) -> ExitCode {
     } else {
         ExitCode::from(1)
     }
+}
+
+/// Executes one plan in the simulator from `world` and brings the world up to date; the
+/// human output (the simulation log, replans, the final pose) is printed here, the JSON
+/// record returned with the result.
+fn execute_plan<'a>(
+    loaded: &'a Loaded,
+    world: &mut cellc_runtime::World,
+    plan: cellc_runtime::Plan,
+    options: &cellc_runtime::plan::PlanOptions,
+    label: &str,
+    fail_at: Option<usize>,
+) -> (JsonMove<'a>, Result<Execution, ExecutionError>) {
+    let cell = &loaded.cell;
+    let artifact = cell.artifact();
+    let human = loaded.format == PlanFormat::Human;
+    let object = plan.object;
+    let goal_pose = plan.goal.pose;
+    let first = plan.clone();
+    // An object let go above its surface by no more than the request calls resting
+    // falls onto it (the planner put it down there).
+    let mut simulator = cell
+        .simulator_in(world, &plan)
+        .with_tolerance(SimulatorTolerance {
+            drop: options.position_tolerance,
+            ..SimulatorTolerance::default()
+        });
+    if let Some(step) = fail_at {
+        simulator = simulator.fail_motion_at(step.saturating_sub(1));
+    }
+    let execute = ExecuteOptions {
+        max_replans: 5,
+        plan: options.clone(),
+    };
+    let result = cell.execute_in(world, plan, &mut simulator, &execute);
+    if human {
+        println!("simulation:");
+        for line in &simulator.log {
+            println!("  {line}");
+        }
+    }
+    let observed = simulator.object_state();
+    let (final_state, final_pose, position_error, rotation_error) = plan_json::final_place(
+        artifact,
+        object,
+        Some((observed.state, observed.pose)),
+        goal_pose,
+    );
+    if human {
+        if let Ok(run) = &result {
+            print!(
+                "{}",
+                done_text(loaded, label, run, position_error, rotation_error)
+            );
+        }
+    }
+    let plans = match &result {
+        Ok(run) => run.plans.clone(),
+        Err(_) => vec![first],
+    };
+    let record = JsonMove {
+        object: artifact.object_name(object),
+        clears: None,
+        plans: plans
+            .iter()
+            .filter_map(|p| serde_json::to_value(plan_json::plan(artifact, label, p)).ok())
+            .collect(),
+        log: simulator.log.clone(),
+        done: result.is_ok(),
+        final_state,
+        final_pose,
+        position_error,
+        rotation_error,
+    };
+    (record, result)
 }
 
 /// "done: ..." and the final pose's error, after a move's simulation (and its replans).

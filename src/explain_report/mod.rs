@@ -47,7 +47,13 @@ pub fn unreachable(
     let (mut d, labels) = match (&explained, object) {
         (Ok(explanation), Some(obj)) => {
             let words = Words::new(artifact, obj);
-            let d = Diagnostic::error(codes::UNREACHABLE, words.summary(explanation));
+            let mut message = words.summary(explanation);
+            // Another object in the way is named in the message: the notes list every
+            // step it blocked.
+            if let Some((_, blocker)) = u.blockers().next() {
+                message = format!("{message}; {}", words::blocked(artifact, blocker));
+            }
+            let d = Diagnostic::error(codes::UNREACHABLE, message);
             (d, words.labels(explanation))
         }
         (Ok(_), None) | (Err(_), _) => {
@@ -153,6 +159,18 @@ pub fn unreachable(
             .map(|(i, s)| format!("{}) {s}", i + 1))
             .collect::<Vec<_>>()
             .join("\n"),
+    };
+    // An object in the way is moved before the cell is edited.
+    let help = match u.blockers().next() {
+        Some((_, blocker)) => {
+            let hint = words::blocked_hint(artifact, blocker);
+            if help.contains(&hint) {
+                help
+            } else {
+                format!("{hint}\nwithout moving it: {help}")
+            }
+        }
+        None => help,
     };
     d.help(help)
 }

@@ -7,7 +7,8 @@ use cellc_runtime::explain::{Exchange, HeldWith, Side};
 use cellc_runtime::plan::NO_MOTION;
 use cellc_schema::rules::{Adjacency, CellRules, ObjectRules};
 use cellc_schema::{
-    ArcKind, Artifact, EndEffectorId, GraspId, Infeasibility, Node, NodeId, Object, WorkspaceId,
+    ArcKind, Artifact, BlockedPart, BlockedStep, Blocker, EndEffectorId, GraspId, Infeasibility,
+    Node, NodeId, Object, WorkspaceId,
 };
 
 /// Names listed in one sentence before "and N more".
@@ -253,6 +254,7 @@ impl<'a> Words<'a> {
                 "extend the surface into {}, or choose another resting pose",
                 self.ws(workspace)
             ),
+            Infeasibility::Blocked(blocker) => blocked_hint(self.art, blocker),
             _ => "change the geometry so it becomes feasible".to_string(),
         }
     }
@@ -324,7 +326,40 @@ pub fn infeasibility(art: &Artifact, reason: &Infeasibility) -> String {
             ee_name(art, *hand),
             q(art.object_name(*holds))
         ),
+        Infeasibility::Blocked(blocker) => blocked(art, blocker),
         _ => "found infeasible".to_string(),
+    }
+}
+
+/// What to do about another object in the way.
+pub fn blocked_hint(art: &Artifact, blocker: &Blocker) -> String {
+    format!(
+        "move {} out of the way first (a move before this one, or plan with `--clear`), or \
+         choose a goal that leaves room for it",
+        q(art.object_name(blocker.by))
+    )
+}
+
+/// Another object in the way: "`ball` blocks the put-down at (0.500, -0.644, 0.960), in
+/// the way of the object", "`ball` blocks the path of `left`'s hand".
+pub fn blocked(art: &Artifact, blocker: &Blocker) -> String {
+    let by = q(art.object_name(blocker.by));
+    let part = match blocker.part {
+        BlockedPart::Object => "the object".to_string(),
+        BlockedPart::Arm(e) => format!("{}'s arm", ee_name(art, e)),
+        BlockedPart::Hand(e) => format!("{}'s hand", ee_name(art, e)),
+    };
+    let step = match blocker.during {
+        BlockedStep::Pick { .. } => "pick",
+        BlockedStep::PutDown { .. } => "put-down",
+        BlockedStep::Handoff { .. } => "handoff",
+        BlockedStep::Motion => return format!("{by} blocks the path of {part}"),
+    };
+    match blocker.during.position() {
+        Some([x, y, z]) => {
+            format!("{by} blocks the {step} at ({x:.3}, {y:.3}, {z:.3}), in the way of {part}")
+        }
+        None => format!("{by} blocks the {step}, in the way of {part}"),
     }
 }
 

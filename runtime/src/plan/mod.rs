@@ -14,7 +14,9 @@ pub mod planner;
 pub mod search;
 pub mod strategy;
 
-use cellc_schema::{EndEffectorId, GraspId, Infeasibility, Node, NodeId, ObjectId, WorkspaceId};
+use cellc_schema::{
+    Blocker, EndEffectorId, GraspId, Infeasibility, Node, NodeId, ObjectId, WorkspaceId,
+};
 
 use crate::math::Iso;
 
@@ -287,6 +289,31 @@ pub struct Plan {
     pub cost: f64,
     /// Arcs removed and searches repeated because a step failed.
     pub backtracks: u32,
+    /// The world's other objects that were in the way, and how the plan went round each
+    /// (empty when none was): what a task planner reads to know that a move only worked
+    /// round another object, and the count behind "a direct plan was blocked".
+    pub detours: Vec<Detour>,
+}
+
+/// One of the world's other objects in the way of a plan, and how the plan went round it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Detour {
+    /// The arc whose step it blocked.
+    pub arc: ArcRef,
+    /// What it blocked.
+    pub blocker: Blocker,
+    /// How the plan went round it.
+    pub around: Around,
+}
+
+/// How a plan went round an object in its way.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Around {
+    /// The step was carried out at another resting pose of the same workspace (a put-down
+    /// whose witnessed pose the object takes).
+    OtherPose,
+    /// The arc was given up and the search found a path without it.
+    OtherPath,
 }
 
 /// How the detail of a step whose joint motion could not be planned begins (the arc fails
@@ -328,6 +355,17 @@ pub struct Unreachable {
     pub failed: Vec<(ArcRef, Infeasibility)>,
 }
 
+impl Unreachable {
+    /// Every step that failed because one of the world's other objects stood in its way,
+    /// in the order they failed.
+    pub fn blockers(&self) -> impl Iterator<Item = (ArcRef, &Blocker)> + '_ {
+        self.failed.iter().filter_map(|(arc, reason)| match reason {
+            Infeasibility::Blocked(blocker) => Some((*arc, blocker)),
+            _ => None,
+        })
+    }
+}
+
 impl Command {
     /// The end-effector that acts.
     pub fn holder(&self) -> EndEffectorId {
@@ -366,6 +404,27 @@ pub enum PlanError {
         /// Searches started (the first, and one per backtrack).
         searches: u32,
     },
+}
+
+impl PlanError {
+    /// The world's objects this failure names as in the way, each once, in the order met:
+    /// the object at the goal, or those that blocked the steps that failed. Moving them
+    /// first may let the request succeed ([`planner::Planner::plan_clearing`]).
+    pub fn blockers(&self) -> Vec<ObjectId> {
+        let mut out = Vec::new();
+        match self {
+            PlanError::GoalOccupied { by } => out.push(*by),
+            PlanError::Unreachable(u) => {
+                for (_, blocker) in u.blockers() {
+                    if !out.contains(&blocker.by) {
+                        out.push(blocker.by);
+                    }
+                }
+            }
+            _ => {}
+        }
+        out
+    }
 }
 
 impl std::fmt::Display for PlanError {

@@ -162,8 +162,10 @@ impl Scene {
             .is_none())
     }
 
-    /// The first colliding pair of the state [`Scene::collision`] describes, as body ids.
-    fn first_collision(
+    /// The first colliding pair of the state [`Scene::collision`] describes, as body ids
+    /// (an object's body is [`crate::collision::BodyId::Object`] with its object index):
+    /// how the planner names the object that blocks a step (`plan::planner::blocking`).
+    pub(crate) fn first_collision(
         &self,
         arms: &[(EndEffectorId, &[f64])],
         object: ObjectId,

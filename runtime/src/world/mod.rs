@@ -13,8 +13,10 @@
 //! pose (the state says only which resting pose and workspace).
 //!
 //! `build.rs` turns the cell's `world` item and world documents (names, untrusted) into a
-//! world, with [`WorldError`]s that carry names and values for the caller to word.
+//! world, with [`WorldError`]s that carry names and values for the caller to word;
+//! `after.rs` is the world a plan leaves ([`World::after`]), before it is carried out.
 
+mod after;
 mod build;
 mod request;
 

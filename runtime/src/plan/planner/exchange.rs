@@ -2,9 +2,10 @@
 //! for this request where the object lies or must be placed, and the resting pose a
 //! put-down shares with the next pick.
 
-use cellc_schema::{GraspId, Infeasibility, Node, ObjectId};
+use cellc_schema::{BlockedStep, Blocker, GraspId, Infeasibility, Node, ObjectId};
 use rand_chacha::ChaCha8Rng;
 
+use super::blocking::{blocker_at, fault_of, Fault};
 use super::{Exchange, Failure, Planner, SCREENING};
 use crate::kinematics::{solve_ik, IkError, IkTarget};
 use crate::math::{iso_from_schema, Iso};
@@ -156,8 +157,17 @@ impl Planner<'_> {
             _ => None,
         };
         if let (Some(ends), Some(pose)) = (surface_and_arm, specific_pose) {
+            let during = if ends.0 == from {
+                BlockedStep::Pick {
+                    at: position(&pose),
+                }
+            } else {
+                BlockedStep::PutDown {
+                    at: position(&pose),
+                }
+            };
             return self
-                .solve_at(object, scene, ends, pose, 8, obstacles, rng, stop)
+                .solve_at(object, scene, ends, (pose, during), 8, obstacles, rng, stop)
                 .map_err(|reason| Failure {
                     arc: arc_ref,
                     reason,
@@ -174,7 +184,7 @@ impl Planner<'_> {
         };
         // The witness was found in the empty cell: the world's other objects may stand
         // where it puts the object or the arms.
-        if let Some((a, b)) =
+        if let Some(reason) =
             self.blocked_by(object, scene, (from, to), pose, &configurations, obstacles)
         {
             // A put-down anywhere in the workspace: another resting pose there, clear of
@@ -191,36 +201,46 @@ impl Planner<'_> {
                         let Some(candidate) = regions.sample(rng) else {
                             break;
                         };
+                        let during = BlockedStep::PutDown {
+                            at: position(&candidate),
+                        };
                         if let Ok(found) = self.solve_at(
                             object,
                             scene,
                             (surface, arm),
-                            candidate,
+                            (candidate, during),
                             2,
                             obstacles,
                             rng,
                             stop,
                         ) {
-                            return Ok(found);
+                            // Put down elsewhere: the plan went round what took the place.
+                            let detour = match reason {
+                                Infeasibility::Blocked(blocker) => Some(blocker),
+                                _ => None,
+                            };
+                            return Ok(Exchange { detour, ..found });
                         }
                     }
                 }
             }
             return Err(Failure {
                 arc: arc_ref,
-                reason: Infeasibility::Collision { a, b },
+                reason,
             });
         }
         Ok(Exchange {
             object: object_pose,
             configurations,
+            detour: None,
         })
     }
 
-    /// The first collision of an exchange's configurations (and the object at `pose`
-    /// between `from` and `to`) once `obstacles` stand in the cell; `None` when clear or
-    /// when there are none. The witness was free in the empty cell (other arms at home,
-    /// as now), so any collision found involves an obstacle.
+    /// Why an exchange's configurations (and the object at `pose` between `from` and
+    /// `to`) fail once `obstacles` stand in the cell: the object that blocks them, or the
+    /// first collision when the check without the obstacles does not clear them; `None`
+    /// when clear or when there are none. The witness was free in the empty cell (other
+    /// arms at home, as now), so a collision normally involves an obstacle.
     fn blocked_by(
         &self,
         object: ObjectId,
@@ -229,7 +249,7 @@ impl Planner<'_> {
         pose: Iso,
         configurations: &ArmConfigurations,
         obstacles: &[Obstacle],
-    ) -> Option<(String, String)> {
+    ) -> Option<Infeasibility> {
         if obstacles.is_empty() {
             return None;
         }
@@ -240,48 +260,65 @@ impl Planner<'_> {
                 Some(Holder::Arm { .. })
             )
         };
-        let placement = match (is_arm(from), is_arm(to)) {
-            (true, true) => ObjectPlacement::Handoff {
-                a: from.end_effector,
-                grasp_a: grasp(from),
-                b: to.end_effector,
-            },
-            (true, false) => ObjectPlacement::Resting {
-                on: to.end_effector,
-                pose,
-                by: Some(from.end_effector),
-            },
-            (false, true) => ObjectPlacement::Resting {
-                on: from.end_effector,
-                pose,
-                by: Some(to.end_effector),
-            },
-            (false, false) => ObjectPlacement::Absent,
+        let at = position(&pose);
+        let (placement, during) = match (is_arm(from), is_arm(to)) {
+            (true, true) => (
+                ObjectPlacement::Handoff {
+                    a: from.end_effector,
+                    grasp_a: grasp(from),
+                    b: to.end_effector,
+                },
+                BlockedStep::Handoff { at },
+            ),
+            (true, false) => (
+                ObjectPlacement::Resting {
+                    on: to.end_effector,
+                    pose,
+                    by: Some(from.end_effector),
+                },
+                BlockedStep::PutDown { at },
+            ),
+            (false, true) => (
+                ObjectPlacement::Resting {
+                    on: from.end_effector,
+                    pose,
+                    by: Some(to.end_effector),
+                },
+                BlockedStep::Pick { at },
+            ),
+            (false, false) => (ObjectPlacement::Absent, BlockedStep::PutDown { at }),
         };
         let arms: Vec<_> = configurations.iter().map(|(e, _)| *e).collect();
         let q: Vec<f64> = configurations
             .iter()
             .flat_map(|(_, q)| q.iter().copied())
             .collect();
-        let validity = SceneValidity::new(scene, &arms, &[], object, placement)
-            .ok()?
-            .with_obstacles(obstacles);
-        match validity.check(&q, &mut SceneScratch::default()) {
-            Ok(Some(StateFault::Collision { a, b })) => Some((a, b)),
-            _ => None,
-        }
+        let without = SceneValidity::new(scene, &arms, &[], object, placement).ok()?;
+        let with = without.clone().with_obstacles(obstacles);
+        let mut scratch = SceneScratch::default();
+        let Ok(Some(StateFault::Collision { a, b })) = with.check(&q, &mut scratch) else {
+            return None;
+        };
+        Some(
+            match blocker_at(scene, object, (&without, &with), &q, &mut scratch) {
+                Some((by, part)) => Infeasibility::Blocked(Blocker { by, part, during }),
+                None => Infeasibility::Collision { a, b },
+            },
+        )
     }
 
-    /// An arm exchanging the object with a surface where it rests at `pose`: IK for the
-    /// arm's grasp (turned by the object's symmetries), checked with the world's other
-    /// objects in the cell.
+    /// An arm exchanging the object with a surface where it rests at `pose` (the step
+    /// `during`, should one of the world's other objects block it): IK for the arm's grasp
+    /// (turned by the object's symmetries), checked with the world's other objects in the
+    /// cell. When a configuration found is free but for one of them, the failure is the
+    /// object that blocks the first such configuration.
     #[allow(clippy::too_many_arguments)]
     fn solve_at(
         &self,
         object: ObjectId,
         scene: &crate::scene::Scene,
         (surface, arm): (Node, Node),
-        pose: Iso,
+        (pose, during): (Iso, BlockedStep),
         attempts: usize,
         obstacles: &[Obstacle],
         rng: &mut ChaCha8Rng,
@@ -298,6 +335,7 @@ impl Planner<'_> {
         // A symmetric object may be taken with the grasp turned by a symmetry.
         let turns = crate::symmetry::candidates(&obj.symmetries);
         let mut last_collision = None;
+        let mut blocked = None;
         let mut best: Option<IkError> = None;
         let mut scratch = SceneScratch::default();
         for attempt in 0..attempts {
@@ -320,31 +358,58 @@ impl Planner<'_> {
                         pose,
                         by: Some(arm.end_effector),
                     };
-                    let checked =
-                        SceneValidity::new(scene, &[arm.end_effector], &[], object, placement)
-                            .map(|v| v.with_obstacles(obstacles))
-                            .map_err(|e| format!("{e:?}"))
-                            .and_then(|v| v.check(&q, &mut scratch).map_err(|e| format!("{e:?}")));
-                    match checked {
+                    let without = match SceneValidity::new(
+                        scene,
+                        &[arm.end_effector],
+                        &[],
+                        object,
+                        placement,
+                    ) {
+                        Ok(v) => v,
+                        Err(e) => {
+                            last_collision = Some(("collision query".into(), format!("{e:?}")));
+                            continue;
+                        }
+                    };
+                    let with = without.clone().with_obstacles(obstacles);
+                    let fault = match with.check(&q, &mut scratch) {
                         Ok(None) => {
                             return Ok(Exchange {
                                 object: Some(pose),
                                 configurations: vec![(arm.end_effector, q)],
+                                detour: None,
                             })
                         }
-                        Ok(Some(StateFault::Collision { a, b })) => last_collision = Some((a, b)),
-                        Ok(Some(fault)) => {
+                        Ok(Some(found)) if obstacles.is_empty() => Fault::Own(found),
+                        Ok(Some(found)) => {
+                            fault_of(scene, object, (&without, &with), &q, found, &mut scratch)
+                        }
+                        Err(e) => {
+                            last_collision = Some(("collision query".into(), format!("{e:?}")));
+                            continue;
+                        }
+                    };
+                    match fault {
+                        Fault::Blocked(by, part) => {
+                            blocked = blocked.or(Some(Blocker { by, part, during }))
+                        }
+                        Fault::Own(StateFault::Collision { a, b }) => last_collision = Some((a, b)),
+                        Fault::Own(fault) => {
                             last_collision = Some(("joint limits".into(), fault.to_string()))
                         }
-                        Err(e) => last_collision = Some(("collision query".into(), e)),
                     }
                 }
                 Err(e) => best = Some(e),
             }
         }
-        let reason = match (last_collision, best) {
-            (Some((a, b)), _) => Infeasibility::Collision { a, b },
+        // A configuration that is free but for another object proves the exchange
+        // feasible without it: that object is the reason, before any collision of the
+        // arm's own (other configurations) and before an unreached pose.
+        let reason = match (blocked, last_collision, best) {
+            (Some(blocker), _, _) => Infeasibility::Blocked(blocker),
+            (None, Some((a, b)), _) => Infeasibility::Collision { a, b },
             (
+                None,
                 None,
                 Some(IkError::NotConverged {
                     tries,
@@ -363,4 +428,10 @@ impl Planner<'_> {
         };
         Err(reason)
     }
+}
+
+/// The position of a pose, as a blocked step records where it happens.
+fn position(pose: &Iso) -> [f64; 3] {
+    let t = pose.translation.vector;
+    [t.x, t.y, t.z]
 }

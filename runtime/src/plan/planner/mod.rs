@@ -5,6 +5,8 @@
 //! same whatever the request), and solves specifically only what depends on the request:
 //! picking the object where it actually is, and placing it where the goal says.
 
+mod blocking;
+mod clear;
 mod exchange;
 mod motions;
 mod realise;
@@ -26,6 +28,8 @@ use crate::motion::{MotionPlanner, RrtConnect};
 use crate::scene::{Holder, Scene};
 use crate::termination::Termination;
 use crate::world::World;
+
+pub use clear::MAX_CLEARING_MOVES;
 
 /// IK settings for request-specific solves: each call is one of several attempts (other
 /// symmetric grasps, other candidate poses), so a few restarts per call find reachable
@@ -324,8 +328,22 @@ impl<'a> Planner<'a> {
                 });
             }
             match realised {
-                Ok(steps) => {
+                Ok((steps, resampled)) => {
                     let kept = simplify(graph, &path);
+                    // Arcs given up because an object stood in the way, then the poses
+                    // moved off the places objects take.
+                    let detours = failed
+                        .iter()
+                        .filter_map(|(arc, reason)| match reason {
+                            Infeasibility::Blocked(blocker) => Some(super::Detour {
+                                arc: *arc,
+                                blocker: *blocker,
+                                around: super::Around::OtherPath,
+                            }),
+                            _ => None,
+                        })
+                        .chain(resampled)
+                        .collect();
                     let states: Vec<Node> = kept.iter().map(|&i| graph.nodes[i.index()]).collect();
                     return Ok(Plan {
                         object,
@@ -338,6 +356,7 @@ impl<'a> Planner<'a> {
                         steps,
                         cost: path.cost,
                         backtracks,
+                        detours,
                     });
                 }
                 Err(failure) => {
@@ -358,11 +377,13 @@ fn step_arc(step: &Step) -> Option<ArcRef> {
     step.arc
 }
 
-/// The object pose and arm configurations at an exchange.
+/// The object pose and arm configurations at an exchange, and the object that took its
+/// witnessed place, when it was carried out elsewhere.
 #[derive(Clone, Debug, Default)]
 struct Exchange {
     object: Option<Iso>,
     configurations: ArmConfigurations,
+    detour: Option<cellc_schema::Blocker>,
 }
 
 fn apply(state: &mut WorldState, configurations: &ArmConfigurations, object: Option<Iso>) {

@@ -1,10 +1,11 @@
 //! The joint motion that leads to each command of a realised path.
 
-use cellc_schema::{EndEffectorId, GraspId, Infeasibility, Node, ObjectId};
+use cellc_schema::{BlockedStep, Blocker, EndEffectorId, GraspId, Infeasibility, Node, ObjectId};
 use rand_chacha::ChaCha8Rng;
 
+use super::blocking::blocker_on_path;
 use super::{step_arc, Failure, Planner, WorldState};
-use crate::motion::{MotionError, MotionProblem};
+use crate::motion::{MotionError, MotionOptions, MotionProblem};
 use crate::plan::{ArmConfigurations, Command, Step};
 use crate::scene::{Holder, ObjectPlacement, SceneScratch};
 use crate::termination::Termination;
@@ -14,7 +15,9 @@ impl Planner<'_> {
     /// Plans the joint motion that leads to each command: the arms whose configuration
     /// changes move together in their combined space, every other arm stands where it is,
     /// a held object travels with its hand, and an arm that lets go returns home. A motion
-    /// that cannot be found fails the arc of its command, so the search tries another way.
+    /// that cannot be found fails the arc of its command, so the search tries another way;
+    /// when the world's other objects stand on its straight path, which is free without
+    /// them, the failure names the one met first.
     pub(super) fn add_motions(
         &self,
         object: ObjectId,
@@ -174,7 +177,9 @@ impl Planner<'_> {
             let from: Vec<f64> = moving.iter().flat_map(|m| m.1.iter().copied()).collect();
             let to: Vec<f64> = moving.iter().flat_map(|m| m.2.iter().copied()).collect();
             let obstacles = &start.around.obstacles;
-            let motion = SceneValidity::new(scene, &moving_arms, &stationary, object, placement)
+            let without = SceneValidity::new(scene, &moving_arms, &stationary, object, placement);
+            let motion = without
+                .clone()
                 .map(|v| v.with_obstacles(obstacles))
                 .map_err(MotionError::from)
                 .and_then(|validity| {
@@ -210,12 +215,28 @@ impl Planner<'_> {
                         }
                         continue;
                     };
-                    return Err(Failure {
-                        arc,
-                        reason: Infeasibility::NoPlacement {
+                    let blocker = match &without {
+                        Ok(without) if !obstacles.is_empty() => blocker_on_path(
+                            scene,
+                            object,
+                            (without, &without.clone().with_obstacles(obstacles)),
+                            (&from, &to),
+                            MotionOptions::default().collision_resolution,
+                            &mut scratch,
+                        ),
+                        _ => None,
+                    };
+                    let reason = match blocker {
+                        Some((by, part)) => Infeasibility::Blocked(Blocker {
+                            by,
+                            part,
+                            during: BlockedStep::Motion,
+                        }),
+                        None => Infeasibility::NoPlacement {
                             detail: format!("{}: {error}", crate::plan::NO_MOTION),
                         },
-                    });
+                    };
+                    return Err(Failure { arc, reason });
                 }
             }
         }

@@ -8,11 +8,12 @@ use rand_chacha::ChaCha8Rng;
 use super::{apply, Exchange, Failure, Planner, WorldState};
 use crate::math::Iso;
 use crate::plan::search::{simplify, Path};
-use crate::plan::{ArcRef, Command, PlanOptions, Step};
+use crate::plan::{ArcRef, Around, Command, Detour, PlanOptions, Step};
 use crate::termination::Termination;
 
 impl Planner<'_> {
-    /// Turns a path into commands, or says which arc failed.
+    /// Turns a path into commands (with the put-downs moved off poses the world's other
+    /// objects take), or says which arc failed.
     pub(super) fn realise(
         &self,
         object: ObjectId,
@@ -21,7 +22,7 @@ impl Planner<'_> {
         state: &WorldState,
         options: &PlanOptions,
         stop: &Termination,
-    ) -> Result<Vec<Step>, Failure> {
+    ) -> Result<(Vec<Step>, Vec<Detour>), Failure> {
         let graph = &self.artifact.objects[object.index()].graph;
         let kept = simplify(graph, path);
         // The arc that ends at each kept node (after the first): the last arc of a run of
@@ -41,6 +42,7 @@ impl Planner<'_> {
         let obstacles = &state.around.obstacles;
         let mut state = state.clone();
         let mut steps = Vec::new();
+        let mut detours = Vec::new();
         let n_transitions = arc_into
             .iter()
             .filter(|&&a| graph.arcs[a].kind == ArcKind::Transition)
@@ -87,6 +89,13 @@ impl Planner<'_> {
             };
             if exchange.object.is_some() {
                 object_now = exchange.object;
+            }
+            if let Some(blocker) = exchange.detour {
+                detours.push(Detour {
+                    arc: ArcRef::of(&graph.arcs[a]),
+                    blocker,
+                    around: Around::OtherPose,
+                });
             }
             exchanges[i] = Some(exchange);
         }
@@ -156,6 +165,6 @@ impl Planner<'_> {
             let start = graph.nodes[path.nodes[0].index()];
             self.add_motions(object, start, &mut steps, &state_at_start, &mut rng, stop)?;
         }
-        Ok(steps)
+        Ok((steps, detours))
     }
 }

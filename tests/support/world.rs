@@ -1,0 +1,67 @@
+//! What the world tests share: the Vito cell compiled and verified, options by seed,
+//! world documents, and the independent dense re-check of a plan's trajectories with
+//! every object of the world in the scene.
+
+use cellc::fs_files::FsFiles;
+use cellc_runtime::motion::{check_trajectory, MotionOptions};
+use cellc_runtime::plan::{MotionContext, PlanOptions};
+use cellc_runtime::scene::SceneScratch;
+use cellc_runtime::{Cell, Plan, VerifyOptions, World};
+use cellc_schema::WorldDocument;
+
+/// `cells/vito.cell`, compiled (clean) and verified.
+pub fn vito() -> Cell {
+    let compilation = cellc_compiler::compile(&FsFiles, "cells/vito.cell");
+    assert!(compilation.diagnostics.is_empty(), "vito is not clean");
+    let artifact = cellc_compiler::artifact::lower(
+        compilation.cell.as_ref().unwrap(),
+        &compilation.graphs,
+        &compilation.sources,
+    );
+    let mut cell = Cell::from_artifact(artifact, &FsFiles).expect("loads");
+    cell.verify(&VerifyOptions::default());
+    cell
+}
+
+/// Default options with `seed`.
+pub fn options(seed: u64) -> PlanOptions {
+    PlanOptions {
+        seed,
+        ..PlanOptions::default()
+    }
+}
+
+/// A valid world document.
+pub fn document(json: &str) -> WorldDocument {
+    WorldDocument::from_json(json.as_bytes()).expect("a valid document")
+}
+
+/// Every trajectory of `plan` re-checked at a quarter of the planner's resolution, the
+/// world's other objects placed by the test itself (from `world`, not from the plan).
+pub fn recheck(cell: &Cell, world: &World, plan: &Plan) -> usize {
+    let scene = cell.scene().expect("geometric");
+    let obstacles = world.obstacles(cell.artifact(), scene, plan.object);
+    let fine = MotionOptions::default().collision_resolution / 4.0;
+    let mut checked = 0;
+    for step in &plan.steps {
+        let (Some(t), Some(context)) = (&step.motion, &step.motion_context) else {
+            continue;
+        };
+        // The plan's own record of the obstacles is replaced by the test's.
+        let context = MotionContext {
+            obstacles: obstacles.clone(),
+            ..context.clone()
+        };
+        check_trajectory(
+            scene,
+            t,
+            plan.object,
+            &context,
+            fine,
+            &mut SceneScratch::default(),
+        )
+        .unwrap_or_else(|e| panic!("a trajectory hits something: {e:?}"));
+        checked += 1;
+    }
+    checked
+}
