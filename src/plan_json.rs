@@ -79,6 +79,16 @@ pub struct JsonPlan<'a> {
     holders: Vec<&'a str>,
     states: Vec<JsonState<'a>>,
     steps: Vec<JsonStep<'a>>,
+    /// The world's objects the plan went round: `object`, `blocked` (what it blocked, in
+    /// words) and `around` (`other_pose` or `other_path`).
+    detours: Vec<JsonDetour<'a>>,
+}
+
+#[derive(Serialize)]
+struct JsonDetour<'a> {
+    object: &'a str,
+    blocked: String,
+    around: &'static str,
 }
 
 #[derive(Serialize)]
@@ -213,6 +223,18 @@ pub fn plan<'a>(artifact: &'a Artifact, name: &'a str, plan: &'a Plan) -> JsonPl
             .map(|&s| state(artifact, object, s))
             .collect(),
         steps,
+        detours: plan
+            .detours
+            .iter()
+            .map(|d| JsonDetour {
+                object: artifact.object_name(d.blocker.by),
+                blocked: crate::explain_report::words::blocked(artifact, &d.blocker),
+                around: match d.around {
+                    cellc_runtime::plan::Around::OtherPose => "other_pose",
+                    _ => "other_path",
+                },
+            })
+            .collect(),
     }
 }
 

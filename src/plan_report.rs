@@ -142,6 +142,17 @@ pub fn describe(artifact: &Artifact, name: &str, plan: &Plan) -> String {
         v
     };
     let _ = writeln!(out, "holders: {}", holders.join(" -> "));
+    for d in &plan.detours {
+        let how = match d.around {
+            cellc_runtime::plan::Around::OtherPose => "put down at another pose",
+            _ => "another way found",
+        };
+        let _ = writeln!(
+            out,
+            "around: {} ({how})",
+            crate::explain_report::words::blocked(artifact, &d.blocker)
+        );
+    }
     for (i, step) in plan.steps.iter().enumerate() {
         let line = match &step.command {
             Command::Move {

@@ -8,6 +8,7 @@
 mod support;
 
 use cellc_runtime::plan::{Goal, Placement};
+use cellc_runtime::Executor;
 use cellc_runtime::{
     Around, Cell, EndEffectorId, ExecuteOptions, ObjectId, PlanError, Whereabouts, WorldError,
 };
@@ -51,7 +52,7 @@ fn the_declared_world_has_three_objects_on_the_table() {
     let cell = vito();
     let world = cell.initial_world(&options(0)).expect("the declared world");
     let table = cell.end_effector("table").unwrap();
-    for name in ["cylinder", "colander", "ball"] {
+    for name in ["cylinder", "pitcher", "ball"] {
         let o = cell.object(name).unwrap();
         assert_eq!(
             world.state(o).map(|s| s.end_effector),
@@ -282,9 +283,9 @@ fn the_table_is_cleared_and_the_world_follows_the_simulator() {
             .expect("executes");
         // The world is what the simulator reports.
         assert_eq!(world.state(*object), Some(run.final_state));
-        for (e, q) in world.arms().iter().enumerate() {
+        for (e, q) in simulator.arms().into_iter().enumerate() {
             let e = EndEffectorId(e as u32);
-            assert_eq!(q.as_deref(), world.arm(e));
+            assert_eq!(q.as_deref(), world.arm(e), "the simulator's arm {e:?}");
         }
         assert_eq!(
             world
@@ -303,6 +304,12 @@ fn the_table_is_cleared_and_the_world_follows_the_simulator() {
     assert!(
         blocked.contains(&(cylinder, ball, Around::OtherPose)),
         "no move of the task went round another object: {blocked:?}"
+    );
+    // And the pitcher stands in the way of the cylinder's cheapest handoff: another path.
+    let pitcher = cell.object("pitcher").unwrap();
+    assert!(
+        blocked.contains(&(cylinder, pitcher, Around::OtherPath)),
+        "the pitcher blocked nothing: {blocked:?}"
     );
     let bin = cell.end_effector("bin").unwrap();
     for name in ["ball", "cylinder"] {

@@ -1,4 +1,4 @@
-//! Property: on the Vito table with the cylinder, the colander and the ball at random
+//! Property: on the Vito table with the cylinder, the pitcher and the ball at random
 //! poses (clear of one another), a random object sent to a random goal either gets a plan
 //! whose every trajectory is free of every object of the world, re-checked four times
 //! finer than planned with the obstacles placed by this test, or fails with a documented
@@ -33,7 +33,7 @@ fn vito() -> Cell {
 /// upright on the table top (z = 0.9).
 const OBJECTS: [(&str, f64, f64); 3] = [
     ("cylinder", 0.04, 1.0),
-    ("colander", 0.12, 0.95),
+    ("pitcher", 0.07, 1.01),
     ("ball", 0.05, 0.95),
 ];
 
