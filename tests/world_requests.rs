@@ -352,3 +352,55 @@ fn clear_moves_the_object_in_the_way_first() {
         "{c:?}"
     );
 }
+
+/// The task API: `plan_task` plans `clear_table` ahead (each move in the world the plans
+/// before it leave) and `run_task` carries it out in the simulator; both end with every
+/// object in the same state. A task whose second move has no plan stops there with its
+/// index, the first move done and kept in the world.
+#[test]
+fn tasks_are_planned_ahead_and_run_and_stop_at_the_failing_move() {
+    use cellc_runtime::{TaskError, TaskOptions, Whereabouts};
+    let cell = vito();
+    let options = TaskOptions::default();
+    let start = cell
+        .initial_world(&options.plan)
+        .expect("the declared world");
+    let task = cell.task("clear_table").expect("declared");
+    let (planned, ahead) = cell.plan_task(&start, &task, &options).expect("plans");
+    assert_eq!(planned.len(), 3);
+    let mut world = start.clone();
+    let record = cell.run_task(&mut world, &task, &options).expect("runs");
+    assert_eq!(record.len(), 3);
+    assert!(record
+        .iter()
+        .all(|e| e.result.is_ok() && e.clears.is_none()));
+    for (i, _) in cell.artifact().objects.iter().enumerate() {
+        let o = cellc_runtime::ObjectId(i as u32);
+        assert_eq!(ahead.state(o), world.state(o), "object {i}");
+    }
+
+    let ball = cell.object("ball").unwrap();
+    let taken = cellc_runtime::plan::Goal::Placement(cellc_runtime::plan::Placement {
+        holder: cell.end_effector("table").unwrap(),
+        grasp: None,
+        workspace: None,
+        // Where the cylinder stands.
+        pose: Some(cellc_runtime::Iso::translation(0.45, 0.45, 0.95)),
+    });
+    let moves = vec![task[0].clone(), (ball, taken)];
+    let mut world = start.clone();
+    let (record, failure) = cell
+        .run_task(&mut world, &moves, &options)
+        .expect_err("the second move's goal is taken");
+    assert_eq!(failure.index, 1);
+    assert!(matches!(
+        failure.error,
+        TaskError::Plan(cellc_runtime::PlanError::GoalOccupied { .. })
+    ));
+    assert_eq!(record.len(), 1);
+    let bin = cell.end_effector("bin").unwrap();
+    assert!(
+        matches!(world.whereabouts(ball), Whereabouts::Placed { state, .. } if state.end_effector == bin),
+        "the ball stays in the bin"
+    );
+}

@@ -34,6 +34,8 @@ pub mod scene;
 mod swept;
 #[doc(hidden)]
 pub mod symmetry;
+/// Tasks: several moves in order in one world, planned or executed.
+pub mod task;
 #[doc(hidden)]
 pub mod termination;
 #[doc(hidden)]
@@ -56,6 +58,7 @@ pub use plan::{
     Around, Command, Detour, Goal, GoalByName, LocateError, Placement, PlacementByName, Plan,
     PlanError, PlanGoal, PlanOptions, Request, Step, Strategy, Trajectory, Unreachable,
 };
+pub use task::{Executed, TaskError, TaskFailure, TaskOptions};
 pub use verify::VerifyOptions;
 pub use world::{Whereabouts, World, WorldError};
 

@@ -114,24 +114,6 @@ pub fn job(args: &PlanArgs, loaded: &Loaded) -> Result<Job, ExitCode> {
     })
 }
 
-/// The plans of one move in `world`: its own, or with `clear`, first those that take the
-/// objects in its way to free places ([`Cell::plan_clearing`]), in the order to carry
-/// them out.
-pub fn plans_for(
-    cell: &Cell,
-    world: &World,
-    m: &Move,
-    options: &cellc_runtime::plan::PlanOptions,
-    clear: bool,
-) -> Result<Vec<cellc_runtime::Plan>, cellc_runtime::PlanError> {
-    if clear {
-        cell.plan_clearing(world, m.object, &m.goal, options)
-    } else {
-        cell.plan_in(world, m.object, &m.goal, options)
-            .map(|p| vec![p])
-    }
-}
-
 /// `OBJECT to PLACEMENT`, as `--move` gives it; reports what is wrong.
 fn parse_move(args: &PlanArgs, loaded: &Loaded, text: &str) -> Result<Move, ExitCode> {
     let cell = &loaded.cell;

@@ -371,66 +371,81 @@ pub fn run(args: &PlanArgs) -> ExitCode {
     };
     let cell = &loaded.cell;
     let artifact = cell.artifact();
-    let options = args.options();
     let human = args.format == PlanFormat::Human;
     let single = moves.len() == 1 && title.starts_with("request");
+    let options = cellc_runtime::TaskOptions {
+        plan: args.options(),
+        clear: args.clear,
+        ..Default::default()
+    };
+    let list: Vec<_> = moves.iter().map(|m| (m.object, m.goal.clone())).collect();
+    let (planned, after, stopped) = match cell.plan_task(&world, &list, &options) {
+        Ok((planned, after)) => (planned, after, None),
+        Err((planned, after, failure)) => (planned, after, Some(failure)),
+    };
+    world = after;
     let mut plans = Vec::new();
-    let mut failure = None;
-    for (i, m) in moves.iter().enumerate() {
-        let label = if single {
+    let label = |i: usize| {
+        if single {
             title
                 .trim_start_matches("request `")
                 .trim_end_matches('`')
                 .to_string()
         } else {
             format!("move {} of {}", i + 1, moves.len())
-        };
+        }
+    };
+    let header = |i: usize| {
         if human && !single {
             println!(
                 "{title}, move {} of {}: `{}`",
                 i + 1,
                 moves.len(),
-                artifact.object_name(m.object)
+                artifact.object_name(moves[i].object)
             );
         }
-        match super::job::plans_for(cell, &world, m, &options, args.clear) {
-            Ok(found) => {
-                let count = found.len();
-                for (k, plan) in found.iter().enumerate() {
-                    let label = if k + 1 < count {
-                        let blocker = artifact.object_name(plan.object);
-                        if human {
-                            println!("`{blocker}` is in the way: moving it to a free place first");
-                        }
-                        format!("clearing for {}", artifact.object_name(m.object))
-                    } else {
-                        label.clone()
-                    };
-                    if human {
-                        print!("{}", plan_report::describe(artifact, &label, plan));
-                    } else if let Ok(v) =
-                        serde_json::to_value(crate::plan_json::plan(artifact, &label, plan))
-                    {
-                        plans.push(v);
-                    }
-                    world = cell.world_after(&world, plan);
+    };
+    for (i, found) in planned.iter().enumerate() {
+        header(i);
+        let count = found.len();
+        for (k, plan) in found.iter().enumerate() {
+            let label = if k + 1 < count {
+                if human {
+                    println!(
+                        "`{}` is in the way: moving it to a free place first",
+                        artifact.object_name(plan.object)
+                    );
                 }
-            }
-            Err(error) => {
-                let mut d =
-                    plan_report::plan_error(artifact, &error, m.span, Some(&loaded.sources));
-                if !single {
-                    d = d.note(format!(
-                        "move {} of {} of the {title} has no plan; the moves before it were planned",
-                        i + 1,
-                        moves.len()
-                    ));
-                }
-                failure = Some(d);
-                break;
+                format!("clearing for {}", artifact.object_name(moves[i].object))
+            } else {
+                label(i)
+            };
+            if human {
+                print!("{}", plan_report::describe(artifact, &label, plan));
+            } else if let Ok(v) =
+                serde_json::to_value(crate::plan_json::plan(artifact, &label, plan))
+            {
+                plans.push(v);
             }
         }
     }
+    let failure = stopped.map(|f| {
+        header(f.index);
+        let cellc_runtime::TaskError::Plan(error) = &f.error else {
+            return Diagnostic::error(codes::UNREACHABLE, "no plan").help("check the request");
+        };
+        let d =
+            plan_report::plan_error(artifact, error, moves[f.index].span, Some(&loaded.sources));
+        if single {
+            d
+        } else {
+            d.note(format!(
+                "move {} of {} of the {title} has no plan; the moves before it were planned",
+                f.index + 1,
+                moves.len()
+            ))
+        }
+    });
     let ok = failure.is_none();
     let diagnostics: Vec<Diagnostic> = failure.into_iter().collect();
     if human {

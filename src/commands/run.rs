@@ -8,8 +8,7 @@
 use std::process::ExitCode;
 
 use cellc_lang::Diagnostic;
-use cellc_runtime::execute::SimulatorTolerance;
-use cellc_runtime::{ExecuteOptions, Execution, ExecutionError, Executor};
+use cellc_runtime::{Executed, Execution, ExecutionError, TaskError, TaskFailure, TaskOptions};
 
 use super::job::{job, world_text, Job};
 use super::plan::{load, Loaded, PlanArgs};
@@ -34,109 +33,78 @@ pub fn run(args: &PlanArgs, fail_at: Option<usize>) -> ExitCode {
     };
     let cell = &loaded.cell;
     let artifact = cell.artifact();
-    let options = args.options();
     let human = args.format == PlanFormat::Human;
-    let mut done: Vec<JsonMove> = Vec::new();
-    let mut failure: Option<Diagnostic> = None;
     let several = moves.len() > 1 || !title.starts_with("request");
-    for (i, m) in moves.iter().enumerate() {
-        let name = artifact.object_name(m.object);
-        let label = if title.starts_with("request") {
+    let options = TaskOptions {
+        plan: args.options(),
+        clear: args.clear,
+        max_replans: 5,
+        fail_motion_at: fail_at.map(|s| s.saturating_sub(1)),
+    };
+    let list: Vec<_> = moves.iter().map(|m| (m.object, m.goal.clone())).collect();
+    let (record, failure) = match cell.run_task(&mut world, &list, &options) {
+        Ok(record) => (record, None),
+        Err((record, failure)) => (record, Some(failure)),
+    };
+    let label = |index: usize| {
+        if several {
+            format!("move {} of {}", index + 1, moves.len())
+        } else {
             title
                 .trim_start_matches("request `")
                 .trim_end_matches('`')
                 .to_string()
-        } else {
-            format!("move {} of {}", i + 1, moves.len())
-        };
-        if human && several {
-            println!("{title}, move {} of {}: `{name}`", i + 1, moves.len());
         }
-        let in_job = |d: Diagnostic| {
+    };
+    let mut done: Vec<JsonMove> = Vec::new();
+    let mut shown = None;
+    for executed in &record {
+        let name = artifact.object_name(moves[executed.index].object);
+        if human && several && shown != Some(executed.index) {
+            println!(
+                "{title}, move {} of {}: `{name}`",
+                executed.index + 1,
+                moves.len()
+            );
+        }
+        shown = Some(executed.index);
+        let label = match executed.clears {
+            Some(_) => format!("clearing for {name}"),
+            None => label(executed.index),
+        };
+        done.push(report(&loaded, executed, &label));
+    }
+    // A move that had no plan was never executed: its header still says which it was.
+    if let Some(TaskFailure {
+        index,
+        error: TaskError::Plan(_),
+    }) = &failure
+    {
+        if human && several && shown != Some(*index) {
+            let name = artifact.object_name(moves[*index].object);
+            println!("{title}, move {} of {}: `{name}`", index + 1, moves.len());
+        }
+    }
+    let diagnostics: Vec<Diagnostic> = failure
+        .iter()
+        .map(|f| {
+            let span = moves[f.index].span;
+            let d = match &f.error {
+                TaskError::Plan(e) => plan_error(artifact, e, span, Some(&loaded.sources)),
+                TaskError::Execute(e) => execution_error(artifact, e, span, &loaded),
+            };
             if several {
                 d.note(format!(
                     "move {} of {} of the {title} failed; the moves before it were carried out",
-                    i + 1,
+                    f.index + 1,
                     moves.len()
                 ))
             } else {
                 d
             }
-        };
-        let plans = match super::job::plans_for(cell, &world, m, &options, args.clear) {
-            Ok(plans) => plans,
-            Err(e) => {
-                failure = Some(in_job(plan_error(
-                    artifact,
-                    &e,
-                    m.span,
-                    Some(&loaded.sources),
-                )));
-                break;
-            }
-        };
-        let count = plans.len();
-        let mut replanned = false;
-        let mut stopped = false;
-        for (k, mut plan) in plans.into_iter().enumerate() {
-            let clearing = k + 1 < count;
-            if !clearing && replanned {
-                // A clearing move needed a replan, so its object may stand elsewhere than
-                // the request's plan assumed: plan the request again in the world as it is.
-                plan = match cell.plan_in(&world, m.object, &m.goal, &options) {
-                    Ok(p) => p,
-                    Err(e) => {
-                        failure = Some(in_job(plan_error(
-                            artifact,
-                            &e,
-                            m.span,
-                            Some(&loaded.sources),
-                        )));
-                        stopped = true;
-                        break;
-                    }
-                };
-            }
-            let label = if clearing {
-                format!("clearing for {name}")
-            } else {
-                label.clone()
-            };
-            if human {
-                if clearing {
-                    println!(
-                        "`{}` is in the way: moving it to a free place first",
-                        artifact.object_name(plan.object)
-                    );
-                }
-                print!("{}", describe(artifact, &label, &plan));
-            }
-            let (record, result) = execute_plan(
-                &loaded,
-                &mut world,
-                plan,
-                &options,
-                &label,
-                fail_at.filter(|_| i == 0 && k == 0),
-            );
-            replanned |= result.as_ref().is_ok_and(|r| r.plans.len() > 1);
-            let record = JsonMove {
-                clears: clearing.then_some(name),
-                ..record
-            };
-            done.push(record);
-            if let Err(e) = result {
-                failure = Some(in_job(execution_error(artifact, &e, m.span, &loaded)));
-                stopped = true;
-                break;
-            }
-        }
-        if stopped {
-            break;
-        }
-    }
-    let ok = failure.is_none();
-    let diagnostics: Vec<Diagnostic> = failure.into_iter().collect();
+        })
+        .collect();
+    let ok = diagnostics.is_empty();
     if human {
         // A lone request's world is the request itself; a world given or several moves
         // are worth showing as they end.
@@ -163,79 +131,56 @@ pub fn run(args: &PlanArgs, fail_at: Option<usize>) -> ExitCode {
     }
 }
 
-/// Executes one plan in the simulator from `world` and brings the world up to date; the
-/// human output (the simulation log, replans, the final pose) is printed here, the JSON
-/// record returned with the result.
-fn execute_plan<'a>(
-    loaded: &'a Loaded,
-    world: &mut cellc_runtime::World,
-    plan: cellc_runtime::Plan,
-    options: &cellc_runtime::plan::PlanOptions,
-    label: &str,
-    fail_at: Option<usize>,
-) -> (JsonMove<'a>, Result<Execution, ExecutionError>) {
+/// One executed plan: printed (human output) and returned as its JSON record.
+fn report<'a>(loaded: &'a Loaded, executed: &Executed, label: &str) -> JsonMove<'a> {
     let cell = &loaded.cell;
     let artifact = cell.artifact();
     let human = loaded.format == PlanFormat::Human;
+    let plan = &executed.plan;
     let object = plan.object;
-    let goal_pose = plan.goal.pose;
-    let first = plan.clone();
-    // An object let go above its surface by no more than the request calls resting
-    // falls onto it (the planner put it down there).
-    let mut simulator = cell
-        .simulator_in(world, &plan)
-        .with_tolerance(SimulatorTolerance {
-            drop: options.position_tolerance,
-            ..SimulatorTolerance::default()
-        });
-    if let Some(step) = fail_at {
-        simulator = simulator.fail_motion_at(step.saturating_sub(1));
-    }
-    let execute = ExecuteOptions {
-        max_replans: 5,
-        plan: options.clone(),
-    };
-    let result = cell.execute_in(world, plan, &mut simulator, &execute);
     if human {
+        if executed.clears.is_some() {
+            println!(
+                "`{}` is in the way: moving it to a free place first",
+                artifact.object_name(object)
+            );
+        }
+        print!("{}", describe(artifact, label, plan));
         println!("simulation:");
-        for line in &simulator.log {
+        for line in &executed.log {
             println!("  {line}");
         }
     }
-    let observed = simulator.object_state();
-    let (final_state, final_pose, position_error, rotation_error) = plan_json::final_place(
-        artifact,
-        object,
-        Some((observed.state, observed.pose)),
-        goal_pose,
-    );
-    if human {
-        if let Ok(run) = &result {
-            print!(
-                "{}",
-                done_text(loaded, label, run, position_error, rotation_error)
-            );
-        }
-    }
-    let plans = match &result {
-        Ok(run) => run.plans.clone(),
-        Err(_) => vec![first],
+    let end = match &executed.result {
+        Ok(run) => Some((run.final_state, run.final_pose)),
+        Err(_) => None,
     };
-    let record = JsonMove {
+    let (final_state, final_pose, position_error, rotation_error) =
+        plan_json::final_place(artifact, object, end, plan.goal.pose);
+    if let (true, Ok(run)) = (human, &executed.result) {
+        print!(
+            "{}",
+            done_text(loaded, label, run, position_error, rotation_error)
+        );
+    }
+    let plans = match &executed.result {
+        Ok(run) => run.plans.clone(),
+        Err(_) => vec![plan.clone()],
+    };
+    JsonMove {
         object: artifact.object_name(object),
-        clears: None,
+        clears: executed.clears.map(|o| artifact.object_name(o)),
         plans: plans
             .iter()
             .filter_map(|p| serde_json::to_value(plan_json::plan(artifact, label, p)).ok())
             .collect(),
-        log: simulator.log.clone(),
-        done: result.is_ok(),
+        log: executed.log.clone(),
+        done: executed.result.is_ok(),
         final_state,
         final_pose,
         position_error,
         rotation_error,
-    };
-    (record, result)
+    }
 }
 
 /// "done: ..." and the final pose's error, after a move's simulation (and its replans).
