@@ -366,10 +366,14 @@ fn tasks_are_planned_ahead_and_run_and_stop_at_the_failing_move() {
         .initial_world(&options.plan)
         .expect("the declared world");
     let task = cell.task("clear_table").expect("declared");
-    let (planned, ahead) = cell.plan_task(&start, &task, &options).expect("plans");
-    assert_eq!(planned.len(), 3);
+    let planned = cell.plan_task(&start, &task, &options);
+    assert!(planned.failure.is_none());
+    assert_eq!(planned.plans.len(), 3);
+    let ahead = planned.world;
     let mut world = start.clone();
-    let record = cell.run_task(&mut world, &task, &options).expect("runs");
+    let run = cell.run_task(&mut world, &task, &options);
+    assert!(run.failure.is_none());
+    let record = run.record;
     assert_eq!(record.len(), 3);
     assert!(record
         .iter()
@@ -389,9 +393,11 @@ fn tasks_are_planned_ahead_and_run_and_stop_at_the_failing_move() {
     });
     let moves = vec![task[0].clone(), (ball, taken)];
     let mut world = start.clone();
-    let (record, failure) = cell
-        .run_task(&mut world, &moves, &options)
-        .expect_err("the second move's goal is taken");
+    let run = cell.run_task(&mut world, &moves, &options);
+    let (record, failure) = (
+        run.record,
+        run.failure.expect("the second move's goal is taken"),
+    );
     assert_eq!(failure.index, 1);
     assert!(matches!(
         failure.error,

@@ -58,7 +58,7 @@ pub use plan::{
     Around, Command, Detour, Goal, GoalByName, LocateError, Placement, PlacementByName, Plan,
     PlanError, PlanGoal, PlanOptions, Request, Step, Strategy, Trajectory, Unreachable,
 };
-pub use task::{Executed, TaskError, TaskFailure, TaskOptions};
+pub use task::{Executed, TaskError, TaskFailure, TaskOptions, TaskPlans, TaskRun};
 pub use verify::VerifyOptions;
 pub use world::{Whereabouts, World, WorldError};
 

@@ -73,20 +73,40 @@ pub struct TaskFailure {
     pub error: TaskError,
 }
 
+/// A task planned ahead: what [`Cell::plan_task`] gives.
+#[derive(Clone, Debug)]
+pub struct TaskPlans {
+    /// Per move planned, its plans (those clearing its way first, then its own).
+    pub plans: Vec<Vec<Plan>>,
+    /// The world the last plan leaves.
+    pub world: World,
+    /// The move that has no plan, when one has none (the moves before it are planned).
+    pub failure: Option<TaskFailure>,
+}
+
+/// A task carried out: what [`Cell::run_task`] gives.
+#[derive(Clone, Debug)]
+pub struct TaskRun {
+    /// Every plan executed, in order (those clearing a move's way before it).
+    pub record: Vec<Executed>,
+    /// The move that failed, when one did (its execution, if it started, is the last
+    /// record).
+    pub failure: Option<TaskFailure>,
+}
+
 impl Cell {
     /// Plans every move of a task without executing anything, each in the world the plans
     /// before it leave ([`World::after`]): per move, its plans (those clearing its way
     /// first, with `clear`). `world` is where the task starts; the world after the last
     /// plan is returned too.
     ///
-    /// # Errors
-    /// The first move that has no plan, with its index.
+    /// Planning stops at the first move that has no plan ([`TaskPlans::failure`]).
     pub fn plan_task(
         &self,
         world: &World,
         moves: &[(ObjectId, Goal)],
         options: &TaskOptions,
-    ) -> Result<(Vec<Vec<Plan>>, World), (Vec<Vec<Plan>>, World, TaskFailure)> {
+    ) -> TaskPlans {
         let mut world = world.clone();
         let mut all = Vec::new();
         for (index, (object, goal)) in moves.iter().enumerate() {
@@ -102,32 +122,44 @@ impl Cell {
                         index,
                         error: TaskError::Plan(e),
                     };
-                    return Err((all, world, failure));
+                    return TaskPlans {
+                        plans: all,
+                        world,
+                        failure: Some(failure),
+                    };
                 }
             }
         }
-        Ok((all, world))
+        TaskPlans {
+            plans: all,
+            world,
+            failure: None,
+        }
     }
 
     /// Plans and executes every move of a task in the kinematic simulator, one after the
     /// other, bringing `world` up to date from the simulator after each plan (whether it
     /// succeeded or not): the record of every plan executed, in order.
     ///
-    /// # Errors
-    /// The first move that has no plan or whose execution fails, with its index and the
-    /// record so far; `world` is then as the simulator left it.
+    /// The task stops at the first move that has no plan or whose execution fails
+    /// ([`TaskRun::failure`]); `world` is then as the simulator left it.
     pub fn run_task(
         &self,
         world: &mut World,
         moves: &[(ObjectId, Goal)],
         options: &TaskOptions,
-    ) -> Result<Vec<Executed>, (Vec<Executed>, TaskFailure)> {
+    ) -> TaskRun {
         let mut record: Vec<Executed> = Vec::new();
         for (index, (object, goal)) in moves.iter().enumerate() {
             let fail = |error| TaskFailure { index, error };
             let plans = match self.plans_of_move(world, *object, goal, options) {
                 Ok(plans) => plans,
-                Err(e) => return Err((record, fail(TaskError::Plan(e)))),
+                Err(e) => {
+                    return TaskRun {
+                        record,
+                        failure: Some(fail(TaskError::Plan(e))),
+                    }
+                }
             };
             let count = plans.len();
             let mut replanned = false;
@@ -138,7 +170,12 @@ impl Cell {
                     // elsewhere than this plan assumed: plan again in the world as it is.
                     plan = match self.plan_in(world, *object, goal, &options.plan) {
                         Ok(p) => p,
-                        Err(e) => return Err((record, fail(TaskError::Plan(e)))),
+                        Err(e) => {
+                            return TaskRun {
+                                record,
+                                failure: Some(fail(TaskError::Plan(e))),
+                            }
+                        }
                     };
                 }
                 let executed = self.simulate(world, plan, options, record.is_empty());
@@ -150,11 +187,17 @@ impl Cell {
                     ..executed
                 });
                 if let Some(e) = error {
-                    return Err((record, fail(TaskError::Execute(e))));
+                    return TaskRun {
+                        record,
+                        failure: Some(fail(TaskError::Execute(e))),
+                    };
                 }
             }
         }
-        Ok(record)
+        TaskRun {
+            record,
+            failure: None,
+        }
     }
 
     /// A move's plans: its own, or with `clear` those that take objects out of its way

@@ -379,10 +379,11 @@ pub fn run(args: &PlanArgs) -> ExitCode {
         ..Default::default()
     };
     let list: Vec<_> = moves.iter().map(|m| (m.object, m.goal.clone())).collect();
-    let (planned, after, stopped) = match cell.plan_task(&world, &list, &options) {
-        Ok((planned, after)) => (planned, after, None),
-        Err((planned, after, failure)) => (planned, after, Some(failure)),
-    };
+    let cellc_runtime::TaskPlans {
+        plans: planned,
+        world: after,
+        failure: stopped,
+    } = cell.plan_task(&world, &list, &options);
     world = after;
     let mut plans = Vec::new();
     let label = |i: usize| {

@@ -42,10 +42,7 @@ pub fn run(args: &PlanArgs, fail_at: Option<usize>) -> ExitCode {
         fail_motion_at: fail_at.map(|s| s.saturating_sub(1)),
     };
     let list: Vec<_> = moves.iter().map(|m| (m.object, m.goal.clone())).collect();
-    let (record, failure) = match cell.run_task(&mut world, &list, &options) {
-        Ok(record) => (record, None),
-        Err((record, failure)) => (record, Some(failure)),
-    };
+    let cellc_runtime::TaskRun { record, failure } = cell.run_task(&mut world, &list, &options);
     let label = |index: usize| {
         if several {
             format!("move {} of {}", index + 1, moves.len())
