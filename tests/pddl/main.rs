@@ -8,6 +8,9 @@
 //! `fast-downward.py`) or in the repository's `.venv/` (made by `.ci/run` with the PyPI
 //! package `up-fast-downward`); without either the tests fail, saying how to install it.
 
+mod fast_downward;
+mod text;
+
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -18,46 +21,7 @@ use cellc_runtime::plan::{GoalByName, PlanOptions, Request};
 use cellc_runtime::Cell;
 use cellc_schema::ObjectId;
 
-/// How to run the driver: the program and the arguments before Fast Downward's own.
-fn fast_downward() -> (PathBuf, Vec<PathBuf>) {
-    let run_driver = |driver: PathBuf, python: PathBuf| {
-        if driver.extension().is_some_and(|e| e == "py") {
-            (python, vec![driver])
-        } else {
-            (driver, Vec::new())
-        }
-    };
-    if let Some(driver) = std::env::var_os("CELLC_FAST_DOWNWARD") {
-        let driver = PathBuf::from(driver);
-        assert!(
-            driver.is_file(),
-            "CELLC_FAST_DOWNWARD is `{}`, which is no file",
-            driver.display()
-        );
-        return run_driver(driver, PathBuf::from("python3"));
-    }
-    let venv = Path::new(env!("CARGO_MANIFEST_DIR")).join(".venv");
-    let driver = std::fs::read_dir(venv.join("lib"))
-        .ok()
-        .and_then(|pythons| {
-            pythons
-                .filter_map(Result::ok)
-                .map(|p| {
-                    p.path()
-                        .join("site-packages/up_fast_downward/downward/fast-downward.py")
-                })
-                .find(|d| d.is_file())
-        });
-    match driver {
-        Some(driver) => run_driver(driver, venv.join("bin/python")),
-        None => panic!(
-            "Fast Downward is not installed, and the PDDL round trip needs it: run `python3 -m \
-             venv .venv && .venv/bin/pip install up-fast-downward==1.0.0` in the repository \
-             (as .ci/run does), or set CELLC_FAST_DOWNWARD to the path of a Fast Downward \
-             driver (fast-downward.py)"
-        ),
-    }
-}
+use text::{actions, asked, Sexp};
 
 /// A scratch folder of this test, emptied.
 fn scratch(name: &str) -> PathBuf {
@@ -93,192 +57,6 @@ fn built(cell: &str, dir: &Path) -> (PathBuf, Cell) {
     (artifact, loaded)
 }
 
-/// A PDDL text as nested lists (comments dropped).
-#[derive(Clone, Debug, PartialEq)]
-enum Sexp {
-    Atom(String),
-    List(Vec<Sexp>),
-}
-
-impl Sexp {
-    fn parse(text: &str) -> Sexp {
-        let mut stack: Vec<Vec<Sexp>> = vec![Vec::new()];
-        for line in text.lines() {
-            let code = line.split(';').next().unwrap_or_default();
-            let spaced = code.replace('(', " ( ").replace(')', " ) ");
-            for token in spaced.split_whitespace() {
-                match token {
-                    "(" => stack.push(Vec::new()),
-                    ")" => {
-                        let list = stack.pop().expect("balanced");
-                        stack.last_mut().expect("balanced").push(Sexp::List(list));
-                    }
-                    atom => stack
-                        .last_mut()
-                        .expect("balanced")
-                        .push(Sexp::Atom(atom.to_string())),
-                }
-            }
-        }
-        assert_eq!(stack.len(), 1, "unbalanced parentheses");
-        let mut top = stack.pop().unwrap_or_default();
-        assert_eq!(top.len(), 1, "one definition per file");
-        top.remove(0)
-    }
-
-    fn items(&self) -> &[Sexp] {
-        match self {
-            Sexp::List(items) => items,
-            Sexp::Atom(_) => &[],
-        }
-    }
-
-    fn atom(&self) -> &str {
-        match self {
-            Sexp::Atom(a) => a,
-            Sexp::List(_) => "",
-        }
-    }
-
-    /// The list after `key` in a definition (`(:init ...)`), or the value after a
-    /// `:keyword` inside an action.
-    fn section(&self, key: &str) -> Option<&Sexp> {
-        self.items()
-            .iter()
-            .find(|s| s.items().first().is_some_and(|k| k.atom() == key))
-    }
-
-    fn after(&self, keyword: &str) -> Option<&Sexp> {
-        let items = self.items();
-        let at = items.iter().position(|s| s.atom() == keyword)?;
-        items.get(at + 1)
-    }
-
-    /// `(at ITEM STATE)` as the state.
-    fn at_state(&self) -> Option<&str> {
-        match self.items() {
-            [head, _, state] if head.atom() == "at" => Some(state.atom()),
-            _ => None,
-        }
-    }
-}
-
-/// An arc action as the domain writes it.
-#[derive(Clone, Debug)]
-struct Action {
-    from: String,
-    to: String,
-    cost: u64,
-}
-
-/// Every action of a domain but `arrive`, by name.
-fn actions(domain: &Sexp) -> BTreeMap<String, Action> {
-    let mut out = BTreeMap::new();
-    for action in domain
-        .items()
-        .iter()
-        .filter(|s| s.items().first().is_some_and(|k| k.atom() == ":action"))
-    {
-        let name = action.items()[1].atom().to_string();
-        if name == "arrive" {
-            continue;
-        }
-        let from = action
-            .after(":precondition")
-            .and_then(Sexp::at_state)
-            .expect("an arc's precondition is where the object is")
-            .to_string();
-        let effect = action.after(":effect").expect("an effect").items();
-        let to = effect
-            .iter()
-            .find_map(Sexp::at_state)
-            .expect("an arc's effect puts the object somewhere")
-            .to_string();
-        let cost = effect
-            .iter()
-            .find(|e| e.items().first().is_some_and(|k| k.atom() == "increase"))
-            .and_then(|e| e.items().get(2))
-            .and_then(|c| c.atom().parse().ok())
-            .expect("an arc costs a whole number");
-        out.insert(name, Action { from, to, cost });
-    }
-    out
-}
-
-/// What a problem asks: start, targets, the goal's state (if one) and whether it must
-/// leave.
-struct Asked {
-    start: String,
-    targets: Vec<String>,
-    goal_state: Option<String>,
-    must_leave: bool,
-}
-
-fn asked(problem: &Sexp) -> Asked {
-    let init = problem.section(":init").expect("an init").items();
-    let start = init
-        .iter()
-        .find_map(Sexp::at_state)
-        .expect("the object is somewhere")
-        .to_string();
-    let targets = init
-        .iter()
-        .filter(|f| f.items().first().is_some_and(|k| k.atom() == "target"))
-        .map(|f| f.items()[1].atom().to_string())
-        .collect();
-    let goal = &problem.section(":goal").expect("a goal").items()[1];
-    let conjuncts: Vec<&Sexp> = match goal.items().first().map(Sexp::atom) {
-        Some("and") => goal.items()[1..].iter().collect(),
-        _ => vec![goal],
-    };
-    Asked {
-        start,
-        targets,
-        goal_state: conjuncts
-            .iter()
-            .find_map(|c| c.at_state())
-            .map(str::to_string),
-        must_leave: conjuncts
-            .iter()
-            .any(|c| c.items().first().is_some_and(|k| k.atom() == "moved")),
-    }
-}
-
-/// Solves a problem optimally; returns the plan's actions (name and arguments) and cost.
-fn solve(domain: &Path, problem: &Path, work: &Path) -> (Vec<Vec<String>>, u64) {
-    let (program, prefix) = fast_downward();
-    let plan_file = work.join("plan.txt");
-    let _ = std::fs::remove_file(&plan_file);
-    let out = Command::new(&program)
-        .args(&prefix)
-        .arg("--plan-file")
-        .arg(&plan_file)
-        .arg(domain)
-        .arg(problem)
-        .args(["--search", "astar(lmcut())"])
-        .current_dir(work)
-        .output()
-        .expect("Fast Downward runs");
-    assert!(
-        out.status.success(),
-        "Fast Downward on {}: {}\n{}",
-        problem.display(),
-        String::from_utf8_lossy(&out.stdout),
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let text = std::fs::read_to_string(&plan_file).expect("a plan file");
-    let mut steps = Vec::new();
-    let mut cost = None;
-    for line in text.lines() {
-        if let Some(c) = line.strip_prefix("; cost = ") {
-            cost = c.split_whitespace().next().and_then(|n| n.parse().ok());
-        } else if let Some(step) = line.strip_prefix('(').and_then(|l| l.strip_suffix(')')) {
-            steps.push(step.split_whitespace().map(str::to_string).collect());
-        }
-    }
-    (steps, cost.expect("the plan states its cost"))
-}
-
 /// Solves `DIR/FOLDER/PROBLEM.pddl`, walks the plan through the graph and compares its
 /// cost with cellc's plan of `request`.
 fn check_round_trip(cell: &Cell, dir: &Path, problem_name: &str, request: &Request) {
@@ -293,7 +71,7 @@ fn check_round_trip(cell: &Cell, dir: &Path, problem_name: &str, request: &Reque
     let asked = asked(&Sexp::parse(&read(&problem_path)));
     let work = dir.join(format!("solve-{problem_name}"));
     std::fs::create_dir_all(&work).expect("work folder");
-    let (steps, fd_cost) = solve(&domain_path, &problem_path, &work);
+    let (steps, fd_cost) = fast_downward::solve(&domain_path, &problem_path, &work);
 
     // The plan as a walk of states, read from the domain's own actions.
     let mut at = Some(asked.start.clone());
@@ -525,6 +303,29 @@ fn assembly_line_solves_at_cellcs_cost() {
         &out.to_string_lossy(),
     ]);
     check_round_trip(&cell, &out, "line", &named(&cell, "line"));
+    // Verification pruned arcs here (the handoffs in the nest): none is an action.
+    let object = named(&cell, "line").object;
+    let graph = &cell.artifact().objects[object.index()].graph;
+    let names = Names::of(cell.artifact(), object);
+    let domain = std::fs::read_to_string(out.join(&names.item).join("domain.pddl"))
+        .expect("the domain is written");
+    let actions = actions(&Sexp::parse(&domain));
+    assert!(!graph.pruned.is_empty(), "the line prunes arcs");
+    assert_eq!(actions.len(), graph.arcs.len());
+    for pruned in &graph.pruned {
+        let (from, to) = (
+            &names.states[pruned.arc.from as usize],
+            &names.states[pruned.arc.to as usize],
+        );
+        let kept = graph
+            .arcs
+            .iter()
+            .any(|a| a.from == pruned.arc.from && a.to == pruned.arc.to);
+        assert!(
+            kept || !actions.values().any(|a| &a.from == from && &a.to == to),
+            "pruned {from} -> {to} is an action"
+        );
+    }
 }
 
 #[test]
