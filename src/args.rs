@@ -225,6 +225,12 @@ pub enum Command {
         /// The code.
         code: String,
     },
+    /// Export the object-state graphs to another tool's format.
+    Export {
+        /// The format.
+        #[command(subcommand)]
+        format: ExportFormat,
+    },
     /// Import another system's description of a cell as a cell file.
     Import {
         /// What to import.
@@ -245,6 +251,45 @@ pub enum ImportSource {
         #[arg(short, long)]
         output: PathBuf,
     },
+}
+
+/// What `cellc export` writes.
+#[derive(Subcommand, Debug)]
+pub enum ExportFormat {
+    /// A PDDL domain per object (the arcs the planner searches as actions, their weights
+    /// x 1000 as action costs) and a problem per request the cell declares, for planners
+    /// such as Fast Downward (docs/pddl.md).
+    Pddl(PddlArgs),
+}
+
+/// What `cellc export pddl` exports.
+#[derive(clap::Args, Debug, Clone)]
+pub struct PddlArgs {
+    /// A `.cell` file (compiled and verified now) or an artifact.
+    pub input: PathBuf,
+    /// Only this object: its domain and a problem per request of it.
+    #[arg(long)]
+    pub object: Option<String>,
+    /// Only this request the cell declares: its object's domain and its problem.
+    #[arg(long, conflicts_with = "object")]
+    pub request: Option<String>,
+    /// Where the object is, for one problem given here (with --object and --to), as in
+    /// `cellc plan`: `HOLDER[.GRASP] in WS` or `HOLDER at (x, y, z) [rpy (r, p, y)]`.
+    #[arg(long, requires_all = ["object", "to"])]
+    pub from: Option<String>,
+    /// Where it must go, in the same form.
+    #[arg(long, requires_all = ["object", "from"])]
+    pub to: Option<String>,
+    /// The folder to write (made when missing): `DIR/OBJECT/domain.pddl` and
+    /// `DIR/OBJECT/PROBLEM.pddl`, named as in PDDL.
+    #[arg(short, long, value_name = "DIR")]
+    pub output: PathBuf,
+    /// Seed of the randomized solvers (verifying a cell, placing a start in a hand).
+    #[arg(long, default_value_t = 0)]
+    pub seed: u64,
+    /// Where ROS packages are.
+    #[command(flatten)]
+    pub packages: PackageArgs,
 }
 
 /// Output of `cellc graph`.

@@ -7,6 +7,7 @@ pub mod artifact_io;
 pub mod commands;
 pub mod docs;
 pub mod explain_report;
+pub mod export;
 pub mod fixes;
 pub mod fs_files;
 pub mod fuzzing;
@@ -37,6 +38,7 @@ pub fn all_codes() -> Vec<cellc_lang::Code> {
     codes.extend_from_slice(plan_report::codes::ALL);
     codes.extend_from_slice(output::codes::ALL);
     codes.extend_from_slice(import::diagnostics::codes::ALL);
+    codes.extend_from_slice(export::pddl::codes::ALL);
     codes
 }
 
@@ -114,5 +116,8 @@ pub fn dispatch() -> ExitCode {
             &packages::compile_options(packages),
         ),
         args::Command::Import { source } => commands::import::run(source),
+        args::Command::Export { format } => match format {
+            args::ExportFormat::Pddl(pddl) => commands::export::run_pddl(pddl),
+        },
     }
 }

@@ -111,7 +111,8 @@ pub fn run(cell: &Path, output: Option<&Path>, options: &BuildOptions) -> ExitCo
     ExitCode::SUCCESS
 }
 
-fn has_arms(artifact: &Artifact) -> bool {
+/// Whether any end-effector is an arm (the artifact has geometry to verify).
+pub fn has_arms(artifact: &Artifact) -> bool {
     artifact
         .end_effectors
         .iter()
