@@ -37,6 +37,7 @@ pub fn run_pddl(args: &PddlArgs) -> ExitCode {
         task: None,
         moves: Vec::new(),
         world: None,
+        clear: false,
     };
     let loaded = match super::plan::load(&plan_args) {
         Ok(loaded) => loaded,
