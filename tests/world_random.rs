@@ -7,27 +7,13 @@
 
 use std::cell::Cell as Counter;
 
-use cellc::fs_files::FsFiles;
-use cellc_runtime::motion::{check_trajectory, MotionOptions};
-use cellc_runtime::plan::{Goal, MotionContext, Placement, PlanOptions};
-use cellc_runtime::scene::SceneScratch;
-use cellc_runtime::{Cell, Plan, VerifyOptions, World};
+use cellc_runtime::plan::{Goal, Placement, PlanOptions};
 use cellc_schema::WorldDocument;
 use proptest::prelude::*;
 use proptest::test_runner::{Config, RngAlgorithm, TestRng, TestRunner};
 
-fn vito() -> Cell {
-    let compilation = cellc_compiler::compile(&FsFiles, "cells/vito.cell");
-    assert!(compilation.diagnostics.is_empty(), "vito is not clean");
-    let artifact = cellc_compiler::artifact::lower(
-        compilation.cell.as_ref().unwrap(),
-        &compilation.graphs,
-        &compilation.sources,
-    );
-    let mut cell = Cell::from_artifact(artifact, &FsFiles).expect("loads");
-    cell.verify(&VerifyOptions::default());
-    cell
-}
+#[path = "support/world.rs"]
+mod support;
 
 /// The objects, their footprint radii (m) and the height of their origin when they rest
 /// upright on the table top (z = 0.9).
@@ -56,38 +42,9 @@ fn clear((a, b, c): &(Xy, Xy, Xy)) -> bool {
     })
 }
 
-/// Every trajectory of `plan` re-checked at a quarter of the planner's resolution with
-/// the world's other objects, as this test placed them, in the scene.
-fn recheck(cell: &Cell, world: &World, plan: &Plan) -> Result<usize, String> {
-    let scene = cell.scene().expect("geometric");
-    let obstacles = world.obstacles(cell.artifact(), scene, plan.object);
-    let fine = MotionOptions::default().collision_resolution / 4.0;
-    let mut checked = 0;
-    for step in &plan.steps {
-        let (Some(t), Some(context)) = (&step.motion, &step.motion_context) else {
-            continue;
-        };
-        let context = MotionContext {
-            obstacles: obstacles.clone(),
-            ..context.clone()
-        };
-        check_trajectory(
-            scene,
-            t,
-            plan.object,
-            &context,
-            fine,
-            &mut SceneScratch::default(),
-        )
-        .map_err(|e| format!("a trajectory hits something: {e:?}"))?;
-        checked += 1;
-    }
-    Ok(checked)
-}
-
 #[test]
 fn random_worlds_give_clear_plans_or_coded_failures() {
-    let cell = vito();
+    let cell = support::vito();
     let documented: Vec<String> = std::fs::read_dir("docs/diagnostics")
         .expect("the pages")
         .filter_map(|e| Some(e.ok()?.file_name().to_string_lossy().replace(".md", "")))
@@ -145,7 +102,7 @@ fn random_worlds_give_clear_plans_or_coded_failures() {
                 };
                 match cell.plan_in(&world, object, &goal, &options) {
                     Ok(plan) => {
-                        let n = recheck(&cell, &world, &plan)
+                        let n = support::checked(&cell, &world, &plan)
                             .map_err(|e| TestCaseError::fail(format!("{json}, {name}: {e}")))?;
                         prop_assert!(n > 0, "a plan with motions has trajectories");
                         plans.set(plans.get() + 1);

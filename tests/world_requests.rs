@@ -7,22 +7,11 @@
 
 use std::process::Command;
 
-use cellc::fs_files::FsFiles;
 use cellc_runtime::plan::{Command as PlanCommand, PlanOptions};
-use cellc_runtime::{Cell, VerifyOptions};
 
-fn vito() -> Cell {
-    let compilation = cellc_compiler::compile(&FsFiles, "cells/vito.cell");
-    assert!(compilation.diagnostics.is_empty(), "vito is not clean");
-    let artifact = cellc_compiler::artifact::lower(
-        compilation.cell.as_ref().unwrap(),
-        &compilation.graphs,
-        &compilation.sources,
-    );
-    let mut cell = Cell::from_artifact(artifact, &FsFiles).expect("loads");
-    cell.verify(&VerifyOptions::default());
-    cell
-}
+#[path = "support/world.rs"]
+mod support;
+use support::vito;
 
 fn cellc(args: &[&str]) -> (bool, serde_json::Value) {
     let out = Command::new(env!("CARGO_BIN_EXE_cellc"))

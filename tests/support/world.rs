@@ -2,6 +2,9 @@
 //! world documents, and the independent dense re-check of a plan's trajectories with
 //! every object of the world in the scene.
 
+// Each test binary that includes this module uses some of it.
+#![allow(dead_code)]
+
 use cellc::fs_files::FsFiles;
 use cellc_runtime::motion::{check_trajectory, MotionOptions};
 use cellc_runtime::plan::{MotionContext, PlanOptions};
@@ -37,8 +40,15 @@ pub fn document(json: &str) -> WorldDocument {
 }
 
 /// Every trajectory of `plan` re-checked at a quarter of the planner's resolution, the
-/// world's other objects placed by the test itself (from `world`, not from the plan).
+/// world's other objects placed by the test itself (from `world`, not from the plan);
+/// panics on the first that hits something.
 pub fn recheck(cell: &Cell, world: &World, plan: &Plan) -> usize {
+    checked(cell, world, plan).unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// [`recheck`] as a result: how many trajectories were checked, or the first that hits
+/// something.
+pub fn checked(cell: &Cell, world: &World, plan: &Plan) -> Result<usize, String> {
     let scene = cell.scene().expect("geometric");
     let obstacles = world.obstacles(cell.artifact(), scene, plan.object);
     let fine = MotionOptions::default().collision_resolution / 4.0;
@@ -60,8 +70,8 @@ pub fn recheck(cell: &Cell, world: &World, plan: &Plan) -> usize {
             fine,
             &mut SceneScratch::default(),
         )
-        .unwrap_or_else(|e| panic!("a trajectory hits something: {e:?}"));
+        .map_err(|e| format!("a trajectory hits something: {e:?}"))?;
         checked += 1;
     }
-    checked
+    Ok(checked)
 }
