@@ -262,6 +262,24 @@ fn the_service_on_vito() {
         planned["plans"][0]["holders"],
         json!(["table", "right", "bin"])
     );
+    // The plan `cellc plan --format json` writes for the same move (nothing is in the
+    // ball's way, so the world's other objects change nothing).
+    let cli = Command::new(env!("CARGO_BIN_EXE_cellc"))
+        .args(["plan", "cells/vito.cell", "--object", "ball", "--from"])
+        .args([
+            "table at (0.45, -0.25, 0.95)",
+            "--to",
+            "bin in ws_right_bin",
+        ])
+        .args(["--no-motions", "--format", "json"])
+        .output()
+        .expect("cellc plan runs");
+    let mut cli: Value = serde_json::from_slice(&cli.stdout).expect("plan JSON");
+    let mut served = planned["plans"][0].clone();
+    for plan in [&mut cli["plans"][0], &mut served] {
+        plan.as_object_mut().unwrap().remove("request");
+    }
+    assert_eq!(cli["plans"][0], served);
     assert_eq!(
         holder_of(&server.call("GET", "/v1/world", b"").1, "ball"),
         "\"table\""
