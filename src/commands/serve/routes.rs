@@ -126,9 +126,14 @@ pub async fn openapi() -> Response {
 }
 
 /// `GET /v1/world`.
+/// On the blocking pool: an execution holds the world's lock for as long as it runs, and
+/// waiting for it must not stop a thread that serves connections.
 pub async fn get_world(State(service): Shared) -> Response {
-    let world = service.world_now();
-    Json(plan_json::world(&service.loaded.cell, &world)).into_response()
+    blocking(service, |service, _| {
+        let world = service.world_now();
+        Json(plan_json::world(&service.loaded.cell, &world)).into_response()
+    })
+    .await
 }
 
 /// `PUT /v1/world`: a world document replacing the world at once.
