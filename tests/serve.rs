@@ -303,6 +303,16 @@ fn the_service_on_vito() {
     );
     assert_eq!((status, first_code(&report)), (409, "R0010"), "{report}");
     assert_eq!(report["ok"], false);
+    assert!(report["diagnostics"][0]["help"]
+        .as_str()
+        .unwrap()
+        .contains(r#"`"clear": true`"#));
+    let (status, report) = server.json(
+        "POST",
+        "/v1/plan",
+        json!({"object": "ball", "to": "bin in ws_right_bin", "options": {"time_budget_ms": 0}}),
+    );
+    assert_eq!((status, first_code(&report)), (503, "R0006"), "{report}");
 
     // Plans run side by side, all answered.
     let shared = Arc::new(server);

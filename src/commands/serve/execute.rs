@@ -9,10 +9,12 @@ use cellc_lang::Diagnostic;
 use cellc_runtime::plan::Goal;
 use cellc_runtime::{ExecutionError, ObjectId, TaskError, TaskOptions, World};
 
-use super::routes::{blocking, document, locate, MoveBody, OptionsBody, Shared, TaskBody};
+use super::routes::{
+    blocking, document, locate, plan_error, MoveBody, OptionsBody, Shared, TaskBody,
+};
 use super::{read_json, Service, MAX_BODY};
 use crate::plan_json::{self, JsonMove, JsonRun};
-use crate::plan_report::{codes, plan_error};
+use crate::plan_report::codes;
 
 /// `POST /v1/execute`: plans and executes a move in the simulator, the world updated.
 pub async fn execute(State(service): Shared, body: Body) -> Response {

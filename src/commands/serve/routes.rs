@@ -19,7 +19,7 @@ use serde::Deserialize;
 use super::errors::{status_of, ApiError};
 use super::{read_body, read_json, Service, MAX_BODY, MAX_WORLD};
 use crate::plan_json::{self, JsonRun};
-use crate::plan_report::{codes, plan_error};
+use crate::plan_report::codes;
 
 pub(super) type Shared = State<Arc<Service>>;
 
@@ -185,6 +185,23 @@ fn document_error(e: WorldDocumentError) -> Diagnostic {
         .note(crate::render::escape(&message).into_owned())
         .help(help),
     }
+}
+
+/// A planning failure as `cellc plan` words it, its advice given in the service's terms
+/// (the request's options instead of the command line's flags).
+pub(super) fn plan_error(
+    artifact: &cellc_schema::Artifact,
+    error: &PlanError,
+    span: Option<u32>,
+    sources: Option<&cellc_lang::SourceMap>,
+) -> Diagnostic {
+    let mut d = crate::plan_report::plan_error(artifact, error, span, sources);
+    if let Some(help) = &mut d.help {
+        *help = help
+            .replace("`--time-budget`", "`time_budget_ms`")
+            .replace("`--clear`", "`\"clear\": true`");
+    }
+    d
 }
 
 /// A move located in the cell and the world it starts in.
