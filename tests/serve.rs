@@ -340,6 +340,17 @@ fn the_service_on_vito() {
     let (_, world) = server.call("GET", "/v1/world", b"");
     assert_eq!(holder_of(&world, "ball"), "\"bin\"");
 
+    // An execution that fails leaves the world as it was: nothing moved.
+    let before = server.call("GET", "/v1/world", b"").1;
+    let (status, run) = server.json(
+        "POST",
+        "/v1/execute",
+        json!({"object": "cylinder", "to": "table at (0.35, 0.2, 1.0)", "options": {"motions": false}}),
+    );
+    assert_eq!((status, first_code(&run)), (409, "R0010"), "{run}");
+    assert_eq!(run["world"], before);
+    assert_eq!(server.call("GET", "/v1/world", b"").1, before);
+
     // A task: the cylinder to the bin, from where the world has it.
     let (status, run) = server.json(
         "POST",
