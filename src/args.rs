@@ -220,6 +220,21 @@ pub enum Command {
         #[arg(long)]
         fail_at: Option<usize>,
     },
+    /// Serve the cell over HTTP (JSON, docs/service.md): load and verify it once, then
+    /// plan, execute and explain requests against a world it keeps.
+    Serve {
+        /// A `.cell` file (compiled and verified now) or an artifact.
+        input: PathBuf,
+        /// Where to listen (loopback unless told otherwise; port 0 picks a free one).
+        #[arg(long, default_value = "127.0.0.1:7878")]
+        addr: std::net::SocketAddr,
+        /// Seed of verification and of plans that give none.
+        #[arg(long, default_value_t = 0)]
+        seed: u64,
+        /// Where ROS packages are.
+        #[command(flatten)]
+        packages: PackageArgs,
+    },
     /// Explain a diagnostic code, e.g. `cellc explain E0101`.
     Explain {
         /// The code.

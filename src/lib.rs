@@ -39,6 +39,7 @@ pub fn all_codes() -> Vec<cellc_lang::Code> {
     codes.extend_from_slice(output::codes::ALL);
     codes.extend_from_slice(import::diagnostics::codes::ALL);
     codes.extend_from_slice(export::pddl::codes::ALL);
+    codes.extend_from_slice(commands::serve::codes::ALL);
     codes
 }
 
@@ -115,6 +116,17 @@ pub fn dispatch() -> ExitCode {
             *format,
             &packages::compile_options(packages),
         ),
+        args::Command::Serve {
+            input,
+            addr,
+            seed,
+            packages,
+        } => commands::serve::run(&commands::serve::ServeArgs {
+            input: input.to_string_lossy().into_owned(),
+            addr: *addr,
+            seed: *seed,
+            compile: packages::compile_options(packages),
+        }),
         args::Command::Import { source } => commands::import::run(source),
         args::Command::Export { format } => match format {
             args::ExportFormat::Pddl(pddl) => commands::export::run_pddl(pddl),

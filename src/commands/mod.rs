@@ -11,3 +11,4 @@ pub mod info;
 pub mod job;
 pub mod plan;
 pub mod run;
+pub mod serve;

@@ -1,0 +1,176 @@
+//! Executions: moves planned and carried out in the simulator with the world's lock held
+//! from planning to the last step, so executions are serialised and the world is replaced
+//! at once with where the simulator left everything.
+
+use axum::body::Body;
+use axum::extract::State;
+use axum::response::{IntoResponse, Response};
+use cellc_lang::Diagnostic;
+use cellc_runtime::plan::Goal;
+use cellc_runtime::{ExecutionError, ObjectId, TaskError, TaskOptions, World};
+
+use super::routes::{
+    blocking, document, locate, plan_error, MoveBody, OptionsBody, Shared, TaskBody,
+};
+use super::{read_json, Service, MAX_BODY};
+use crate::plan_json::{self, JsonMove, JsonRun};
+use crate::plan_report::codes;
+
+/// `POST /v1/execute`: plans and executes a move in the simulator, the world updated.
+pub async fn execute(State(service): Shared, body: Body) -> Response {
+    let body: MoveBody = match read_json(body, MAX_BODY).await {
+        Ok(b) => b,
+        Err(e) => return e.into_response(),
+    };
+    blocking(service, move |service, cancel| {
+        // Held from planning to the last step: executions are serialised, and no plan
+        // is made in a world an execution is changing.
+        let mut world = service.lock_world();
+        let located = match locate(service, &body, &world) {
+            Ok(l) => l,
+            Err(e) => return e.into_response(),
+        };
+        let options = body.options.task(service, cancel);
+        run_moves(
+            service,
+            &mut world,
+            located.world,
+            &[(located.object, located.goal)],
+            &options,
+        )
+    })
+    .await
+}
+
+/// `POST /v1/tasks`: moves executed in order, the world updated after each.
+pub async fn tasks(State(service): Shared, body: Body) -> Response {
+    let body: TaskBody = match read_json(body, MAX_BODY).await {
+        Ok(b) => b,
+        Err(e) => return e.into_response(),
+    };
+    blocking(service, move |service, cancel| {
+        let mut world = service.lock_world();
+        let mut moves = Vec::new();
+        for m in &body.moves {
+            let as_move = MoveBody {
+                object: m.object.clone(),
+                from: None,
+                to: m.to.clone(),
+                options: OptionsBody::default(),
+            };
+            match locate(service, &as_move, &world) {
+                Ok(l) => moves.push((l.object, l.goal)),
+                Err(e) => return e.into_response(),
+            }
+        }
+        let options = body.options.task(service, cancel);
+        let start = world.clone();
+        run_moves(service, &mut world, start, &moves, &options)
+    })
+    .await
+}
+
+/// Executes `moves` from `start` in the simulator and replaces `world` with where the
+/// simulator left everything, whether the moves succeeded or not.
+fn run_moves(
+    service: &Service,
+    world: &mut World,
+    start: World,
+    moves: &[(ObjectId, Goal)],
+    options: &TaskOptions,
+) -> Response {
+    let cell = &service.loaded.cell;
+    let artifact = cell.artifact();
+    let mut simulated = start;
+    let run = cell.run_task(&mut simulated, moves, options);
+    *world = simulated;
+    let several = moves.len() > 1;
+    let done: Vec<JsonMove> = run
+        .record
+        .iter()
+        .map(|executed| {
+            let name = artifact.object_name(moves[executed.index].0);
+            let label = match executed.clears {
+                Some(_) => format!("clearing for {name}"),
+                None if several => format!("move {} of {}", executed.index + 1, moves.len()),
+                None => "request".to_string(),
+            };
+            executed_json(service, executed, &label)
+        })
+        .collect();
+    let diagnostics: Vec<Diagnostic> = run
+        .failure
+        .iter()
+        .map(|f| {
+            let d = match &f.error {
+                TaskError::Plan(e) => plan_error(artifact, e, None, Some(&service.loaded.sources)),
+                TaskError::Execute(e) => execution_error(artifact, e),
+            };
+            if several {
+                d.note(format!(
+                    "move {} of {} failed; the moves before it were carried out",
+                    f.index + 1,
+                    moves.len()
+                ))
+            } else {
+                d
+            }
+        })
+        .collect();
+    document(
+        JsonRun {
+            version: plan_json::VERSION,
+            kind: "run",
+            ok: diagnostics.is_empty(),
+            plans: Vec::new(),
+            moves: done,
+            world: Some(plan_json::world(cell, world)),
+            report: service.loaded.json_report(&diagnostics),
+        },
+        &diagnostics,
+    )
+}
+
+/// One executed plan as `cellc run --format json` records it.
+fn executed_json<'a>(
+    service: &'a Service,
+    executed: &cellc_runtime::Executed,
+    label: &str,
+) -> JsonMove<'a> {
+    let artifact = service.loaded.cell.artifact();
+    let plan = &executed.plan;
+    let end = executed
+        .result
+        .as_ref()
+        .ok()
+        .map(|run| (run.final_state, run.final_pose));
+    let (final_state, final_pose, position_error, rotation_error) =
+        plan_json::final_place(artifact, plan.object, end, plan.goal.pose);
+    let plans = match &executed.result {
+        Ok(run) => run.plans.clone(),
+        Err(_) => vec![plan.clone()],
+    };
+    JsonMove {
+        object: artifact.object_name(plan.object),
+        clears: executed.clears.map(|o| artifact.object_name(o)),
+        plans: plans
+            .iter()
+            .filter_map(|p| serde_json::to_value(plan_json::plan(artifact, label, p)).ok())
+            .collect(),
+        log: executed.log.clone(),
+        done: executed.result.is_ok(),
+        final_state,
+        final_pose,
+        position_error,
+        rotation_error,
+    }
+}
+
+/// An execution that failed for good, as R0007 (or the replan's own error).
+pub(super) fn execution_error(artifact: &cellc_schema::Artifact, e: &ExecutionError) -> Diagnostic {
+    match e {
+        ExecutionError::Replan(e) => plan_error(artifact, e, None, None),
+        e => Diagnostic::error(codes::EXECUTION_FAILED, format!("execution failed: {e}"))
+            .help("the world is where the simulator stopped (GET /v1/world); fix the cause and send the move again"),
+    }
+}

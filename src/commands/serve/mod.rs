@@ -1,0 +1,322 @@
+//! `cellc serve CELL_OR_ARTIFACT [--addr 127.0.0.1:7878]`: a long-running planning service.
+//!
+//! The cell is loaded and verified once; the service then holds it (read-only, shared by
+//! every request) and one world (docs/world.md), which plans read and executions update.
+//! Plans run in parallel on tokio's blocking pool, each on a copy of the world taken under
+//! its lock; an execution holds the lock from planning to the simulator's last step, so
+//! executions are serialised and the world is replaced at once with what the simulator
+//! reports. HTTP/1.1 only, on loopback unless `--addr` says otherwise; every error is the
+//! diagnostics report (docs/service.md).
+
+mod cell_json;
+mod errors;
+mod execute;
+mod openapi;
+mod routes;
+
+use std::net::SocketAddr;
+use std::process::ExitCode;
+use std::sync::{Arc, Mutex};
+use std::time::{Duration, Instant};
+
+use axum::body::Body;
+use axum::extract::Request;
+use axum::http::Method;
+use axum::middleware::Next;
+use axum::response::{IntoResponse, Response};
+use axum::routing::{get, post};
+use axum::Router;
+use cellc_runtime::World;
+use serde::de::DeserializeOwned;
+
+use super::plan::{load, Loaded, PlanArgs};
+use crate::args::PlanFormat;
+use errors::ApiError;
+pub use errors::{codes, worker_failed};
+
+/// Largest body of a planning request.
+const MAX_BODY: usize = 1 << 20;
+/// Largest world document (as `--world FILE` allows).
+const MAX_WORLD: usize = cellc_schema::world::MAX_WORLD_BYTES;
+/// A client that has not sent its headers (or, between requests, its next ones) by then
+/// is disconnected.
+const HEADER_TIMEOUT: Duration = Duration::from_secs(10);
+/// A body not received by then is refused with S0004.
+const BODY_TIMEOUT: Duration = Duration::from_secs(10);
+/// A request's planning time budget when it gives none.
+const DEFAULT_BUDGET: Duration = Duration::from_secs(10);
+/// The largest planning time budget a request may ask for.
+const MAX_BUDGET: Duration = Duration::from_secs(60);
+/// A request still running by then is answered S0004 (the planning budget is smaller,
+/// so this catches only what the budget does not bound, e.g. a long task).
+const REQUEST_TIMEOUT: Duration = Duration::from_secs(300);
+/// How long shutdown waits for requests in flight.
+const SHUTDOWN_GRACE: Duration = Duration::from_secs(10);
+
+/// What `cellc serve` was asked.
+pub struct ServeArgs {
+    /// Cell or artifact.
+    pub input: String,
+    /// Where to listen.
+    pub addr: SocketAddr,
+    /// Seed of verification and of plans that give none.
+    pub seed: u64,
+    /// Compile options (the package path).
+    pub compile: cellc_compiler::CompileOptions,
+}
+
+/// What every request shares: the cell (read-only) and the world.
+pub struct Service {
+    /// The cell and its sources.
+    loaded: Loaded,
+    /// The world plans start from and executions update.
+    world: Mutex<World>,
+    /// Seed of plans that give none.
+    seed: u64,
+}
+
+impl Service {
+    /// A copy of the world as it is now.
+    fn world_now(&self) -> World {
+        self.lock_world().clone()
+    }
+
+    /// The world's lock. A request that panicked while holding it left a world that is
+    /// still whole (executions replace it in one assignment), so poisoning is ignored.
+    fn lock_world(&self) -> std::sync::MutexGuard<'_, World> {
+        self.world.lock().unwrap_or_else(|e| e.into_inner())
+    }
+}
+
+/// Loads the cell, binds, prints `listening on http://ADDR` on standard output and serves
+/// until SIGINT or SIGTERM.
+pub fn run(args: &ServeArgs) -> ExitCode {
+    let plan_args = PlanArgs {
+        input: args.input.clone(),
+        request: None,
+        object: None,
+        from: None,
+        to: None,
+        format: PlanFormat::Human,
+        seed: args.seed,
+        motions: true,
+        weights: None,
+        time_budget: None,
+        compile: args.compile.clone(),
+        task: None,
+        moves: Vec::new(),
+        world: None,
+        clear: false,
+    };
+    let loaded = match load(&plan_args) {
+        Ok(l) => l,
+        Err(code) => return code,
+    };
+    let world = match loaded.cell.initial_world(&plan_args.options()) {
+        Ok(w) => w,
+        Err(e) => {
+            loaded.report(&[crate::world_report::world_diagnostic(
+                &e,
+                "the cell's `world`",
+            )]);
+            return ExitCode::from(1);
+        }
+    };
+    let service = Arc::new(Service {
+        loaded,
+        world: Mutex::new(world),
+        seed: args.seed,
+    });
+    let workers = std::thread::available_parallelism().map_or(2, |n| n.get());
+    let runtime = match tokio::runtime::Builder::new_multi_thread()
+        .enable_all()
+        // Plans are CPU-bound: more planning threads than cores only share the cores,
+        // so requests beyond them wait in the pool's queue.
+        .max_blocking_threads(workers * 2)
+        .build()
+    {
+        Ok(r) => r,
+        Err(e) => {
+            eprintln!("error: cannot start the service's threads: {e}");
+            return ExitCode::from(1);
+        }
+    };
+    let code = runtime.block_on(serve(service, args.addr));
+    runtime.shutdown_timeout(SHUTDOWN_GRACE);
+    code
+}
+
+/// The router: every endpoint, the fallbacks and the middleware.
+fn router(service: Arc<Service>) -> Router {
+    Router::new()
+        .route("/v1/health", get(routes::health))
+        .route("/v1/cell", get(routes::cell))
+        .route("/v1/world", get(routes::get_world).put(routes::put_world))
+        .route("/v1/plan", post(routes::plan))
+        .route("/v1/execute", post(execute::execute))
+        .route("/v1/tasks", post(execute::tasks))
+        .route("/v1/explain", post(routes::explain))
+        .route("/v1/openapi.json", get(routes::openapi))
+        .fallback(|method: Method, uri: axum::http::Uri| async move {
+            errors::no_endpoint(method.as_str(), uri.path(), false)
+        })
+        .method_not_allowed_fallback(|method: Method, uri: axum::http::Uri| async move {
+            errors::no_endpoint(method.as_str(), uri.path(), true)
+        })
+        .layer(axum::middleware::from_fn(time_and_log))
+        .with_state(service)
+}
+
+/// Accepts connections until a signal, then lets requests in flight finish.
+async fn serve(service: Arc<Service>, addr: SocketAddr) -> ExitCode {
+    let listener = match tokio::net::TcpListener::bind(addr).await {
+        Ok(l) => l,
+        Err(e) => {
+            eprintln!("error: cannot listen on {addr}: {e}");
+            return ExitCode::from(1);
+        }
+    };
+    match listener.local_addr() {
+        Ok(bound) => println!("listening on http://{bound}"),
+        Err(e) => {
+            eprintln!("error: cannot read the bound address: {e}");
+            return ExitCode::from(1);
+        }
+    }
+    let app = router(service);
+    let graceful = hyper_util::server::graceful::GracefulShutdown::new();
+    let mut stop = std::pin::pin!(shutdown_signal());
+    loop {
+        tokio::select! {
+            accepted = listener.accept() => {
+                let stream = match accepted {
+                    Ok((stream, _)) => stream,
+                    Err(e) => {
+                        // Out of file descriptors and the like: wait, then accept again.
+                        eprintln!("{}", serde_json::json!({"event": "accept_failed", "error": e.to_string()}));
+                        tokio::time::sleep(Duration::from_millis(100)).await;
+                        continue;
+                    }
+                };
+                let service = hyper_util::service::TowerToHyperService::new(app.clone());
+                let connection = hyper::server::conn::http1::Builder::new()
+                    .timer(hyper_util::rt::TokioTimer::new())
+                    .header_read_timeout(HEADER_TIMEOUT)
+                    .serve_connection(hyper_util::rt::TokioIo::new(stream), service);
+                let connection = graceful.watch(connection);
+                tokio::spawn(async move {
+                    let _ = connection.await;
+                });
+            }
+            () = &mut stop => break,
+        }
+    }
+    drop(listener);
+    eprintln!("{}", serde_json::json!({"event": "shutdown"}));
+    tokio::select! {
+        () = graceful.shutdown() => {}
+        () = tokio::time::sleep(SHUTDOWN_GRACE) => {}
+    }
+    ExitCode::SUCCESS
+}
+
+/// SIGINT (Ctrl-C) or SIGTERM.
+async fn shutdown_signal() {
+    let interrupt = async {
+        let _ = tokio::signal::ctrl_c().await;
+    };
+    #[cfg(unix)]
+    let terminate = async {
+        match tokio::signal::unix::signal(tokio::signal::unix::SignalKind::terminate()) {
+            Ok(mut s) => {
+                s.recv().await;
+            }
+            Err(_) => std::future::pending::<()>().await,
+        }
+    };
+    #[cfg(not(unix))]
+    let terminate = std::future::pending::<()>();
+    tokio::select! {
+        () = interrupt => {}
+        () = terminate => {}
+    }
+}
+
+/// One JSON line per request on standard error (method, path, status, milliseconds), and
+/// the request's overall time limit.
+async fn time_and_log(request: Request, next: Next) -> Response {
+    let method = request.method().clone();
+    let path = request.uri().path().to_string();
+    let start = Instant::now();
+    let response = match tokio::time::timeout(REQUEST_TIMEOUT, next.run(request)).await {
+        Ok(r) => r,
+        Err(_) => ApiError::new(
+            codes::TIMED_OUT,
+            format!(
+                "the request took longer than {} s",
+                REQUEST_TIMEOUT.as_secs()
+            ),
+            "send fewer moves at once, or smaller time budgets",
+        )
+        .into_response(),
+    };
+    eprintln!(
+        "{}",
+        serde_json::json!({
+            "method": method.as_str(),
+            "path": path,
+            "status": response.status().as_u16(),
+            "ms": (start.elapsed().as_secs_f64() * 1000.0 * 10.0).round() / 10.0,
+        })
+    );
+    response
+}
+
+/// Reads a body of at most `limit` bytes within [`BODY_TIMEOUT`] and parses it as `T`.
+async fn read_json<T: DeserializeOwned>(body: Body, limit: usize) -> Result<T, ApiError> {
+    let bytes = read_body(body, limit).await?;
+    serde_json::from_slice(&bytes).map_err(|e| bad_body(&e.to_string()))
+}
+
+/// Reads a body of at most `limit` bytes within [`BODY_TIMEOUT`].
+async fn read_body(body: Body, limit: usize) -> Result<axum::body::Bytes, ApiError> {
+    match tokio::time::timeout(BODY_TIMEOUT, axum::body::to_bytes(body, limit)).await {
+        Err(_) => Err(ApiError::new(
+            codes::TIMED_OUT,
+            format!(
+                "the body did not arrive within {} s",
+                BODY_TIMEOUT.as_secs()
+            ),
+            "send the whole body at once",
+        )),
+        Ok(Err(e)) if is_length_limit(&e) => Err(ApiError::new(
+            codes::TOO_LARGE,
+            format!("the body is larger than this endpoint's {limit} bytes"),
+            "send a smaller body: planning requests take at most 1 MiB, world documents 4 MiB",
+        )),
+        Ok(Err(e)) => Err(bad_body(&format!("the body could not be read: {e}"))),
+        Ok(Ok(bytes)) => Ok(bytes),
+    }
+}
+
+fn is_length_limit(e: &axum::Error) -> bool {
+    let mut source: Option<&(dyn std::error::Error + 'static)> = Some(e);
+    while let Some(s) = source {
+        if s.is::<http_body_util::LengthLimitError>() {
+            return true;
+        }
+        source = s.source();
+    }
+    false
+}
+
+/// S0001: the body is not what the endpoint takes.
+fn bad_body(detail: &str) -> ApiError {
+    let d = cellc_lang::Diagnostic::error(
+        codes::BAD_BODY,
+        "the request body is not what this endpoint takes",
+    )
+    .note(crate::render::escape(detail).into_owned())
+    .help("send JSON of the endpoint's schema (GET /v1/openapi.json, docs/service.md)");
+    ApiError::from_diagnostic(&d, &cellc_lang::SourceMap::new())
+}

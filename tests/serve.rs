@@ -1,0 +1,436 @@
+//! `cellc serve` end to end: the real binary on a free port, spoken to over plain TCP
+//! (HTTP/1.1 by hand, so the test needs no HTTP client). One server per cell for the
+//! whole test, since loading and verifying Vito is the slow part; the requests under
+//! `tests/ui/serve/` (one per service code) are sent as they are written.
+
+use std::io::{BufRead, BufReader, Read, Write};
+use std::net::TcpStream;
+use std::process::{Child, Command, Stdio};
+use std::sync::{Arc, Mutex};
+use std::time::Duration;
+
+use serde_json::{json, Value};
+
+/// A running server; killed if the test fails before it is shut down.
+struct Server {
+    child: Child,
+    addr: String,
+    log: Arc<Mutex<String>>,
+}
+
+impl Server {
+    fn start(cell: &str) -> Server {
+        let mut child = Command::new(env!("CARGO_BIN_EXE_cellc"))
+            .args(["serve", cell, "--addr", "127.0.0.1:0"])
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .expect("cellc starts");
+        let mut first = String::new();
+        BufReader::new(child.stdout.take().expect("stdout is piped"))
+            .read_line(&mut first)
+            .expect("a first line");
+        let addr = first
+            .trim()
+            .strip_prefix("listening on http://")
+            .unwrap_or_else(|| panic!("not a listening line: {first:?}"))
+            .to_string();
+        // Drained all along, so the server never blocks on a full pipe.
+        let log = Arc::new(Mutex::new(String::new()));
+        let mut stderr = child.stderr.take().expect("stderr is piped");
+        let sink = log.clone();
+        std::thread::spawn(move || {
+            let mut buffer = [0u8; 4096];
+            while let Ok(n) = stderr.read(&mut buffer) {
+                if n == 0 {
+                    break;
+                }
+                sink.lock()
+                    .unwrap()
+                    .push_str(&String::from_utf8_lossy(&buffer[..n]));
+            }
+        });
+        Server { child, addr, log }
+    }
+
+    /// Sends one request and reads the whole answer: (status, JSON body).
+    fn call(&self, method: &str, path: &str, body: &[u8]) -> (u16, Value) {
+        let mut stream = TcpStream::connect(&self.addr).expect("connects");
+        stream
+            .set_read_timeout(Some(Duration::from_secs(120)))
+            .unwrap();
+        let head = format!(
+            "{method} {path} HTTP/1.1\r\nHost: test\r\nContent-Type: application/json\r\nContent-Length: {}\r\nConnection: close\r\n\r\n",
+            body.len()
+        );
+        // A body over the limit is refused before it is all read: writing may fail.
+        let _ = stream
+            .write_all(head.as_bytes())
+            .and_then(|()| stream.write_all(body));
+        read_answer(&mut stream)
+    }
+
+    fn json(&self, method: &str, path: &str, body: Value) -> (u16, Value) {
+        self.call(method, path, body.to_string().as_bytes())
+    }
+
+    /// SIGTERM, and the exit status.
+    fn terminate(mut self) -> std::process::ExitStatus {
+        // SAFETY: the child's id is a live process this test started.
+        unsafe {
+            libc::kill(self.child.id() as libc::pid_t, libc::SIGTERM);
+        }
+        self.child.wait().expect("the server exits")
+    }
+}
+
+impl Drop for Server {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+fn read_answer(stream: &mut TcpStream) -> (u16, Value) {
+    let mut raw = Vec::new();
+    let _ = stream.read_to_end(&mut raw);
+    let text = String::from_utf8_lossy(&raw);
+    let (head, body) = text
+        .split_once("\r\n\r\n")
+        .unwrap_or_else(|| panic!("no answer: {text:?}"));
+    let status: u16 = head
+        .split_whitespace()
+        .nth(1)
+        .and_then(|s| s.parse().ok())
+        .unwrap_or_else(|| panic!("no status: {head:?}"));
+    assert!(
+        head.to_ascii_lowercase()
+            .contains("content-type: application/json"),
+        "{head}"
+    );
+    let body = serde_json::from_str(body).unwrap_or_else(|e| panic!("not JSON ({e}): {body}"));
+    (status, body)
+}
+
+fn first_code(report: &Value) -> &str {
+    report["diagnostics"][0]["code"].as_str().unwrap_or("none")
+}
+
+/// Where the world has `object`: its state's end-effector.
+fn holder_of(world: &Value, object: &str) -> String {
+    world["objects"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|o| o["object"] == object)
+        .map(|o| o["state"]["end_effector"].to_string())
+        .unwrap_or_default()
+}
+
+/// The requests of `tests/ui/serve/`: `METHOD PATH STATUS CODE [repeat=N | stall]` then
+/// the body.
+fn ui_requests(server: &Server) {
+    let mut files: Vec<_> = std::fs::read_dir("tests/ui/serve")
+        .unwrap()
+        .filter_map(Result::ok)
+        .map(|e| e.path())
+        .collect();
+    files.sort();
+    let mut stalled = Vec::new();
+    for path in files {
+        let text = std::fs::read_to_string(&path).unwrap();
+        let (line, body) = text.split_once('\n').unwrap_or((&text, ""));
+        let words: Vec<&str> = line.split_whitespace().collect();
+        let (method, target, status, code) = (words[0], words[1], words[2], words[3]);
+        let status: u16 = status.parse().unwrap();
+        let name = path.display().to_string();
+        match words.get(4).copied() {
+            Some("stall") => {
+                // Headers promising more body than is ever sent.
+                let addr = server.addr.clone();
+                let (body, target, method) =
+                    (body.to_string(), target.to_string(), method.to_string());
+                let (code, name) = (code.to_string(), name.clone());
+                stalled.push(std::thread::spawn(move || {
+                    let mut stream = TcpStream::connect(addr).unwrap();
+                    stream
+                        .set_read_timeout(Some(Duration::from_secs(60)))
+                        .unwrap();
+                    let head = format!(
+                        "{method} {target} HTTP/1.1\r\nHost: test\r\nContent-Length: 1000\r\n\r\n{body}"
+                    );
+                    stream.write_all(head.as_bytes()).unwrap();
+                    let (got, report) = read_answer(&mut stream);
+                    assert_eq!((got, first_code(&report)), (status, code.as_str()), "{name}");
+                }));
+            }
+            Some(repeat) if repeat.starts_with("repeat=") => {
+                let n: usize = repeat["repeat=".len()..].parse().unwrap();
+                let (got, report) = server.call(method, target, body.repeat(n).as_bytes());
+                assert_eq!((got, first_code(&report)), (status, code), "{name}");
+            }
+            _ if method == "WORKER" => {
+                // A worker that panics (no request makes one on purpose).
+                let runtime = tokio::runtime::Runtime::new().unwrap();
+                let failed = runtime
+                    .block_on(async { tokio::task::spawn_blocking(|| panic!("a bug")).await })
+                    .expect_err("the task panicked");
+                let answer = cellc::commands::serve::worker_failed(&failed);
+                assert_eq!(
+                    (answer.status.as_u16(), first_code(&answer.report)),
+                    (status, code),
+                    "{name}"
+                );
+            }
+            _ => {
+                let (got, report) = server.call(method, target, body.as_bytes());
+                assert_eq!(
+                    (got, first_code(&report)),
+                    (status, code),
+                    "{name}: {report}"
+                );
+            }
+        }
+    }
+    // A client that never finishes its headers is disconnected.
+    let mut slow = TcpStream::connect(&server.addr).unwrap();
+    slow.set_read_timeout(Some(Duration::from_secs(60)))
+        .unwrap();
+    slow.write_all(b"GET /v1/hea").unwrap();
+    let mut rest = Vec::new();
+    assert_eq!(
+        slow.read_to_end(&mut rest).map(|_| rest.len()).ok(),
+        Some(0)
+    );
+    for t in stalled {
+        t.join().unwrap();
+    }
+}
+
+#[test]
+fn the_service_on_vito() {
+    let server = Server::start("cells/vito.cell");
+
+    let (status, health) = server.call("GET", "/v1/health", b"");
+    assert_eq!((status, &health["status"]), (200, &json!("ok")));
+
+    let (status, cell) = server.call("GET", "/v1/cell", b"");
+    assert_eq!(status, 200);
+    let ball = cell["objects"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|o| o["name"] == "ball")
+        .expect("the ball");
+    assert!(!ball["grasps"].as_array().unwrap().is_empty(), "{ball}");
+    assert!(
+        !ball["resting_poses"].as_array().unwrap().is_empty(),
+        "{ball}"
+    );
+    let arm = &cell["arms"][0];
+    assert_eq!(arm["joints"].as_array().unwrap().len(), 7, "{arm}");
+    assert!(arm["joints"][0]["upper"].is_number(), "{arm}");
+    assert!(cell["workspaces"][0]["boxes"].is_array());
+    assert!(cell["end_effectors"][0]["movable"].is_boolean());
+
+    let (status, openapi) = server.call("GET", "/v1/openapi.json", b"");
+    assert_eq!((status, &openapi["openapi"]), (200, &json!("3.1.0")));
+    for path in [
+        "/v1/health",
+        "/v1/cell",
+        "/v1/world",
+        "/v1/plan",
+        "/v1/execute",
+        "/v1/tasks",
+        "/v1/explain",
+        "/v1/openapi.json",
+    ] {
+        assert!(openapi["paths"][path].is_object(), "{path}");
+    }
+
+    let (status, world) = server.call("GET", "/v1/world", b"");
+    assert_eq!(status, 200);
+    assert_eq!(holder_of(&world, "ball"), "\"table\"");
+
+    // A plan leaves the world as it is.
+    let trash =
+        json!({"object": "ball", "to": "bin in ws_right_bin", "options": {"motions": false}});
+    let (status, planned) = server.json("POST", "/v1/plan", trash.clone());
+    assert_eq!((status, &planned["ok"]), (200, &json!(true)), "{planned}");
+    assert_eq!(planned["kind"], "plan");
+    assert_eq!(
+        planned["plans"][0]["holders"],
+        json!(["table", "right", "bin"])
+    );
+    // The plan `cellc plan --format json` writes for the same move (nothing is in the
+    // ball's way, so the world's other objects change nothing).
+    let cli = Command::new(env!("CARGO_BIN_EXE_cellc"))
+        .args(["plan", "cells/vito.cell", "--object", "ball", "--from"])
+        .args([
+            "table at (0.45, -0.25, 0.95)",
+            "--to",
+            "bin in ws_right_bin",
+        ])
+        .args(["--no-motions", "--format", "json"])
+        .output()
+        .expect("cellc plan runs");
+    let mut cli: Value = serde_json::from_slice(&cli.stdout).expect("plan JSON");
+    let mut served = planned["plans"][0].clone();
+    for plan in [&mut cli["plans"][0], &mut served] {
+        plan.as_object_mut().unwrap().remove("request");
+    }
+    assert_eq!(cli["plans"][0], served);
+    assert_eq!(
+        holder_of(&server.call("GET", "/v1/world", b"").1, "ball"),
+        "\"table\""
+    );
+
+    // Failures: a did-you-mean, a goal taken, an absent object.
+    let (status, report) = server.json(
+        "POST",
+        "/v1/plan",
+        json!({"object": "bal", "to": "bin in ws_right_bin"}),
+    );
+    assert_eq!((status, first_code(&report)), (422, "R0003"), "{report}");
+    assert!(report["diagnostics"][0]["help"]
+        .as_str()
+        .unwrap()
+        .contains("did you mean `ball`"));
+    let (status, report) = server.json(
+        "POST",
+        "/v1/plan",
+        json!({"object": "cylinder", "to": "table at (0.35, 0.2, 1.0)", "options": {"motions": false}}),
+    );
+    assert_eq!((status, first_code(&report)), (409, "R0010"), "{report}");
+    assert_eq!(report["ok"], false);
+    assert!(report["diagnostics"][0]["help"]
+        .as_str()
+        .unwrap()
+        .contains(r#"`"clear": true`"#));
+    let (status, report) = server.json(
+        "POST",
+        "/v1/plan",
+        json!({"object": "ball", "to": "bin in ws_right_bin", "options": {"time_budget_ms": 0}}),
+    );
+    assert_eq!((status, first_code(&report)), (503, "R0006"), "{report}");
+
+    // Plans run side by side, all answered.
+    let shared = Arc::new(server);
+    let threads: Vec<_> = (0..6)
+        .map(|i| {
+            let server = shared.clone();
+            let trash = trash.clone();
+            std::thread::spawn(move || {
+                let mut body = trash;
+                body["options"]["seed"] = json!(i);
+                let (status, planned) = server.json("POST", "/v1/plan", body);
+                assert_eq!((status, &planned["ok"]), (200, &json!(true)), "{planned}");
+            })
+        })
+        .collect();
+    for t in threads {
+        t.join().unwrap();
+    }
+    let server = Arc::try_unwrap(shared).ok().expect("threads are done");
+
+    // An execution moves the ball into the bin, and the world says so.
+    let (status, run) = server.json("POST", "/v1/execute", trash);
+    assert_eq!((status, &run["ok"]), (200, &json!(true)), "{run}");
+    assert_eq!(run["moves"][0]["done"], true);
+    let (_, world) = server.call("GET", "/v1/world", b"");
+    assert_eq!(holder_of(&world, "ball"), "\"bin\"");
+
+    // An execution that fails leaves the world as it was: nothing moved.
+    let before = server.call("GET", "/v1/world", b"").1;
+    let (status, run) = server.json(
+        "POST",
+        "/v1/execute",
+        json!({"object": "cylinder", "to": "table at (0.35, 0.2, 1.0)", "options": {"motions": false}}),
+    );
+    assert_eq!((status, first_code(&run)), (409, "R0010"), "{run}");
+    assert_eq!(run["world"], before);
+    assert_eq!(server.call("GET", "/v1/world", b"").1, before);
+
+    // A task: the cylinder to the bin, from where the world has it.
+    let (status, run) = server.json(
+        "POST",
+        "/v1/tasks",
+        json!({"moves": [{"object": "cylinder", "to": "bin in ws_right_bin"}], "options": {"motions": false}}),
+    );
+    assert_eq!((status, &run["ok"]), (200, &json!(true)), "{run}");
+    assert_eq!(
+        holder_of(&server.call("GET", "/v1/world", b"").1, "cylinder"),
+        "\"bin\""
+    );
+
+    // A reachable request explained is its plan.
+    let (status, explained) = server.json(
+        "POST",
+        "/v1/explain",
+        json!({"object": "pitcher", "to": "table at (0.4, -0.3, 1.01)", "options": {"motions": false}}),
+    );
+    assert_eq!(
+        (status, &explained["reachable"]),
+        (200, &json!(true)),
+        "{explained}"
+    );
+
+    // World documents: a good one replaces the world, bad ones are refused and change
+    // nothing.
+    let (status, world) = server.json(
+        "PUT",
+        "/v1/world",
+        json!({"objects": {"ball": {"holder": "table", "at": [0.45, -0.25, 0.95]}}}),
+    );
+    assert_eq!(status, 200, "{world}");
+    assert_eq!(holder_of(&world, "ball"), "\"table\"");
+    assert_eq!(holder_of(&world, "cylinder"), "null");
+    let (status, report) = server.json(
+        "PUT",
+        "/v1/world",
+        json!({"objects": {"ball": {"holder": "table", "pos": [0.45, -0.25, 0.95]}}}),
+    );
+    assert_eq!((status, first_code(&report)), (400, "R0008"), "{report}");
+    let (status, report) = server.json(
+        "PUT",
+        "/v1/world",
+        json!({"arms": {"left": {"lwr_a9_joint": 0.0}}}),
+    );
+    assert_eq!((status, first_code(&report)), (422, "R0009"), "{report}");
+    assert_eq!(
+        holder_of(&server.call("GET", "/v1/world", b"").1, "ball"),
+        "\"table\""
+    );
+
+    ui_requests(&server);
+
+    let log = server.log.lock().unwrap().clone();
+    assert!(
+        log.lines().any(|l| l.contains(r#""method":"POST""#)
+            && l.contains(r#""path":"/v1/execute""#)
+            && l.contains(r#""status":200"#)
+            && l.contains(r#""ms":"#)),
+        "{log}"
+    );
+    assert!(server.terminate().success());
+}
+
+#[test]
+fn unreachable_requests_are_explained() {
+    let server = Server::start("tests/ui/plan/R0004_no_way_across.cell");
+    let across =
+        json!({"object": "cylinder", "from": "table.standing in w1", "to": "table.standing in w2"});
+    let (status, report) = server.json("POST", "/v1/plan", across.clone());
+    assert_eq!((status, first_code(&report)), (422, "R0004"), "{report}");
+    let (status, explained) = server.json("POST", "/v1/explain", across);
+    assert_eq!(status, 200, "{explained}");
+    assert_eq!(explained["reachable"], false);
+    let explanation = &explained["explanation"];
+    assert_eq!(explanation["object"], "cylinder");
+    assert!(
+        !explanation["cut"].as_array().unwrap().is_empty(),
+        "{explanation}"
+    );
+    assert_eq!(first_code(&explained["diagnostic"]), "R0004");
+    assert!(server.terminate().success());
+}
