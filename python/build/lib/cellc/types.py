@@ -1,0 +1,265 @@
+"""The service's JSON as typed values.
+
+Every document the service sends is parsed here, once, into frozen dataclasses: names are
+the cell's names, lengths are metres, angles radians, rotations unit quaternions
+(x, y, z, w), and every joint value comes with its URDF joint name.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+
+@dataclass(frozen=True)
+class Diagnostic:
+    """One diagnostic: a code (documented in docs/diagnostics/CODE.md), what is wrong,
+    and how to fix it."""
+
+    code: str
+    severity: str
+    message: str
+    help: str | None = None
+    notes: tuple[str, ...] = ()
+
+    @staticmethod
+    def parse(d: dict[str, Any]) -> "Diagnostic":
+        return Diagnostic(
+            code=str(d.get("code", "")),
+            severity=str(d.get("severity", "error")),
+            message=str(d.get("message", "")),
+            help=d.get("help"),
+            notes=tuple(d.get("notes") or ()),
+        )
+
+
+def diagnostics_of(document: Any) -> tuple[Diagnostic, ...]:
+    """The diagnostics of a response document (any shape the service sends)."""
+    if not isinstance(document, dict):
+        return ()
+    return tuple(Diagnostic.parse(d) for d in document.get("diagnostics") or ())
+
+
+@dataclass(frozen=True)
+class Pose:
+    """A pose in the cell: position in metres, rotation as a unit quaternion (x, y, z, w)."""
+
+    position: tuple[float, float, float]
+    rotation: tuple[float, float, float, float]
+
+    @staticmethod
+    def parse(d: dict[str, Any] | None) -> "Pose | None":
+        if not d:
+            return None
+        p, r = d["position"], d["rotation"]
+        return Pose((p[0], p[1], p[2]), (r[0], r[1], r[2], r[3]))
+
+
+@dataclass(frozen=True)
+class Joints:
+    """One arm's joints: URDF joint names and their values, in the same order."""
+
+    arm: str
+    names: tuple[str, ...]
+    positions: tuple[float, ...]
+
+    @staticmethod
+    def parse(d: dict[str, Any]) -> "Joints":
+        return Joints(str(d["arm"]), tuple(d["joints"]), tuple(d["positions"]))
+
+    def as_dict(self) -> dict[str, float]:
+        """Joint name -> value, as a world document writes an arm."""
+        return dict(zip(self.names, self.positions))
+
+
+@dataclass(frozen=True)
+class State:
+    """A state of an object's graph: who holds it, with which grasp, in which workspace."""
+
+    end_effector: str
+    grasp: str
+    workspace: str
+
+    @staticmethod
+    def parse(d: dict[str, Any] | None) -> "State | None":
+        if not d:
+            return None
+        return State(str(d["end_effector"]), str(d["grasp"]), str(d["workspace"]))
+
+
+@dataclass(frozen=True)
+class Trajectory:
+    """A joint motion: the arms that move (each with its joint names) and the points,
+    each (time in seconds, every moving arm's joints in `arms` order)."""
+
+    arms: tuple[tuple[str, tuple[str, ...]], ...]
+    points: tuple[tuple[float, tuple[float, ...]], ...]
+
+    @staticmethod
+    def parse(d: dict[str, Any] | None) -> "Trajectory | None":
+        if not d:
+            return None
+        return Trajectory(
+            tuple((str(a["arm"]), tuple(a["joints"])) for a in d["arms"]),
+            tuple((float(p["time"]), tuple(p["positions"])) for p in d["points"]),
+        )
+
+    @property
+    def duration(self) -> float:
+        return self.points[-1][0] if self.points else 0.0
+
+
+@dataclass(frozen=True)
+class Step:
+    """One command of a plan: `move`, `grasp` or `ungrasp`."""
+
+    command: str
+    end_effector: str
+    grasp: str | None
+    workspace: str
+    object: Pose | None
+    configurations: tuple[Joints, ...]
+    motion: Trajectory | None
+
+    @staticmethod
+    def parse(d: dict[str, Any]) -> "Step":
+        return Step(
+            command=str(d["command"]),
+            end_effector=str(d["end_effector"]),
+            grasp=d.get("grasp"),
+            workspace=str(d["workspace"]),
+            object=Pose.parse(d.get("object")),
+            configurations=tuple(Joints.parse(c) for c in d.get("configurations") or ()),
+            motion=Trajectory.parse(d.get("motion")),
+        )
+
+
+@dataclass(frozen=True)
+class Plan:
+    """A plan of one object's move: its state path, its commands, and the world's objects
+    it went round."""
+
+    request: str
+    object: str
+    strategy: str
+    cost: float
+    backtracks: int
+    holders: tuple[str, ...]
+    states: tuple[State, ...]
+    steps: tuple[Step, ...]
+    detours: tuple[dict[str, Any], ...] = ()
+
+    @staticmethod
+    def parse(d: dict[str, Any]) -> "Plan":
+        return Plan(
+            request=str(d.get("request", "")),
+            object=str(d["object"]),
+            strategy=str(d["strategy"]),
+            cost=float(d["cost"]),
+            backtracks=int(d.get("backtracks", 0)),
+            holders=tuple(d.get("holders") or ()),
+            states=tuple(s for s in (State.parse(x) for x in d["states"]) if s),
+            steps=tuple(Step.parse(s) for s in d["steps"]),
+            detours=tuple(d.get("detours") or ()),
+        )
+
+
+@dataclass(frozen=True)
+class Placed:
+    """Where one object is: its state and pose, or `state` None when it is absent."""
+
+    object: str
+    state: State | None
+    pose: Pose | None
+
+
+@dataclass(frozen=True)
+class World:
+    """The world: every object's whereabouts and every arm's joints."""
+
+    objects: dict[str, Placed] = field(default_factory=dict)
+    arms: dict[str, Joints] = field(default_factory=dict)
+
+    @staticmethod
+    def parse(d: dict[str, Any]) -> "World":
+        objects = {}
+        for o in d.get("objects") or ():
+            name = str(o["object"])
+            objects[name] = Placed(name, State.parse(o.get("state")), Pose.parse(o.get("pose")))
+        arms = {str(a["arm"]): Joints.parse(a) for a in d.get("arms") or ()}
+        return World(objects, arms)
+
+    def document(self) -> dict[str, Any]:
+        """The world document (docs/world.md) that puts the cell back in this world:
+        resting objects at their poses, held ones in their hands, the arms' joints."""
+        objects: dict[str, Any] = {}
+        for name, placed in self.objects.items():
+            if placed.state is None:
+                objects[name] = "absent"
+                continue
+            entry: dict[str, Any] = {
+                "holder": placed.state.end_effector,
+                "grasp": placed.state.grasp,
+            }
+            if placed.state.end_effector in self.arms:
+                entry["workspace"] = placed.state.workspace
+            elif placed.pose is not None:
+                x, y, z, w = placed.pose.rotation
+                entry["at"] = list(placed.pose.position)
+                entry["quat"] = [w, x, y, z]
+            else:
+                entry["workspace"] = placed.state.workspace
+            objects[name] = entry
+        return {
+            "arms": {arm: j.as_dict() for arm, j in self.arms.items()},
+            "objects": objects,
+        }
+
+
+@dataclass(frozen=True)
+class Move:
+    """One plan carried out in the simulator: the plans executed (the first, then one per
+    replan), the simulator's log, and where the object ended."""
+
+    object: str
+    clears: str | None
+    plans: tuple[Plan, ...]
+    log: tuple[str, ...]
+    done: bool
+    final_state: State | None
+    final_pose: Pose | None
+    position_error: float | None
+    rotation_error: float | None
+
+    @staticmethod
+    def parse(d: dict[str, Any]) -> "Move":
+        return Move(
+            object=str(d["object"]),
+            clears=d.get("clears"),
+            plans=tuple(Plan.parse(p) for p in d.get("plans") or ()),
+            log=tuple(d.get("log") or ()),
+            done=bool(d.get("done")),
+            final_state=State.parse(d.get("final_state")),
+            final_pose=Pose.parse(d.get("final_pose")),
+            position_error=d.get("position_error"),
+            rotation_error=d.get("rotation_error"),
+        )
+
+
+@dataclass(frozen=True)
+class Run:
+    """Moves carried out: each one's record, and the world at the end."""
+
+    ok: bool
+    moves: tuple[Move, ...]
+    world: World | None
+    diagnostics: tuple[Diagnostic, ...]
+
+    @staticmethod
+    def parse(d: dict[str, Any]) -> "Run":
+        return Run(
+            ok=bool(d.get("ok", True)),
+            moves=tuple(Move.parse(m) for m in d.get("moves") or ()),
+            world=World.parse(d["world"]) if d.get("world") else None,
+            diagnostics=diagnostics_of(d),
+        )
