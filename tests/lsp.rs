@@ -176,7 +176,7 @@ fn uri(relative: &str) -> String {
     format!("file://{ROOT}/{relative}")
 }
 
-fn text(relative: &str) -> String {
+fn text_of(relative: &str) -> String {
     std::fs::read_to_string(format!("{ROOT}/{relative}")).expect("a shipped file")
 }
 
@@ -200,7 +200,7 @@ fn find(text: &str, needle: &str, skip: u32) -> (u32, u32) {
 fn shipped_cell_is_clean_and_an_error_shows_and_clears() {
     let mut client = Client::start();
     let vito = uri("cells/vito.cell");
-    client.open(&vito, &text("cells/vito.cell"));
+    client.open(&vito, &text_of("cells/vito.cell"));
     assert_eq!(client.diagnostics(&vito), json!([]));
 
     let broken = uri("target/lsp-test/broken.cell");
@@ -254,7 +254,7 @@ fn shipped_cell_is_clean_and_an_error_shows_and_clears() {
 fn hover_describes_workspaces_arms_and_grasps() {
     let mut client = Client::start();
     let vito = uri("cells/vito.cell");
-    let source = text("cells/vito.cell");
+    let source = text_of("cells/vito.cell");
     client.open(&vito, &source);
     let mut answers = Vec::new();
     for (needle, skip) in [
@@ -285,12 +285,12 @@ fn hover_describes_workspaces_arms_and_grasps() {
 fn definition_and_references_cross_includes() {
     let mut client = Client::start();
     let vito = uri("cells/vito.cell");
-    let source = text("cells/vito.cell");
+    let source = text_of("cells/vito.cell");
     client.open(&vito, &source);
     // `softhand` in `arm left = lwr4 ... with softhand` is declared in robots/softhand.cell.
     let (line, column) = find(&source, "softhand home", 2);
     let definition = client.at("textDocument/definition", &vito, line, column);
-    let library = text("cells/robots/softhand.cell");
+    let library = text_of("cells/robots/softhand.cell");
     let (decl_line, decl_column) = find(&library, "hand softhand", 5);
     assert_eq!(
         definition["result"]["uri"],
@@ -325,7 +325,7 @@ fn definition_and_references_cross_includes() {
 fn completion_symbols_and_formatting() {
     let mut client = Client::start();
     let vito = uri("cells/vito.cell");
-    let source = text("cells/vito.cell");
+    let source = text_of("cells/vito.cell");
     client.open(&vito, &source);
     // At the start of an item (the blank line before `workspaces from reach`).
     let (line, _) = find(&source, "  workspaces from reach", 0);
@@ -412,7 +412,69 @@ fn garbage_never_stops_the_server() {
     let hover = client.at("textDocument/hover", &bad, 0, 3);
     assert_eq!(hover["result"], Value::Null, "{hover}");
     let vito = uri("cells/vito.cell");
-    client.open(&vito, &text("cells/vito.cell"));
+    client.open(&vito, &text_of("cells/vito.cell"));
     assert_eq!(client.diagnostics(&vito), json!([]));
     assert_eq!(client.stop(), Some(0));
+}
+
+#[test]
+fn secondary_labels_and_unsaved_includes() {
+    let mut client = Client::start();
+    // A duplicate: the first declaration is related information.
+    let twice = uri("target/lsp-test/twice.cell");
+    let text = "cell twice {\n  workspace w1\n  workspace w1\n  fixed t reaches w1\n}\n";
+    client.open(&twice, text);
+    let diagnostics = client.diagnostics(&twice);
+    assert_eq!(diagnostics[0]["code"], "E0102", "{diagnostics}");
+    let related = &diagnostics[0]["relatedInformation"][0];
+    assert_eq!(related["location"]["uri"], twice.as_str(), "{diagnostics}");
+    assert_eq!(
+        related["location"]["range"]["start"],
+        json!({ "line": 1, "character": 12 })
+    );
+
+    // The cell includes the library; the library's unsaved text breaks it, and the error
+    // is published for the library's URI.
+    let vito = uri("cells/vito.cell");
+    client.open(&vito, &text_of("cells/vito.cell"));
+    assert_eq!(client.diagnostics(&vito), json!([]));
+    let library = uri("cells/robots/softhand.cell");
+    let broken = text_of("cells/robots/softhand.cell").replace("hand softhand", "hand soft_hand");
+    client.open(&library, &broken);
+    let in_library = client.diagnostics(&library);
+    assert_eq!(in_library, json!([]), "the library alone is clean");
+    let in_cell = client.diagnostics(&vito);
+    assert!(in_cell.to_string().contains("softhand"), "{in_cell}");
+    assert_eq!(client.stop(), Some(0));
+}
+
+#[test]
+fn an_error_in_an_included_file_is_published_for_that_file() {
+    let dir = std::env::temp_dir().join(format!("cellc-lsp-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("a temporary folder");
+    let lib = dir.join("lib.cell");
+    std::fs::write(
+        &lib,
+        "library lib {\n  workspace w1\n  fixed t reaches w9\n}\n",
+    )
+    .expect("written");
+    let main = dir.join("main.cell");
+    let main_text = "cell main {\n  include \"lib.cell\"\n}\n";
+    std::fs::write(&main, main_text).expect("written");
+    let mut client = Client::start();
+    let main_uri = format!("file://{}", main.display());
+    client.open(&main_uri, main_text);
+    let lib_uri = format!("file://{}", lib.display());
+    let diagnostics = client.diagnostics(&lib_uri);
+    let unknown = diagnostics
+        .as_array()
+        .and_then(|d| d.iter().find(|d| d["code"] == "E0101"))
+        .unwrap_or_else(|| panic!("{diagnostics}"));
+    assert_eq!(
+        unknown["range"]["start"],
+        json!({ "line": 2, "character": 18 })
+    );
+    assert_eq!(client.diagnostics(&main_uri), json!([]));
+    assert_eq!(client.stop(), Some(0));
+    let _ = std::fs::remove_dir_all(&dir);
 }
