@@ -264,6 +264,9 @@ fn hover_describes_workspaces_arms_and_grasps() {
         ("softhand home", 2),
         ("grasp top", 7),
         ("surface table", 9),
+        ("lwr4 at (0, 0.1086", 13),
+        ("(0, 0.1086, 1.375) rpy (-60", 25),
+        ("lwr_a1_joint 100", 14),
     ] {
         let (line, column) = find(&source, needle, skip);
         let answer = client.at("textDocument/hover", &vito, line, column);
@@ -277,6 +280,10 @@ fn hover_describes_workspaces_arms_and_grasps() {
         grasp.contains("at (0, 0.12, 0.09) m rpy (90, -90, 0) deg"),
         "{grasp}"
     );
+    let value = |i: usize| answers[i]["hover"]["contents"]["value"].clone();
+    assert_eq!(value(6), "**length** 0.1086 m");
+    assert_eq!(value(7), "**angle** -60° (-1.0472 rad)");
+    assert_eq!(value(8), "**home of `lwr_a1_joint`** 100° (1.7453 rad)");
     insta::assert_snapshot!("hover", portable(&json!(answers)));
     assert_eq!(client.stop(), Some(0));
 }

@@ -1,32 +1,89 @@
 //! Hover: what the name under the cursor is, from the compiled cell, in SI units
-//! (metres, and degrees for angles, as cells are usually written).
+//! (metres, and degrees for angles, as cells are usually written); on a number, the value
+//! it resolves to.
 
 use std::collections::BTreeMap;
 use std::fmt::Write;
 
 use cellc_compiler::math::{Aabb, Iso};
 use cellc_compiler::model::{Body, Cell, Holder, Joint};
+use cellc_lang::FileId;
 use lsp_types::{Hover, HoverContents, HoverParams, MarkupContent, MarkupKind};
 
 use super::analysis::Analysis;
 use super::index::{Key, Kind};
 use super::navigate::locate;
 use super::position::Lines;
+use super::quantities::{self, Measure};
 
 /// The description of the name under the cursor.
 pub fn hover(analyses: &BTreeMap<String, Analysis>, params: HoverParams) -> Option<Hover> {
     let (analysis, file, offset) = locate(analyses, &params.text_document_position_params)?;
     let (_, text) = analysis.source(file)?;
-    let occurrence = analysis.index.at(file, offset)?;
-    let kind = analysis.index.kind_of(&occurrence.key);
-    let value = describe(analysis.compilation.cell.as_ref(), &occurrence.key, kind)?;
+    let cell = analysis.compilation.cell.as_ref();
+    let (value, span) = match analysis.index.at(file, offset) {
+        Some(occurrence) => {
+            let kind = analysis.index.kind_of(&occurrence.key);
+            (describe(cell, &occurrence.key, kind)?, occurrence.span)
+        }
+        None => quantity(analysis, cell, file, offset)?,
+    };
     Some(Hover {
         contents: HoverContents::Markup(MarkupContent {
             kind: MarkupKind::Markdown,
             value,
         }),
-        range: Some(Lines::new(text).range(occurrence.span)),
+        range: Some(Lines::new(text).range(span)),
     })
+}
+
+/// The value of the quantity at `offset`, in SI, as the resolver reads it.
+fn quantity(
+    analysis: &Analysis,
+    cell: Option<&Cell>,
+    file: FileId,
+    offset: usize,
+) -> Option<(String, cellc_lang::Span)> {
+    let tree = analysis
+        .index
+        .trees
+        .iter()
+        .find(|(id, _)| *id == file)?
+        .1
+        .as_ref()?;
+    let (written, units) = quantities::of_file(file, tree);
+    let prismatic = |arm: &str, joint: &str| {
+        let Some(cell) = cell else { return false };
+        let robot = cell
+            .end_effectors
+            .iter()
+            .find(|(_, e)| e.name == arm)
+            .and_then(|(_, e)| match e.body {
+                Body::Arm { robot, .. } => robot.and_then(|r| cell.robots.get(r)),
+                _ => None,
+            });
+        robot.is_some_and(|r| {
+            r.chain_joints
+                .iter()
+                .any(|j| j.name == joint && j.prismatic)
+        })
+    };
+    let (w, value, is_length) = quantities::at(&written, units, file, offset, prismatic)?;
+    let what = match &w.measure {
+        Measure::Home { joint, .. } => format!("home of `{joint}`"),
+        Measure::Length | Measure::Angle if is_length => "length".to_string(),
+        _ => "angle".to_string(),
+    };
+    let text = if is_length {
+        format!("**{what}** {} m", num(value))
+    } else {
+        format!(
+            "**{what}** {}° ({} rad)",
+            num(value.to_degrees()),
+            num(value)
+        )
+    };
+    Some((text, w.quantity.span))
 }
 
 /// What `key` is: the compiled cell's facts when it has them, else what the text

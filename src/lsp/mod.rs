@@ -24,6 +24,7 @@ pub mod hover;
 pub mod index;
 pub mod navigate;
 pub mod position;
+pub mod quantities;
 mod transport;
 
 use std::collections::BTreeMap;
