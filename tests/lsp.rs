@@ -229,6 +229,14 @@ fn shipped_cell_is_clean_and_an_error_shows_and_clears() {
     );
     let edit = &actions["result"][0]["edit"]["changes"][&broken][0];
     assert_eq!(edit["newText"], "w1", "{actions}");
+    let declare = &actions["result"][1];
+    assert_eq!(declare["title"], "declare `w4`", "{actions}");
+    let insert = &declare["edit"]["changes"][&broken][0];
+    assert_eq!(insert["newText"], "  workspace w4\n");
+    assert_eq!(
+        insert["range"]["start"],
+        json!({ "line": 10, "character": 0 })
+    );
 
     // Two changes queued at once: the last one counts.
     let fixed = BROKEN.replace("w1, w4", "w1, w2");
@@ -360,6 +368,10 @@ fn completion_symbols_and_formatting() {
     let (line, column) = find(&source, "home (lwr_a1_joint", 6);
     let joints = client.at("textDocument/completion", &vito, line, column);
     assert!(joints.to_string().contains("lwr_a7_joint"), "{joints}");
+    // After `allow contact ARM.`, the links of the arm's robot.
+    let (line, column) = find(&source, "allow contact left.", 19);
+    let links = client.at("textDocument/completion", &vito, line, column);
+    assert!(links.to_string().contains("lwr_link_7"), "{links}");
 
     let symbols = client.request(
         "textDocument/documentSymbol",
