@@ -364,6 +364,16 @@ fn completion_symbols_and_formatting() {
         kinds.contains(&"softhand") && !kinds.contains(&"left"),
         "{kinds:?}"
     );
+    // In a `reaches` list, workspaces.
+    let broken = uri("target/lsp-test/list.cell");
+    client.open(&broken, BROKEN);
+    let (line, column) = find(BROKEN, "w1, w2", 4);
+    let in_list = client.at("textDocument/completion", &broken, line, column);
+    let in_list: Vec<&str> = in_list["result"]
+        .as_array()
+        .map(|a| a.iter().filter_map(|i| i["label"].as_str()).collect())
+        .unwrap_or_default();
+    assert_eq!(in_list, ["w1", "w2"]);
     // Inside `home (`, the arm's joints.
     let (line, column) = find(&source, "home (lwr_a1_joint", 6);
     let joints = client.at("textDocument/completion", &vito, line, column);

@@ -80,7 +80,12 @@ pub fn complete(
     } else if let Some(words) = robot_words(analysis, typed) {
         words
     } else {
-        let previous = typed.split_whitespace().last().unwrap_or("");
+        // In a list (`reaches w1, w2, `), what the list follows decides.
+        let previous = typed
+            .split_whitespace()
+            .rev()
+            .find(|w| !w.ends_with(','))
+            .unwrap_or("");
         names(analysis, wanted(previous))
     };
     Some(CompletionResponse::Array(items))
@@ -106,7 +111,7 @@ fn enclosing_block(before: &str) -> Option<&str> {
 /// Which names fit after `previous`, the word before the cursor.
 fn wanted(previous: &str) -> fn(Kind) -> bool {
     match previous {
-        "in" | "reaches" | "adjacent" | "," => |k| k == Kind::Workspace,
+        "in" | "reaches" | "adjacent" => |k| k == Kind::Workspace,
         "with" | "on" | ":" => Kind::is_holder_kind,
         "by" => |k| k.is_holder_kind() || k.is_end_effector(),
         "=" => |k| k == Kind::Robot,
