@@ -252,6 +252,13 @@ pub enum Command {
         #[command(subcommand)]
         source: ImportSource,
     },
+    /// Serve the Language Server Protocol on standard input and output, for editors
+    /// (diagnostics as you type, hover, go to definition, completion, formatting).
+    Lsp {
+        /// Where ROS packages are.
+        #[command(flatten)]
+        packages: PackageArgs,
+    },
 }
 
 /// What `cellc import` reads.

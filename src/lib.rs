@@ -12,6 +12,7 @@ pub mod fixes;
 pub mod fs_files;
 pub mod fuzzing;
 pub mod import;
+pub mod lsp;
 pub mod output;
 pub mod packages;
 pub mod plan_json;
@@ -131,5 +132,6 @@ pub fn dispatch() -> ExitCode {
         args::Command::Export { format } => match format {
             args::ExportFormat::Pddl(pddl) => commands::export::run_pddl(pddl),
         },
+        args::Command::Lsp { packages } => commands::lsp::run(packages),
     }
 }

@@ -9,6 +9,7 @@ pub mod graph;
 pub mod import;
 pub mod info;
 pub mod job;
+pub mod lsp;
 pub mod plan;
 pub mod run;
 pub mod serve;

@@ -1,0 +1,274 @@
+//! Go to definition, find references, the outline, workspace symbols and the quick fixes
+//! of "did you mean", all read from the index of names.
+
+use std::collections::BTreeMap;
+
+use cellc_lang::{FileId, Span};
+use lsp_types::{
+    CodeAction, CodeActionKind, CodeActionOrCommand, CodeActionParams, DocumentSymbol,
+    DocumentSymbolParams, DocumentSymbolResponse, GotoDefinitionParams, GotoDefinitionResponse,
+    Location, OneOf, Range, ReferenceParams, SymbolKind, TextEdit, WorkspaceEdit, WorkspaceSymbol,
+    WorkspaceSymbolParams, WorkspaceSymbolResponse,
+};
+
+use super::analysis::Analysis;
+use super::analysis_for;
+use super::documents::{path_of, uri_of};
+use super::index::{Key, Kind, Occurrence};
+use super::position::Lines;
+
+/// The location of `span` in `file` of `analysis`.
+pub fn location(analysis: &Analysis, file: FileId, span: Span) -> Option<Location> {
+    let (path, text) = analysis.source(file)?;
+    Some(Location::new(uri_of(path)?, Lines::new(text).range(span)))
+}
+
+/// The analysis, file and byte offset of a position in a document.
+pub fn locate<'a>(
+    analyses: &'a BTreeMap<String, Analysis>,
+    at: &lsp_types::TextDocumentPositionParams,
+) -> Option<(&'a Analysis, FileId, usize)> {
+    let (analysis, file) = analysis_for(analyses, &at.text_document.uri)?;
+    let (_, text) = analysis.source(file)?;
+    Some((analysis, file, Lines::new(text).offset(at.position)))
+}
+
+/// Where the name under the cursor is declared; an include's path goes to the file.
+pub fn definition(
+    analyses: &BTreeMap<String, Analysis>,
+    params: GotoDefinitionParams,
+) -> Option<GotoDefinitionResponse> {
+    let (analysis, file, offset) = locate(analyses, &params.text_document_position_params)?;
+    if let Some(include) = analysis.index.include_at(file, offset) {
+        let uri = uri_of(&include.path)?;
+        return Some(GotoDefinitionResponse::Scalar(Location::new(
+            uri,
+            Range::default(),
+        )));
+    }
+    let occurrence = analysis.index.at(file, offset)?;
+    let mut found: Vec<Location> = analysis
+        .index
+        .declarations(&occurrence.key)
+        .filter_map(|d| location(analysis, d.file, d.span))
+        .collect();
+    if found.is_empty() {
+        // A derived workspace is declared by the `workspaces from reach` line.
+        let cell = analysis.compilation.cell.as_ref()?;
+        let derived = cell
+            .workspaces
+            .iter()
+            .any(|(_, w)| w.derived && w.name == occurrence.key.name());
+        if derived && matches!(occurrence.key, Key::Global(_)) {
+            let origin = cell.derive_workspaces?;
+            found.extend(location(analysis, origin.file, origin.span));
+        }
+    }
+    match found.len() {
+        0 => None,
+        1 => found.pop().map(GotoDefinitionResponse::Scalar),
+        _ => Some(GotoDefinitionResponse::Array(found)),
+    }
+}
+
+/// Every place the name under the cursor is written, in every open cell that reads the
+/// file (a library's name is used by the cells that include it).
+pub fn references(
+    analyses: &BTreeMap<String, Analysis>,
+    params: ReferenceParams,
+) -> Option<Vec<Location>> {
+    let at = &params.text_document_position;
+    let (analysis, file, offset) = locate(analyses, at)?;
+    let key = analysis.index.at(file, offset)?.key.clone();
+    let path = path_of(&at.text_document.uri)?;
+    let mut found: Vec<Location> = Vec::new();
+    for a in analyses.values().filter(|a| a.file(&path).is_some()) {
+        let places = a
+            .index
+            .occurrences_of(&key)
+            .filter(|o| params.context.include_declaration || o.declares.is_none());
+        for o in places {
+            if let Some(l) = location(a, o.file, o.span) {
+                if !found.contains(&l) {
+                    found.push(l);
+                }
+            }
+        }
+    }
+    Some(found)
+}
+
+/// The protocol's kind of symbol for a declaration.
+pub fn symbol_kind(kind: Kind) -> SymbolKind {
+    match kind {
+        Kind::Workspace => SymbolKind::NAMESPACE,
+        Kind::Fixed | Kind::Movable | Kind::Arm | Kind::Surface => SymbolKind::CLASS,
+        Kind::Hand | Kind::Support => SymbolKind::STRUCT,
+        Kind::Robot => SymbolKind::PACKAGE,
+        Kind::Object => SymbolKind::OBJECT,
+        Kind::Grasp | Kind::Rest => SymbolKind::FIELD,
+        Kind::Obstacle => SymbolKind::CONSTANT,
+        Kind::Request => SymbolKind::FUNCTION,
+        Kind::Task => SymbolKind::EVENT,
+    }
+}
+
+/// The outline: the items that declare a name, an object's grasps under it.
+pub fn document_symbols(
+    analyses: &BTreeMap<String, Analysis>,
+    params: DocumentSymbolParams,
+) -> Option<DocumentSymbolResponse> {
+    let (analysis, file) = analysis_for(analyses, &params.text_document.uri)?;
+    let (_, text) = analysis.source(file)?;
+    let lines = Lines::new(text);
+    let declared: Vec<&Occurrence> = analysis
+        .index
+        .occurrences
+        .iter()
+        .filter(|o| o.file == file && o.declares.is_some())
+        .collect();
+    let symbol = |o: &Occurrence, children: Option<Vec<DocumentSymbol>>| {
+        let kind = o.declares.unwrap_or(Kind::Object);
+        #[allow(deprecated)] // `deprecated` is a field the type still requires.
+        DocumentSymbol {
+            name: o.key.name().to_string(),
+            detail: Some(kind.noun().to_string()),
+            kind: symbol_kind(kind),
+            tags: None,
+            deprecated: None,
+            range: lines.range(o.item),
+            selection_range: lines.range(o.span),
+            children,
+        }
+    };
+    let symbols = declared
+        .iter()
+        .filter(|o| !matches!(o.key, Key::Grasp { .. }))
+        .map(|o| {
+            let children: Vec<DocumentSymbol> = declared
+                .iter()
+                .filter(|g| matches!(&g.key, Key::Grasp { object, .. } if o.declares == Some(Kind::Object) && object == o.key.name()))
+                .map(|g| symbol(g, None))
+                .collect();
+            symbol(o, (!children.is_empty()).then_some(children))
+        })
+        .collect();
+    Some(DocumentSymbolResponse::Nested(symbols))
+}
+
+/// Every declaration of every open cell whose name contains the query (ignoring case).
+pub fn workspace_symbols(
+    analyses: &BTreeMap<String, Analysis>,
+    params: WorkspaceSymbolParams,
+) -> Option<WorkspaceSymbolResponse> {
+    let query = params.query.to_lowercase();
+    let mut found: Vec<WorkspaceSymbol> = Vec::new();
+    for a in analyses.values() {
+        for o in a.index.occurrences.iter() {
+            let Some(kind) = o.declares else { continue };
+            if !o.key.name().to_lowercase().contains(&query) {
+                continue;
+            }
+            let Some(l) = location(a, o.file, o.span) else {
+                continue;
+            };
+            if found.iter().any(|s| s.location == OneOf::Left(l.clone())) {
+                continue;
+            }
+            found.push(WorkspaceSymbol {
+                name: o.key.name().to_string(),
+                kind: symbol_kind(kind),
+                tags: None,
+                container_name: match &o.key {
+                    Key::Grasp { object, .. } => Some(object.clone()),
+                    _ => None,
+                },
+                location: OneOf::Left(l),
+                data: None,
+            });
+        }
+    }
+    Some(WorkspaceSymbolResponse::Nested(found))
+}
+
+/// The quick fixes of the diagnostics in range: a "did you mean `x`?" replaces the
+/// marked name with `x`; an unknown workspace, holder kind or object can be declared
+/// (a line before the cell's closing brace, in the form that needs nothing else).
+pub fn code_actions(
+    analyses: &BTreeMap<String, Analysis>,
+    params: CodeActionParams,
+) -> Option<Vec<CodeActionOrCommand>> {
+    let uri = params.text_document.uri;
+    let text = analysis_for(analyses, &uri)
+        .and_then(|(a, file)| a.source(file))
+        .map(|(_, text)| text);
+    let mut actions = Vec::new();
+    let mut action = |title: String, d: &lsp_types::Diagnostic, edit: TextEdit, preferred: bool| {
+        actions.push(CodeActionOrCommand::CodeAction(CodeAction {
+            title,
+            kind: Some(CodeActionKind::QUICKFIX),
+            diagnostics: Some(vec![d.clone()]),
+            edit: Some(WorkspaceEdit {
+                changes: Some([(uri.clone(), vec![edit])].into_iter().collect()),
+                ..WorkspaceEdit::default()
+            }),
+            is_preferred: Some(preferred),
+            ..CodeAction::default()
+        }))
+    };
+    for d in &params.context.diagnostics {
+        if let Some(suggestion) = did_you_mean(&d.message) {
+            let edit = TextEdit::new(d.range, suggestion.to_string());
+            action(format!("change to `{suggestion}`"), d, edit, true);
+        }
+        let declaration = unknown(&d.message).and_then(|(sort, name)| {
+            let line = match sort {
+                "workspace" => format!("workspace {name}"),
+                "holder kind" => format!("support {name}"),
+                "object" => format!("object {name} {{\n  }}"),
+                _ => return None,
+            };
+            Some((name, line))
+        });
+        if let (Some((name, line)), Some(text)) = (declaration, text) {
+            if let Some(edit) = insert_before_closing_brace(text, &line) {
+                action(format!("declare `{name}`"), d, edit, false);
+            }
+        }
+    }
+    Some(actions)
+}
+
+/// The sort and name of an "unknown SORT `NAME`" message (E0101).
+fn unknown(message: &str) -> Option<(&str, &str)> {
+    let rest = message.strip_prefix("unknown ")?;
+    let (sort, rest) = rest.split_once(" `")?;
+    let name = rest.split('`').next()?;
+    Some((sort, name))
+}
+
+/// An edit that writes `line` (indented by two spaces) on its own line before the last
+/// `}` of `text`, the cell's closing brace.
+fn insert_before_closing_brace(text: &str, line: &str) -> Option<TextEdit> {
+    let brace = text.rfind('}')?;
+    let line_start = text[..brace].rfind('\n').map_or(0, |i| i + 1);
+    let lines = Lines::new(text);
+    let indented = line.replace('\n', "\n  ");
+    if text[line_start..brace].trim().is_empty() {
+        let at = lines.position(line_start);
+        Some(TextEdit::new(Range::new(at, at), format!("  {indented}\n")))
+    } else {
+        let at = lines.position(brace);
+        Some(TextEdit::new(
+            Range::new(at, at),
+            format!("\n  {indented}\n"),
+        ))
+    }
+}
+
+/// The name a diagnostic's help suggests (`help: did you mean `x`?`).
+fn did_you_mean(message: &str) -> Option<&str> {
+    let rest = message.split("did you mean `").nth(1)?;
+    let name = rest.split('`').next()?;
+    (!name.is_empty()).then_some(name)
+}

@@ -1,0 +1,509 @@
+//! `cellc lsp` driven as an editor drives it: the binary spawned, JSON-RPC messages with
+//! `Content-Length` framing on its standard input, answers read from its output.
+//! Answers are snapshotted with the checkout's path replaced by `$ROOT`.
+
+use std::io::{BufRead, BufReader, Write};
+use std::process::{Child, ChildStdin, Command, Stdio};
+use std::sync::mpsc::{Receiver, RecvTimeoutError};
+use std::time::Duration;
+
+use serde_json::{json, Value};
+
+const ROOT: &str = env!("CARGO_MANIFEST_DIR");
+
+/// How long any one answer may take (a debug build compiling a cell).
+const PATIENCE: Duration = Duration::from_secs(120);
+
+/// A cell with one error: `w4` is not a workspace (E0101, did you mean `w1`?).
+const BROKEN: &str = "cell small {\n  workspace w1\n  workspace w2\n  fixed table reaches w1, w4\n  movable gripper reaches w1, w2\n  object box {\n    grasp down by table\n    grasp held by gripper\n    transition down <-> held\n  }\n}\n";
+
+/// A client speaking to one server process.
+struct Client {
+    child: Child,
+    stdin: ChildStdin,
+    messages: Receiver<Value>,
+    /// Notifications read while waiting for something else.
+    pending: Vec<Value>,
+    next_id: i64,
+}
+
+impl Client {
+    /// Starts `cellc lsp` and initializes it.
+    fn start() -> Client {
+        let mut child = Command::new(env!("CARGO_BIN_EXE_cellc"))
+            .arg("lsp")
+            .current_dir(ROOT)
+            .stdin(Stdio::piped())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::null())
+            .spawn()
+            .expect("cellc starts");
+        let stdin = child.stdin.take().expect("stdin");
+        let stdout = child.stdout.take().expect("stdout");
+        let (sender, messages) = std::sync::mpsc::channel();
+        std::thread::spawn(move || {
+            let mut reader = BufReader::new(stdout);
+            while let Some(message) = read_message(&mut reader) {
+                if sender.send(message).is_err() {
+                    break;
+                }
+            }
+        });
+        let mut client = Client {
+            child,
+            stdin,
+            messages,
+            pending: Vec::new(),
+            next_id: 1,
+        };
+        let init = client.request(
+            "initialize",
+            json!({ "processId": null, "rootUri": null, "capabilities": {} }),
+        );
+        assert!(
+            init["result"]["capabilities"]["hoverProvider"] == json!(true),
+            "{init}"
+        );
+        client.notify("initialized", json!({}));
+        client
+    }
+
+    fn write_raw(&mut self, body: &str) {
+        let framed = format!("Content-Length: {}\r\n\r\n{body}", body.len());
+        self.stdin.write_all(framed.as_bytes()).expect("write");
+        self.stdin.flush().expect("flush");
+    }
+
+    fn next(&mut self) -> Value {
+        match self.messages.recv_timeout(PATIENCE) {
+            Ok(m) => m,
+            Err(RecvTimeoutError::Timeout) => panic!("no answer in {PATIENCE:?}"),
+            Err(RecvTimeoutError::Disconnected) => panic!("the server closed its output"),
+        }
+    }
+
+    fn notify(&mut self, method: &str, params: Value) {
+        let body = json!({ "jsonrpc": "2.0", "method": method, "params": params });
+        self.write_raw(&body.to_string());
+    }
+
+    /// Sends a request and waits for its response (keeping notifications for later).
+    fn request(&mut self, method: &str, params: Value) -> Value {
+        let id = self.next_id;
+        self.next_id += 1;
+        let body = json!({ "jsonrpc": "2.0", "id": id, "method": method, "params": params });
+        self.write_raw(&body.to_string());
+        self.response(json!(id))
+    }
+
+    fn response(&mut self, id: Value) -> Value {
+        loop {
+            let message = self.next();
+            if message.get("method").is_some() {
+                self.pending.push(message);
+            } else if message["id"] == id {
+                return message;
+            }
+        }
+    }
+
+    /// The next diagnostics published for `uri`.
+    fn diagnostics(&mut self, uri: &str) -> Value {
+        let is_for = |m: &Value| {
+            m["method"] == "textDocument/publishDiagnostics" && m["params"]["uri"] == uri
+        };
+        if let Some(i) = self.pending.iter().position(is_for) {
+            return self.pending.remove(i)["params"]["diagnostics"].clone();
+        }
+        loop {
+            let message = self.next();
+            if is_for(&message) {
+                return message["params"]["diagnostics"].clone();
+            }
+            self.pending.push(message);
+        }
+    }
+
+    fn open(&mut self, uri: &str, text: &str) {
+        self.notify(
+            "textDocument/didOpen",
+            json!({ "textDocument": { "uri": uri, "languageId": "cell", "version": 1, "text": text } }),
+        );
+    }
+
+    fn at(&mut self, method: &str, uri: &str, line: u32, character: u32) -> Value {
+        let mut params = json!({
+            "textDocument": { "uri": uri },
+            "position": { "line": line, "character": character },
+        });
+        if method == "textDocument/references" {
+            params["context"] = json!({ "includeDeclaration": true });
+        }
+        self.request(method, params)
+    }
+
+    /// `shutdown` then `exit`: the exit code.
+    fn stop(mut self) -> Option<i32> {
+        let answer = self.request("shutdown", Value::Null);
+        assert_eq!(answer["result"], Value::Null, "{answer}");
+        self.notify("exit", Value::Null);
+        self.child.wait().expect("the server exits").code()
+    }
+}
+
+/// One framed message, `None` at end of output.
+fn read_message(reader: &mut impl BufRead) -> Option<Value> {
+    let mut length = None;
+    loop {
+        let mut line = String::new();
+        if reader.read_line(&mut line).ok()? == 0 {
+            return None;
+        }
+        let line = line.trim_end();
+        if line.is_empty() {
+            break;
+        }
+        if let Some(n) = line.strip_prefix("Content-Length: ") {
+            length = n.parse::<usize>().ok();
+        }
+    }
+    let mut body = vec![0; length?];
+    reader.read_exact(&mut body).ok()?;
+    serde_json::from_slice(&body).ok()
+}
+
+fn uri(relative: &str) -> String {
+    format!("file://{ROOT}/{relative}")
+}
+
+fn text_of(relative: &str) -> String {
+    std::fs::read_to_string(format!("{ROOT}/{relative}")).expect("a shipped file")
+}
+
+/// `value` as pretty JSON with the checkout's path as `$ROOT`.
+fn portable(value: &Value) -> String {
+    serde_json::to_string_pretty(value)
+        .expect("JSON")
+        .replace(ROOT, "$ROOT")
+}
+
+/// The line and column (UTF-16, all ASCII here) of the first `needle` in `text`, plus
+/// `skip` characters.
+fn find(text: &str, needle: &str, skip: u32) -> (u32, u32) {
+    let at = text.find(needle).expect("the needle is in the text");
+    let line = text[..at].matches('\n').count() as u32;
+    let column = (at - text[..at].rfind('\n').map_or(0, |i| i + 1)) as u32;
+    (line, column + skip)
+}
+
+#[test]
+fn shipped_cell_is_clean_and_an_error_shows_and_clears() {
+    let mut client = Client::start();
+    let vito = uri("cells/vito.cell");
+    client.open(&vito, &text_of("cells/vito.cell"));
+    assert_eq!(client.diagnostics(&vito), json!([]));
+
+    let broken = uri("target/lsp-test/broken.cell");
+    client.open(&broken, BROKEN);
+    let diagnostics = client.diagnostics(&broken);
+    assert_eq!(diagnostics[0]["code"], "E0101", "{diagnostics}");
+    let (line, column) = find(BROKEN, "w4", 0);
+    assert_eq!(
+        diagnostics[0]["range"]["start"],
+        json!({ "line": line, "character": column })
+    );
+    assert_eq!(
+        diagnostics[0]["range"]["end"],
+        json!({ "line": line, "character": column + 2 })
+    );
+    insta::assert_snapshot!("broken_diagnostics", portable(&diagnostics));
+
+    // The quick fix of its "did you mean".
+    let actions = client.request(
+        "textDocument/codeAction",
+        json!({
+            "textDocument": { "uri": broken },
+            "range": diagnostics[0]["range"],
+            "context": { "diagnostics": diagnostics },
+        }),
+    );
+    let edit = &actions["result"][0]["edit"]["changes"][&broken][0];
+    assert_eq!(edit["newText"], "w1", "{actions}");
+    let declare = &actions["result"][1];
+    assert_eq!(declare["title"], "declare `w4`", "{actions}");
+    let insert = &declare["edit"]["changes"][&broken][0];
+    assert_eq!(insert["newText"], "  workspace w4\n");
+    assert_eq!(
+        insert["range"]["start"],
+        json!({ "line": 10, "character": 0 })
+    );
+
+    // Two changes queued at once: the last one counts.
+    let fixed = BROKEN.replace("w1, w4", "w1, w2");
+    for (version, text) in [(2, BROKEN.replace("w4", "w5")), (3, fixed)] {
+        client.notify(
+            "textDocument/didChange",
+            json!({
+                "textDocument": { "uri": broken, "version": version },
+                "contentChanges": [{ "text": text }],
+            }),
+        );
+    }
+    let mut cleared = client.diagnostics(&broken);
+    // The first change may have been compiled on its own if it arrived alone.
+    if cleared != json!([]) {
+        cleared = client.diagnostics(&broken);
+    }
+    assert_eq!(cleared, json!([]));
+    assert_eq!(client.stop(), Some(0));
+}
+
+#[test]
+fn hover_describes_workspaces_arms_and_grasps() {
+    let mut client = Client::start();
+    let vito = uri("cells/vito.cell");
+    let source = text_of("cells/vito.cell");
+    client.open(&vito, &source);
+    let mut answers = Vec::new();
+    for (needle, skip) in [
+        ("in ws_left_table", 4),
+        ("left.top in", 6),
+        ("arm left", 5),
+        ("softhand home", 2),
+        ("grasp top", 7),
+        ("surface table", 9),
+        ("lwr4 at (0, 0.1086", 13),
+        ("(0, 0.1086, 1.375) rpy (-60", 25),
+        ("lwr_a1_joint 100", 14),
+    ] {
+        let (line, column) = find(&source, needle, skip);
+        let answer = client.at("textDocument/hover", &vito, line, column);
+        answers.push(json!({ "at": needle, "hover": answer["result"] }));
+    }
+    let grasp = answers[4]["hover"]["contents"]["value"]
+        .as_str()
+        .unwrap_or_default()
+        .to_string();
+    assert!(
+        grasp.contains("at (0, 0.12, 0.09) m rpy (90, -90, 0) deg"),
+        "{grasp}"
+    );
+    let value = |i: usize| answers[i]["hover"]["contents"]["value"].clone();
+    assert_eq!(value(6), "**length** 0.1086 m");
+    assert_eq!(value(7), "**angle** -60° (-1.0472 rad)");
+    assert_eq!(value(8), "**home of `lwr_a1_joint`** 100° (1.7453 rad)");
+    insta::assert_snapshot!("hover", portable(&json!(answers)));
+    assert_eq!(client.stop(), Some(0));
+}
+
+#[test]
+fn definition_and_references_cross_includes() {
+    let mut client = Client::start();
+    let vito = uri("cells/vito.cell");
+    let source = text_of("cells/vito.cell");
+    client.open(&vito, &source);
+    // `softhand` in `arm left = lwr4 ... with softhand` is declared in robots/softhand.cell.
+    let (line, column) = find(&source, "softhand home", 2);
+    let definition = client.at("textDocument/definition", &vito, line, column);
+    let library = text_of("cells/robots/softhand.cell");
+    let (decl_line, decl_column) = find(&library, "hand softhand", 5);
+    assert_eq!(
+        definition["result"]["uri"],
+        uri("cells/robots/softhand.cell")
+    );
+    assert_eq!(
+        definition["result"]["range"]["start"],
+        json!({ "line": decl_line, "character": decl_column })
+    );
+    // An include's path goes to the file.
+    let (line, column) = find(&source, "robots/softhand.cell", 3);
+    let file = client.at("textDocument/definition", &vito, line, column);
+    assert_eq!(file["result"]["uri"], uri("cells/robots/softhand.cell"));
+
+    let references = client.at("textDocument/references", &vito, line, column);
+    assert_eq!(references["result"], Value::Null, "no name at an include");
+    let (line, column) = find(&source, "softhand home", 2);
+    let references = client.at("textDocument/references", &vito, line, column);
+    let places = references["result"].as_array().cloned().unwrap_or_default();
+    // Declared once in the library, used by both arms and every grasp of the cell.
+    let in_library = places
+        .iter()
+        .filter(|l| l["uri"] == uri("cells/robots/softhand.cell"))
+        .count();
+    assert_eq!(in_library, 1, "{references}");
+    assert!(places.len() > 3, "{references}");
+    insta::assert_snapshot!("references", portable(&references["result"]));
+    assert_eq!(client.stop(), Some(0));
+}
+
+#[test]
+fn completion_symbols_and_formatting() {
+    let mut client = Client::start();
+    let vito = uri("cells/vito.cell");
+    let source = text_of("cells/vito.cell");
+    client.open(&vito, &source);
+    // At the start of an item (the blank line before `workspaces from reach`).
+    let (line, _) = find(&source, "  workspaces from reach", 0);
+    let items = client.at("textDocument/completion", &vito, line - 1, 0);
+    let labels: Vec<&str> = items["result"]
+        .as_array()
+        .map(|a| a.iter().filter_map(|i| i["label"].as_str()).collect())
+        .unwrap_or_default();
+    assert!(
+        labels.contains(&"workspace") && labels.contains(&"object"),
+        "{items}"
+    );
+    // After `with`, holder kinds.
+    let (line, column) = find(&source, "with softhand", 5);
+    let kinds = client.at("textDocument/completion", &vito, line, column);
+    let kinds: Vec<&str> = kinds["result"]
+        .as_array()
+        .map(|a| a.iter().filter_map(|i| i["label"].as_str()).collect())
+        .unwrap_or_default();
+    assert!(
+        kinds.contains(&"softhand") && !kinds.contains(&"left"),
+        "{kinds:?}"
+    );
+    // In a `reaches` list, workspaces.
+    let broken = uri("target/lsp-test/list.cell");
+    client.open(&broken, BROKEN);
+    let (line, column) = find(BROKEN, "w1, w2", 4);
+    let in_list = client.at("textDocument/completion", &broken, line, column);
+    let in_list: Vec<&str> = in_list["result"]
+        .as_array()
+        .map(|a| a.iter().filter_map(|i| i["label"].as_str()).collect())
+        .unwrap_or_default();
+    assert_eq!(in_list, ["w1", "w2"]);
+    // Inside `home (`, the arm's joints.
+    let (line, column) = find(&source, "home (lwr_a1_joint", 6);
+    let joints = client.at("textDocument/completion", &vito, line, column);
+    assert!(joints.to_string().contains("lwr_a7_joint"), "{joints}");
+    // After `allow contact ARM.`, the links of the arm's robot.
+    let (line, column) = find(&source, "allow contact left.", 19);
+    let links = client.at("textDocument/completion", &vito, line, column);
+    assert!(links.to_string().contains("lwr_link_7"), "{links}");
+
+    let symbols = client.request(
+        "textDocument/documentSymbol",
+        json!({ "textDocument": { "uri": vito } }),
+    );
+    insta::assert_snapshot!("document_symbols", portable(&symbols["result"]));
+    let found = client.request("workspace/symbol", json!({ "query": "soft" }));
+    assert!(found.to_string().contains("softhand.cell"), "{found}");
+
+    // Formatting an unformatted cell: one edit to the formatter's output.
+    let messy = uri("target/lsp-test/messy.cell");
+    let text = "cell messy {\nworkspace   w1\n    fixed t reaches w1\n}\n";
+    client.open(&messy, text);
+    let edits = client.request(
+        "textDocument/formatting",
+        json!({ "textDocument": { "uri": messy }, "options": { "tabSize": 2, "insertSpaces": true } }),
+    );
+    let parsed = cellc_lang::parse(cellc_lang::FileId(0), text);
+    let expected = cellc_lang::format(&parsed.file.expect("it parses"), text);
+    assert_eq!(edits["result"][0]["newText"], expected, "{edits}");
+    assert_eq!(
+        edits["result"][0]["range"]["end"],
+        json!({ "line": 4, "character": 0 })
+    );
+    // One that does not parse is left alone.
+    let broken = uri("target/lsp-test/unparsable.cell");
+    client.open(&broken, "cell x {\n  workspace\n}\n");
+    let none = client.request(
+        "textDocument/formatting",
+        json!({ "textDocument": { "uri": broken }, "options": { "tabSize": 2, "insertSpaces": true } }),
+    );
+    assert_eq!(none["result"], json!([]), "{none}");
+    assert_eq!(client.stop(), Some(0));
+}
+
+#[test]
+fn garbage_never_stops_the_server() {
+    let mut client = Client::start();
+    client.write_raw("this is not json");
+    let error = client.response(Value::Null);
+    assert_eq!(error["error"]["code"], -32700, "{error}");
+    client.write_raw(
+        r#"{"jsonrpc":"2.0","id":99,"method":"textDocument/hover","params":{"nonsense":1}}"#,
+    );
+    let invalid = client.response(json!(99));
+    assert_eq!(invalid["error"]["code"], -32602, "{invalid}");
+    let unknown = client.request("cell/teleport", json!({}));
+    assert_eq!(unknown["error"]["code"], -32601, "{unknown}");
+    // A cell that does not parse, then requests on it.
+    let bad = uri("target/lsp-test/garbage.cell");
+    client.open(&bad, "cell { ] ] \u{0} `");
+    let diagnostics = client.diagnostics(&bad);
+    assert!(
+        diagnostics.as_array().is_some_and(|d| !d.is_empty()),
+        "{diagnostics}"
+    );
+    let hover = client.at("textDocument/hover", &bad, 0, 3);
+    assert_eq!(hover["result"], Value::Null, "{hover}");
+    let vito = uri("cells/vito.cell");
+    client.open(&vito, &text_of("cells/vito.cell"));
+    assert_eq!(client.diagnostics(&vito), json!([]));
+    assert_eq!(client.stop(), Some(0));
+}
+
+#[test]
+fn secondary_labels_and_unsaved_includes() {
+    let mut client = Client::start();
+    // A duplicate: the first declaration is related information.
+    let twice = uri("target/lsp-test/twice.cell");
+    let text = "cell twice {\n  workspace w1\n  workspace w1\n  fixed t reaches w1\n}\n";
+    client.open(&twice, text);
+    let diagnostics = client.diagnostics(&twice);
+    assert_eq!(diagnostics[0]["code"], "E0102", "{diagnostics}");
+    let related = &diagnostics[0]["relatedInformation"][0];
+    assert_eq!(related["location"]["uri"], twice.as_str(), "{diagnostics}");
+    assert_eq!(
+        related["location"]["range"]["start"],
+        json!({ "line": 1, "character": 12 })
+    );
+
+    // The cell includes the library; the library's unsaved text breaks it, and the error
+    // is published for the library's URI.
+    let vito = uri("cells/vito.cell");
+    client.open(&vito, &text_of("cells/vito.cell"));
+    assert_eq!(client.diagnostics(&vito), json!([]));
+    let library = uri("cells/robots/softhand.cell");
+    let broken = text_of("cells/robots/softhand.cell").replace("hand softhand", "hand soft_hand");
+    client.open(&library, &broken);
+    let in_library = client.diagnostics(&library);
+    assert_eq!(in_library, json!([]), "the library alone is clean");
+    let in_cell = client.diagnostics(&vito);
+    assert!(in_cell.to_string().contains("softhand"), "{in_cell}");
+    assert_eq!(client.stop(), Some(0));
+}
+
+#[test]
+fn an_error_in_an_included_file_is_published_for_that_file() {
+    let dir = std::env::temp_dir().join(format!("cellc-lsp-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("a temporary folder");
+    let lib = dir.join("lib.cell");
+    std::fs::write(
+        &lib,
+        "library lib {\n  workspace w1\n  fixed t reaches w9\n}\n",
+    )
+    .expect("written");
+    let main = dir.join("main.cell");
+    let main_text = "cell main {\n  include \"lib.cell\"\n}\n";
+    std::fs::write(&main, main_text).expect("written");
+    let mut client = Client::start();
+    let main_uri = format!("file://{}", main.display());
+    client.open(&main_uri, main_text);
+    let lib_uri = format!("file://{}", lib.display());
+    let diagnostics = client.diagnostics(&lib_uri);
+    let unknown = diagnostics
+        .as_array()
+        .and_then(|d| d.iter().find(|d| d["code"] == "E0101"))
+        .unwrap_or_else(|| panic!("{diagnostics}"));
+    assert_eq!(
+        unknown["range"]["start"],
+        json!({ "line": 2, "character": 18 })
+    );
+    assert_eq!(client.diagnostics(&main_uri), json!([]));
+    assert_eq!(client.stop(), Some(0));
+    let _ = std::fs::remove_dir_all(&dir);
+}
