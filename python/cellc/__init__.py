@@ -9,9 +9,25 @@ Standard library only; Python 3.10 or later.
 """
 
 from .client import CellcError, Client
-from .types import Diagnostic, Joints, Move, Placed, Plan, Pose, Run, State, Step, Trajectory, World
+from .types import (
+    Arm,
+    CellInfo,
+    Diagnostic,
+    EndEffector,
+    Joint,
+    Joints,
+    ObjectInfo,
+    Workspace,
+)
+from .types import Move, Placed, Plan, Pose, Run, State, Step, Trajectory, World
 
 __all__ = [
+    "Arm",
+    "CellInfo",
+    "EndEffector",
+    "Joint",
+    "ObjectInfo",
+    "Workspace",
     "CellcError",
     "Client",
     "Diagnostic",

@@ -12,7 +12,7 @@ import urllib.error
 import urllib.request
 from typing import Any, Iterable
 
-from .types import Diagnostic, Plan, Run, World, diagnostics_of
+from .types import CellInfo, Diagnostic, Plan, Run, World, diagnostics_of
 
 
 class CellcError(Exception):
@@ -85,10 +85,10 @@ class Client:
         """What the service says of itself (its cell, its version)."""
         return self._call("GET", "/health")
 
-    def cell(self) -> dict[str, Any]:
-        """The cell: objects with their grasps and resting poses, end-effectors, workspaces
-        with their boxes, arms with joint names and limits."""
-        return self._call("GET", "/cell")
+    def cell(self) -> CellInfo:
+        """The cell: objects with their grasps and resting poses, end-effectors (movable or
+        not), workspaces with their boxes, arms with joint names and limits."""
+        return CellInfo.parse(self._call("GET", "/cell"))
 
     def world(self) -> World:
         """The world the service keeps."""

@@ -263,3 +263,124 @@ class Run:
             world=World.parse(d["world"]) if d.get("world") else None,
             diagnostics=diagnostics_of(d),
         )
+
+
+@dataclass(frozen=True)
+class Joint:
+    """A joint of an arm's chain: URDF name, limits (None for a continuous joint), and
+    whether it slides (metres) rather than turns (radians)."""
+
+    name: str
+    lower: float | None
+    upper: float | None
+    prismatic: bool
+
+
+@dataclass(frozen=True)
+class Arm:
+    """An arm: its robot, its chain's joints base to tip, and its home."""
+
+    name: str
+    robot: str
+    joints: tuple[Joint, ...]
+    home: tuple[float, ...]
+
+
+@dataclass(frozen=True)
+class EndEffector:
+    """A hand (movable) or a fixed surface, and the workspaces it reaches."""
+
+    name: str
+    movable: bool
+    kind: str | None
+    body: str
+    reaches: tuple[str, ...]
+
+
+@dataclass(frozen=True)
+class Workspace:
+    """A workspace and its boxes (each (min, max) corners, metres)."""
+
+    name: str
+    label: str | None
+    derived: bool
+    boxes: tuple[tuple[tuple[float, ...], tuple[float, ...]], ...]
+
+
+@dataclass(frozen=True)
+class ObjectInfo:
+    """An object: its grasps and resting poses by name, and the size of its graph."""
+
+    name: str
+    grasps: tuple[str, ...]
+    resting_poses: tuple[str, ...]
+    states: int
+    arcs: int
+
+
+@dataclass(frozen=True)
+class CellInfo:
+    """What `GET /v1/cell` says of the cell the service holds."""
+
+    cell: str
+    objects: dict[str, ObjectInfo]
+    end_effectors: dict[str, EndEffector]
+    workspaces: dict[str, Workspace]
+    arms: dict[str, Arm]
+    requests: tuple[str, ...]
+    tasks: tuple[str, ...]
+
+    @staticmethod
+    def parse(d: dict[str, Any]) -> "CellInfo":
+        def names(items: Any) -> tuple[str, ...]:
+            return tuple(i["name"] if isinstance(i, dict) else str(i) for i in items or ())
+
+        def count(v: Any) -> int:
+            return len(v) if isinstance(v, list) else int(v or 0)
+
+        return CellInfo(
+            cell=str(d.get("cell", "")),
+            objects={
+                o["name"]: ObjectInfo(
+                    o["name"],
+                    names(o.get("grasps")),
+                    names(o.get("resting_poses")),
+                    count(o.get("states")),
+                    count(o.get("arcs")),
+                )
+                for o in d.get("objects") or ()
+            },
+            end_effectors={
+                e["name"]: EndEffector(
+                    e["name"],
+                    bool(e.get("movable")),
+                    e.get("kind"),
+                    str(e.get("body", "")),
+                    tuple(e.get("reaches") or ()),
+                )
+                for e in d.get("end_effectors") or ()
+            },
+            workspaces={
+                w["name"]: Workspace(
+                    w["name"],
+                    w.get("label"),
+                    bool(w.get("derived")),
+                    tuple((tuple(b["min"]), tuple(b["max"])) for b in w.get("boxes") or ()),
+                )
+                for w in d.get("workspaces") or ()
+            },
+            arms={
+                a["name"]: Arm(
+                    a["name"],
+                    str(a.get("robot", "")),
+                    tuple(
+                        Joint(j["name"], j.get("lower"), j.get("upper"), bool(j.get("prismatic")))
+                        for j in a.get("joints") or ()
+                    ),
+                    tuple(a.get("home") or ()),
+                )
+                for a in d.get("arms") or ()
+            },
+            requests=names(d.get("requests")),
+            tasks=names(d.get("tasks")),
+        )

@@ -45,7 +45,17 @@ def client():
 def test_health_and_cell(client):
     assert client.health()["status"] == "ok"
     cell = client.cell()
-    assert "objects" in cell and "end_effectors" in cell
+    assert cell.cell == "vito"
+    assert set(cell.objects) == {"cylinder", "pitcher", "colander", "ball"}
+    assert "side" in cell.objects["cylinder"].grasps
+    assert "standing" in cell.objects["cylinder"].resting_poses
+    assert cell.end_effectors["left"].movable and not cell.end_effectors["table"].movable
+    left = cell.arms["left"]
+    assert [j.name for j in left.joints][0] == "lwr_a1_joint" and len(left.home) == 7
+    assert all(j.lower < j.upper for j in left.joints)
+    box = cell.workspaces["ws_left_right_table"].boxes[0]
+    assert all(lo < hi for lo, hi in zip(*box))
+    assert "clear_table" in cell.tasks
 
 
 def test_the_world_is_the_cells(client):
