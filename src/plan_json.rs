@@ -307,8 +307,44 @@ pub struct JsonMove<'a> {
     pub rotation_error: Option<f64>,
 }
 
+/// One executed plan of a task as `cellc run --format json` and `POST /v1/execute`
+/// record it: the plans executed (the first, then one per replan), the simulator's log,
+/// and where the object ended with its error from the goal.
+pub fn executed<'a>(
+    artifact: &'a Artifact,
+    executed: &cellc_runtime::Executed,
+    label: &str,
+) -> JsonMove<'a> {
+    let plan = &executed.plan;
+    let end = executed
+        .result
+        .as_ref()
+        .ok()
+        .map(|run| (run.final_state, run.final_pose));
+    let (final_state, final_pose, position_error, rotation_error) =
+        final_place(artifact, plan.object, end, plan.goal.pose);
+    let plans = match &executed.result {
+        Ok(run) => run.plans.clone(),
+        Err(_) => vec![plan.clone()],
+    };
+    JsonMove {
+        object: artifact.object_name(plan.object),
+        clears: executed.clears.map(|o| artifact.object_name(o)),
+        plans: plans
+            .iter()
+            .filter_map(|p| serde_json::to_value(self::plan(artifact, label, p)).ok())
+            .collect(),
+        log: executed.log.clone(),
+        done: executed.result.is_ok(),
+        final_state,
+        final_pose,
+        position_error,
+        rotation_error,
+    }
+}
+
 /// A move's result from what the simulator reports.
-pub fn final_place<'a>(
+fn final_place<'a>(
     artifact: &'a Artifact,
     object: ObjectId,
     end: Option<(Node, Option<Iso>)>,

@@ -148,36 +148,20 @@ fn report<'a>(loaded: &'a Loaded, executed: &Executed, label: &str) -> JsonMove<
             println!("  {line}");
         }
     }
-    let end = match &executed.result {
-        Ok(run) => Some((run.final_state, run.final_pose)),
-        Err(_) => None,
-    };
-    let (final_state, final_pose, position_error, rotation_error) =
-        plan_json::final_place(artifact, object, end, plan.goal.pose);
+    let record = plan_json::executed(artifact, executed, label);
     if let (true, Ok(run)) = (human, &executed.result) {
         print!(
             "{}",
-            done_text(loaded, label, run, position_error, rotation_error)
+            done_text(
+                loaded,
+                label,
+                run,
+                record.position_error,
+                record.rotation_error
+            )
         );
     }
-    let plans = match &executed.result {
-        Ok(run) => run.plans.clone(),
-        Err(_) => vec![plan.clone()],
-    };
-    JsonMove {
-        object: artifact.object_name(object),
-        clears: executed.clears.map(|o| artifact.object_name(o)),
-        plans: plans
-            .iter()
-            .filter_map(|p| serde_json::to_value(plan_json::plan(artifact, label, p)).ok())
-            .collect(),
-        log: executed.log.clone(),
-        done: executed.result.is_ok(),
-        final_state,
-        final_pose,
-        position_error,
-        rotation_error,
-    }
+    record
 }
 
 /// "done: ..." and the final pose's error, after a move's simulation (and its replans).

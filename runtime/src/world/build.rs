@@ -201,20 +201,7 @@ impl World {
         let geometric = scene.filter(|s| s.has_kinematics());
         let whereabouts = match geometric.map(|s| (s, s.holders.get(holder.index()))) {
             Some((scene, Some(Holder::Arm { .. }))) => {
-                let grasps = grasps_of(artifact, object, holder);
-                let grasp = match (placement.grasp, grasps.as_slice()) {
-                    (Some(g), _) => g,
-                    (None, [only]) => *only,
-                    (None, _) => {
-                        return Err(in_graph(LocateError::GraspNeeded {
-                            holder: holder_name,
-                            grasps: grasps
-                                .iter()
-                                .map(|&g| artifact.grasp_name(object, g).to_string())
-                                .collect(),
-                        }))
-                    }
-                };
+                let grasp = hold_grasp(artifact, object, placement)?;
                 let tip = self.tip(scene, holder);
                 let fk = tip.map(|t| t * artifact.grasp_pose(object, grasp));
                 if let (Some(given), Some(fk)) = (placement.pose, fk) {
@@ -284,6 +271,30 @@ impl World {
         let robot = scene.robots.get(*robot)?;
         let q = self.arm(e)?;
         (q.len() == robot.n_joints()).then(|| robot.tip_pose(base, q))
+    }
+}
+
+/// The grasp a hand holds `object` with at `placement`: the one given, or the hand's only
+/// grasp of the object (otherwise the grasp must be named).
+pub(super) fn hold_grasp(
+    artifact: &Artifact,
+    object: ObjectId,
+    placement: &Placement,
+) -> Result<cellc_schema::GraspId, WorldError> {
+    let grasps = grasps_of(artifact, object, placement.holder);
+    match (placement.grasp, grasps.as_slice()) {
+        (Some(g), _) => Ok(g),
+        (None, [only]) => Ok(*only),
+        (None, _) => Err(WorldError::Placement {
+            object: artifact.object_name(object).to_string(),
+            error: LocateError::GraspNeeded {
+                holder: artifact.end_effector_name(placement.holder).to_string(),
+                grasps: grasps
+                    .iter()
+                    .map(|&g| artifact.grasp_name(object, g).to_string())
+                    .collect(),
+            },
+        }),
     }
 }
 

@@ -14,11 +14,11 @@ use cellc_schema::{Artifact, EndEffectorId, Node, ObjectId};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
+use super::build::hold_grasp;
 use super::{Whereabouts, World, WorldError};
 use crate::kinematics::{solve_ik, IkOptions, IkTarget};
 use crate::math::Iso;
-use crate::plan::locate::grasps_of;
-use crate::plan::{LocateError, Placement, PlanOptions};
+use crate::plan::{Placement, PlanOptions};
 use crate::scene::{Holder, ObjectPlacement, Scene, SceneScratch};
 use crate::termination::Termination;
 use crate::validity::{SceneValidity, StateValidity};
@@ -209,29 +209,6 @@ fn matches_start(state: Node, start: &Placement) -> bool {
     state.end_effector == start.holder
         && start.grasp.is_none_or(|g| g == state.grasp)
         && start.workspace.is_none_or(|w| w == state.workspace)
-}
-
-/// The grasp a hand start uses: the one given, or the hand's only grasp of the object.
-fn hold_grasp(
-    artifact: &Artifact,
-    object: ObjectId,
-    start: &Placement,
-) -> Result<cellc_schema::GraspId, WorldError> {
-    let grasps = grasps_of(artifact, object, start.holder);
-    match (start.grasp, grasps.as_slice()) {
-        (Some(g), _) => Ok(g),
-        (None, [only]) => Ok(*only),
-        (None, _) => Err(WorldError::Placement {
-            object: artifact.object_name(object).to_string(),
-            error: LocateError::GraspNeeded {
-                holder: artifact.end_effector_name(start.holder).to_string(),
-                grasps: grasps
-                    .iter()
-                    .map(|&g| artifact.grasp_name(object, g).to_string())
-                    .collect(),
-            },
-        }),
-    }
 }
 
 /// The holding arm's configurations in the build-time witnesses of the arcs that leave or

@@ -95,7 +95,7 @@ fn run_moves(
                 None if several => format!("move {} of {}", executed.index + 1, moves.len()),
                 None => "request".to_string(),
             };
-            executed_json(service, executed, &label)
+            plan_json::executed(service.loaded.cell.artifact(), executed, &label)
         })
         .collect();
     let diagnostics: Vec<Diagnostic> = run
@@ -129,41 +129,6 @@ fn run_moves(
         },
         &diagnostics,
     )
-}
-
-/// One executed plan as `cellc run --format json` records it.
-fn executed_json<'a>(
-    service: &'a Service,
-    executed: &cellc_runtime::Executed,
-    label: &str,
-) -> JsonMove<'a> {
-    let artifact = service.loaded.cell.artifact();
-    let plan = &executed.plan;
-    let end = executed
-        .result
-        .as_ref()
-        .ok()
-        .map(|run| (run.final_state, run.final_pose));
-    let (final_state, final_pose, position_error, rotation_error) =
-        plan_json::final_place(artifact, plan.object, end, plan.goal.pose);
-    let plans = match &executed.result {
-        Ok(run) => run.plans.clone(),
-        Err(_) => vec![plan.clone()],
-    };
-    JsonMove {
-        object: artifact.object_name(plan.object),
-        clears: executed.clears.map(|o| artifact.object_name(o)),
-        plans: plans
-            .iter()
-            .filter_map(|p| serde_json::to_value(plan_json::plan(artifact, label, p)).ok())
-            .collect(),
-        log: executed.log.clone(),
-        done: executed.result.is_ok(),
-        final_state,
-        final_pose,
-        position_error,
-        rotation_error,
-    }
 }
 
 /// An execution that failed for good, as R0007 (or the replan's own error).
