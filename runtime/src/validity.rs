@@ -11,12 +11,15 @@
 //! given (a held object following its hand).
 
 use std::fmt;
+use std::sync::atomic::{AtomicU32, Ordering};
 use std::sync::OnceLock;
 
 use cellc_schema::{EndEffectorId, ObjectId};
 
 use crate::collision::Collision;
-use crate::scene::{Holder, ObjectPlacement, Obstacle, Placed, QueryError, Scene, SceneScratch};
+use crate::scene::{
+    FrozenScene, Holder, ObjectPlacement, Obstacle, Placed, QueryError, Scene, SceneScratch,
+};
 use crate::swept::{SweptBodies, LOOKAHEAD};
 
 /// Decides whether configurations of a fixed set of moving arms (their joints
@@ -210,6 +213,26 @@ pub struct SceneValidity<'a> {
     /// The moving bodies' reach radii, computed on the first clearance query (most
     /// checkers, in verification, only ever judge single states).
     swept: OnceLock<SweptBodies>,
+    /// The standing part of the scene, frozen once this checker has answered
+    /// [`FREEZE_AFTER`] queries (a motion asks thousands; an IK screen a handful, for
+    /// which freezing would cost more than it saves). `None` inside when it could not
+    /// be built: the plain queries then answer, and report why.
+    frozen: OnceLock<Option<FrozenScene>>,
+    queries: Counter,
+}
+
+/// Queries a [`SceneValidity`] answers the plain way before it freezes the standing
+/// part of the scene (the freeze costs about as much as two plain checks).
+const FREEZE_AFTER: u32 = 4;
+
+/// A query counter that clones as a fresh count.
+#[derive(Default)]
+struct Counter(AtomicU32);
+
+impl Clone for Counter {
+    fn clone(&self) -> Counter {
+        Counter(AtomicU32::new(self.0.load(Ordering::Relaxed)))
+    }
 }
 
 impl<'a> SceneValidity<'a> {
@@ -264,6 +287,8 @@ impl<'a> SceneValidity<'a> {
             placement,
             obstacles: &[],
             swept: OnceLock::new(),
+            frozen: OnceLock::new(),
+            queries: Counter::default(),
         })
     }
 
@@ -277,7 +302,59 @@ impl<'a> SceneValidity<'a> {
             _ => true,
         }));
         self.obstacles = obstacles;
+        self.frozen = OnceLock::new();
         self
+    }
+
+    /// The frozen standing part, once enough queries have been asked (built on the
+    /// first query past [`FREEZE_AFTER`], with the moving arms at `q`, which does not
+    /// matter: their entries are recomputed per query).
+    fn frozen(&self, q: &[f64], scratch: &mut SceneScratch) -> Option<&FrozenScene> {
+        if let Some(f) = self.frozen.get() {
+            return f.as_ref();
+        }
+        if self.queries.0.fetch_add(1, Ordering::Relaxed) < FREEZE_AFTER {
+            return None;
+        }
+        self.frozen
+            .get_or_init(|| {
+                let moving: Vec<EndEffectorId> =
+                    self.slices.iter().map(|s| s.end_effector).collect();
+                let at = Placed {
+                    object: self.object,
+                    placement: self.placement,
+                    obstacles: self.obstacles,
+                };
+                self.with_arms(q, |arms| {
+                    Ok(self.scene.freeze(arms, &moving, at, scratch).ok())
+                })
+                .ok()
+                .flatten()
+            })
+            .as_ref()
+    }
+
+    /// The moving arms' joints at `q`, listed without allocating for up to
+    /// [`INLINE_ARMS`] arms.
+    fn with_moving<T>(
+        &self,
+        q: &[f64],
+        query: impl FnOnce(&[(EndEffectorId, &[f64])]) -> Result<T, QueryError>,
+    ) -> Result<T, QueryError> {
+        let n = self.slices.len();
+        let mut inline: [(EndEffectorId, &[f64]); INLINE_ARMS] =
+            [(EndEffectorId(0), &[]); INLINE_ARMS];
+        let mut heap: Vec<(EndEffectorId, &[f64])>;
+        let list: &mut [(EndEffectorId, &[f64])] = if n <= INLINE_ARMS {
+            &mut inline[..n]
+        } else {
+            heap = vec![(EndEffectorId(0), &[][..]); n];
+            &mut heap
+        };
+        for (slot, s) in list.iter_mut().zip(&self.slices) {
+            *slot = (s.end_effector, &q[s.offset..s.offset + s.len]);
+        }
+        query(list)
     }
 
     /// Joint values in one configuration.
@@ -360,6 +437,15 @@ impl StateValidity for SceneValidity<'_> {
     }
 
     fn is_valid(&self, q: &[f64], scratch: &mut SceneScratch) -> Result<bool, QueryError> {
+        if q.len() == self.dim {
+            if let Some(frozen) = self.frozen(q, scratch) {
+                if out_of_limits(self.scene, &self.slices, q).is_some() {
+                    return Ok(false);
+                }
+                return self
+                    .with_moving(q, |arms| self.scene.is_free_frozen(frozen, arms, scratch));
+            }
+        }
         self.with_arms(q, |arms| {
             Ok(out_of_limits(self.scene, &self.slices, q).is_none()
                 && self.scene.is_free(
@@ -399,14 +485,25 @@ impl StateValidity for SceneValidity<'_> {
                 } else {
                     horizon
                 };
-                self.with_arms(q, |arms| {
-                    let at = Placed {
-                        object: self.object,
-                        placement: self.placement,
-                        obstacles: self.obstacles,
-                    };
-                    self.scene.free_radius(arms, at, &bounds, horizon, scratch)
-                })
+                let frozen = if q.len() == self.dim {
+                    self.frozen(q, scratch)
+                } else {
+                    None
+                };
+                match frozen {
+                    Some(frozen) => self.with_moving(q, |arms| {
+                        self.scene
+                            .free_radius_frozen(frozen, arms, &bounds, horizon, scratch)
+                    }),
+                    None => self.with_arms(q, |arms| {
+                        let at = Placed {
+                            object: self.object,
+                            placement: self.placement,
+                            obstacles: self.obstacles,
+                        };
+                        self.scene.free_radius(arms, at, &bounds, horizon, scratch)
+                    }),
+                }
                 .map(Some)
             }
         };

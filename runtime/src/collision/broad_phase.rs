@@ -19,6 +19,44 @@ impl CollisionWorld {
         scratch: &mut CollisionScratch,
         margin: impl Fn(usize) -> f64,
     ) -> Result<(), CollisionError> {
+        self.check_state(state)?;
+        let n = self.bodies.len();
+        scratch.poses.clear();
+        scratch.aabbs.clear();
+        scratch.centres.clear();
+        scratch.margins.clear();
+        scratch.order.clear();
+        scratch.poses.reserve(n);
+        scratch.aabbs.reserve(n);
+        scratch.centres.reserve(n);
+        scratch.margins.reserve(n);
+        scratch.order.reserve(n);
+        for i in 0..n {
+            match self.place_body(state, i, margin(i))? {
+                Some(placed) => {
+                    scratch.margins.push(placed.margin);
+                    scratch.centres.push(placed.centre);
+                    scratch.poses.push(placed.pose);
+                    scratch.aabbs.push(placed.aabb);
+                    scratch.order.push(i as u32);
+                }
+                None => {
+                    // Absent: kept in the buffers (indices stay body indices) but not in
+                    // the sweep order.
+                    scratch.poses.push(self.bodies[i].local);
+                    scratch.aabbs.push(Aabb::new_invalid());
+                    scratch.centres.push(Point::origin());
+                    scratch.margins.push(0.0);
+                }
+            }
+        }
+        scratch.frozen = 0;
+        Ok(())
+    }
+
+    /// Refuses a state whose shape is not this world's: robot, frame and object counts,
+    /// and holders that exist.
+    pub(super) fn check_state(&self, state: &Configuration<'_>) -> Result<(), CollisionError> {
         if state.robots.len() != self.robots.len() {
             return Err(CollisionError::RobotCount {
                 expected: self.robots.len(),
@@ -55,56 +93,47 @@ impl CollisionWorld {
             }
         }
 
-        let n = self.bodies.len();
-        scratch.poses.clear();
-        scratch.aabbs.clear();
-        scratch.centres.clear();
-        scratch.margins.clear();
-        scratch.order.clear();
-        scratch.poses.reserve(n);
-        scratch.aabbs.reserve(n);
-        scratch.centres.reserve(n);
-        scratch.margins.reserve(n);
-        scratch.order.reserve(n);
-        for (i, b) in self.bodies.iter().enumerate() {
-            let pose = match b.mount {
-                Mount::Frame { robot, frame } => state.robots[robot][frame] * b.local,
-                Mount::Fixed => b.local,
-                Mount::Object { object } => match state.objects[object].pose {
-                    Some(p) => p * b.local,
-                    None => {
-                        // Absent: kept in the buffers (indices stay body indices) but
-                        // not in the sweep order.
-                        scratch.poses.push(b.local);
-                        scratch.aabbs.push(Aabb::new_invalid());
-                        scratch.centres.push(Point::origin());
-                        scratch.margins.push(0.0);
-                        continue;
-                    }
-                },
-            };
-            let mut aabb = match (b.fixed_aabb, b.cylinder) {
-                (Some(a), _) => a,
-                (None, Some((h, r))) => cylinder_aabb(&pose, h, r),
-                (None, None) => b.shape.compute_aabb(&pose),
-            };
-            if !aabb_finite(&aabb) {
-                return Err(CollisionError::NonFinite {
-                    body: b.name.clone(),
-                });
-            }
-            let margin = margin(i);
-            if margin > 0.0 {
-                aabb.mins -= Vec3::repeat(margin);
-                aabb.maxs += Vec3::repeat(margin);
-            }
-            scratch.margins.push(margin.max(0.0));
-            scratch.centres.push(pose * b.sphere_centre);
-            scratch.poses.push(pose);
-            scratch.aabbs.push(aabb);
-            scratch.order.push(i as u32);
-        }
         Ok(())
+    }
+
+    /// Body `i` placed in `state`: its world pose, its AABB grown by `margin` (when
+    /// positive), its sphere's world centre; `None` when it belongs to an absent object.
+    #[inline]
+    pub(super) fn place_body(
+        &self,
+        state: &Configuration<'_>,
+        i: usize,
+        margin: f64,
+    ) -> Result<Option<PlacedBody>, CollisionError> {
+        let b = &self.bodies[i];
+        let pose = match b.mount {
+            Mount::Frame { robot, frame } => state.robots[robot][frame] * b.local,
+            Mount::Fixed => b.local,
+            Mount::Object { object } => match state.objects[object].pose {
+                Some(p) => p * b.local,
+                None => return Ok(None),
+            },
+        };
+        let mut aabb = match (b.fixed_aabb, b.cylinder) {
+            (Some(a), _) => a,
+            (None, Some((h, r))) => cylinder_aabb(&pose, h, r),
+            (None, None) => b.shape.compute_aabb(&pose),
+        };
+        if !aabb_finite(&aabb) {
+            return Err(CollisionError::NonFinite {
+                body: b.name.clone(),
+            });
+        }
+        if margin > 0.0 {
+            aabb.mins -= Vec3::repeat(margin);
+            aabb.maxs += Vec3::repeat(margin);
+        }
+        Ok(Some(PlacedBody {
+            pose,
+            aabb,
+            centre: pose * b.sphere_centre,
+            margin: margin.max(0.0),
+        }))
     }
 
     /// Sort and sweep over the placed bodies; calls `visit` for every pair whose AABBs
@@ -182,6 +211,15 @@ impl CollisionWorld {
         let (bi, bj) = (&self.bodies[i], &self.bodies[j]);
         check(bi, bj) || check(bj, bi)
     }
+}
+
+/// One body where a state puts it (see [`CollisionWorld::place_body`]).
+#[derive(Clone, Copy, Debug)]
+pub(super) struct PlacedBody {
+    pub(super) pose: Iso,
+    pub(super) aabb: Aabb,
+    pub(super) centre: Point,
+    pub(super) margin: f64,
 }
 
 /// The exact AABB of a parry cylinder (axis along its local y) at `pose`: along world

@@ -71,6 +71,7 @@
 mod broad_phase;
 mod build;
 mod error;
+mod frozen;
 mod swept;
 mod world;
 
@@ -81,6 +82,7 @@ use crate::math::Iso;
 pub use build::CollisionWorldBuilder;
 pub(crate) use build::Mount;
 pub use error::{BuildError, CollisionError};
+pub(crate) use frozen::Frozen;
 pub(crate) use swept::SweepBounds;
 pub use world::{CollisionScratch, CollisionWorld};
 

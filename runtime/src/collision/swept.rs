@@ -41,6 +41,10 @@ pub(crate) struct SweepBounds {
     rides: Vec<Option<Ride>>,
     /// The bodies' bounds by joint, flat (see [`SweepBounds::set`]).
     suffix: Vec<f64>,
+    /// The bodies set since the last reset, so that a reset costs what was set, not the
+    /// size of the world (a motion in a line of fifty arms sets a dozen bodies of six
+    /// hundred, once per certificate).
+    set: Vec<u32>,
 }
 
 /// A body of a moving robot: the frame it rides on, where its bounds are, and how fast
@@ -56,8 +60,15 @@ struct Ride {
 impl SweepBounds {
     /// Every one of `bodies` bodies static.
     pub(crate) fn reset(&mut self, bodies: usize) {
-        self.rides.clear();
-        self.rides.resize(bodies, None);
+        if self.rides.len() == bodies {
+            for &i in &self.set {
+                self.rides[i as usize] = None;
+            }
+        } else {
+            self.rides.clear();
+            self.rides.resize(bodies, None);
+        }
+        self.set.clear();
         self.suffix.clear();
     }
 
@@ -79,6 +90,7 @@ impl SweepBounds {
             return;
         };
         let start = self.suffix.len();
+        self.set.push(body as u32);
         *slot = Some(Ride {
             robot,
             frame,
@@ -98,12 +110,12 @@ impl SweepBounds {
     }
 
     /// How far body `i` travels at most.
-    fn own(&self, i: usize) -> f64 {
+    pub(super) fn own(&self, i: usize) -> f64 {
         self.travel_from(i, 0)
     }
 
     /// How much the distance between bodies `i` and `j` can shrink at most.
-    fn pair(&self, i: usize, j: usize) -> f64 {
+    pub(super) fn pair(&self, i: usize, j: usize) -> f64 {
         match (self.rides[i], self.rides[j]) {
             (Some(a), Some(b)) if a.robot == b.robot => {
                 // Seen from the lower body's frame `g`, only joints `g..` move the other;
@@ -197,36 +209,39 @@ impl CollisionWorld {
             }
             Ok(Visit::Continue)
         })?;
-        // ... then the exact test, nearest first, only while a pair's cheap bound is
-        // below the radius found so far, and only as far as that radius needs: most pairs
-        // never need one, and GJK stops as soon as it proves a pair far enough apart.
+        let result = self.nearest_radius(scratch, bounds, &mut candidates, horizon);
+        scratch.candidates = candidates;
+        result
+    }
+
+    /// The radius the candidate pairs allow: the exact test, nearest cheap bound first,
+    /// only while a pair's cheap bound is below the radius found so far, and only as far
+    /// as that radius needs (most pairs never need one, and GJK stops as soon as it
+    /// proves a pair far enough apart). Sorts `candidates`.
+    pub(super) fn nearest_radius(
+        &self,
+        scratch: &CollisionScratch,
+        bounds: &SweepBounds,
+        candidates: &mut [(f64, u32, u32)],
+        horizon: f64,
+    ) -> Result<f64, CollisionError> {
         candidates.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then((a.1, a.2).cmp(&(b.1, b.2))));
         let mut radius = horizon;
-        let mut result = Ok(());
-        for &(cheap, i, j) in &candidates {
+        for &(cheap, i, j) in candidates.iter() {
             if cheap >= radius {
                 break;
             }
             let (i, j) = (i as usize, j as usize);
             let p = bounds.pair(i, j);
-            match self.distance_within(scratch, i, j, CONTACT + p * radius) {
-                Err(e) => {
-                    result = Err(e);
-                    break;
+            if let Some(d) = self.distance_within(scratch, i, j, CONTACT + p * radius)? {
+                let r = (d - CONTACT) / p;
+                if r <= 0.0 {
+                    return Ok(0.0);
                 }
-                Ok(None) => {}
-                Ok(Some(d)) => {
-                    let r = (d - CONTACT) / p;
-                    if r <= 0.0 {
-                        radius = 0.0;
-                        break;
-                    }
-                    radius = radius.min(r);
-                }
+                radius = radius.min(r);
             }
         }
-        scratch.candidates = candidates;
-        result.map(|()| radius)
+        Ok(radius)
     }
 
     /// The distance between placed bodies `i` and `j` when it is at most `threshold`
@@ -280,7 +295,12 @@ impl CollisionWorld {
 /// gaps between their bounding spheres, between their AABBs (as placed, without the
 /// margins the broad phase grew them by), and, for two cylinders (every link of the
 /// LWR), between the capsules that contain them (the distance between two segments).
-fn lower_bound(world: &CollisionWorld, scratch: &CollisionScratch, i: usize, j: usize) -> f64 {
+pub(super) fn lower_bound(
+    world: &CollisionWorld,
+    scratch: &CollisionScratch,
+    i: usize,
+    j: usize,
+) -> f64 {
     let (bi, bj) = (&world.bodies[i], &world.bodies[j]);
     let spheres =
         (scratch.centres[i] - scratch.centres[j]).norm() - bi.sphere_radius - bj.sphere_radius;

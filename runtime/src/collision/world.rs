@@ -21,6 +21,9 @@ pub struct CollisionScratch {
     pub(super) margins: Vec<f64>,
     /// Pairs a swept query has yet to measure, with the radius a cheap bound proves.
     pub(super) candidates: Vec<(f64, u32, u32)>,
+    /// The tag of the [`Frozen`](super::frozen::Frozen) set whose standing bodies the
+    /// buffers hold (0: none; a plain query overwrites them).
+    pub(super) frozen: u64,
 }
 
 /// The collision world of a cell. Immutable after [`CollisionWorldBuilder::build`](super::CollisionWorldBuilder::build);

@@ -15,9 +15,11 @@ use crate::collision::{BodyId, CollisionWorld};
 use crate::math::{Aabb, Iso};
 use crate::robot::Robot;
 
+mod frozen;
 mod load;
 mod query;
 
+pub(crate) use frozen::FrozenScene;
 pub use load::SceneError;
 pub(crate) use query::Placed;
 pub use query::{ObjectPlacement, Obstacle, QueryError, SceneScratch};

@@ -94,14 +94,14 @@ pub enum QueryError {
 }
 
 /// Robots whose frames one query lists without allocating (more fall back to a vector).
-const INLINE_ROBOTS: usize = 16;
+pub(super) const INLINE_ROBOTS: usize = 16;
 
 /// Buffers for [`Scene::collision`], one per thread.
 #[derive(Default)]
 pub struct SceneScratch {
-    frames: Vec<Vec<Iso>>,
-    objects: Vec<ObjectState>,
-    collision: CollisionScratch,
+    pub(super) frames: Vec<Vec<Iso>>,
+    pub(super) objects: Vec<ObjectState>,
+    pub(super) collision: CollisionScratch,
     /// How far the bodies travel along the segment a sound motion check is certifying
     /// (`crate::swept`), kept here so that no query allocates.
     pub(crate) sweep: SweepBounds,
@@ -256,7 +256,7 @@ impl Scene {
 
     /// The collision state of an object placed as `placement`, the robots' frames being
     /// `frames` (a held object rides its arm's tip frame).
-    fn object_state(
+    pub(super) fn object_state(
         &self,
         placement: ObjectPlacement,
         frames: &[Vec<Iso>],

@@ -27,6 +27,7 @@ use rand_chacha::ChaCha8Rng;
 mod fixture;
 use fixture::*;
 
+mod frozen;
 mod paths;
 mod seams;
 mod soundness;
