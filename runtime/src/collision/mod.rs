@@ -140,8 +140,9 @@ pub enum Holder {
 }
 
 /// Up to [`Holders::CAPACITY`] holders of one object, stored inline so a state costs no
-/// allocation. Two cover every case of the method (one holder; a handoff, two hands; a
-/// pick or place, a hand and the surface); the third is slack.
+/// allocation. Two cover most cases of the method (one holder; a handoff, two hands; a
+/// pick or place, a hand and the surface); a carry from one surface onto another touches
+/// both at its ends, and a hand that could not retreat may still be on it: four.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub struct Holders {
     items: [Option<Holder>; Holders::CAPACITY],
@@ -149,7 +150,7 @@ pub struct Holders {
 
 impl Holders {
     /// How many holders fit.
-    pub const CAPACITY: usize = 3;
+    pub const CAPACITY: usize = 4;
 
     /// No holder (an object lying free, e.g. a start pose given as a world pose).
     pub const NONE: Holders = Holders {

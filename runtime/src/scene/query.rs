@@ -33,6 +33,10 @@ pub enum ObjectPlacement {
         on: EndEffectorId,
         /// Another arm's hand still on the object (it let go but could not retreat).
         also: Option<EndEffectorId>,
+        /// The surface the carry lifted it from, when it also ends on another one (a
+        /// carry from one bench straight onto the next starts touching the first and
+        /// ends touching the second).
+        from: Option<EndEffectorId>,
     },
     /// Held by two arms at once (a handoff); the pose follows the first.
     Handoff {
@@ -276,6 +280,7 @@ impl Scene {
                 grasp,
                 on,
                 also,
+                from,
             } => {
                 let r = robot_of(by).ok_or(QueryError::NotAnArm(by))?;
                 let tip = self
@@ -290,6 +295,15 @@ impl Scene {
                     .ok_or(QueryError::NotASurface(on))?;
                 let mut state = ObjectState::held(r, &tip, &grasp)
                     .also_held_by(CollisionHolder::Fixed(surface));
+                if let Some(lifted) = from {
+                    let f = self
+                        .world_fixed
+                        .get(lifted.index())
+                        .copied()
+                        .flatten()
+                        .ok_or(QueryError::NotASurface(lifted))?;
+                    state = state.also_held_by(CollisionHolder::Fixed(f));
+                }
                 if let Some(other) = also {
                     let o = robot_of(other).ok_or(QueryError::NotAnArm(other))?;
                     state = state.also_held_by(CollisionHolder::Robot(o));

@@ -61,13 +61,19 @@ impl Planner<'_> {
                     object: pose,
                     ..
                 } => {
-                    let touching = lifted_from.take().or(put_down_after[index]);
+                    // Lifted from one surface and put straight down on another (a bench
+                    // to the next one): the carry touches both, the first at its start.
+                    let (touching, from) = match (lifted_from.take(), put_down_after[index]) {
+                        (Some(lifted), Some(next)) if lifted != next => (Some(next), Some(lifted)),
+                        (lifted, next) => (lifted.or(next), None),
+                    };
                     let placement = match (holder, touching) {
                         (Some((_, g)), Some(surface)) if is_arm(*e) => ObjectPlacement::Placing {
                             by: *e,
                             grasp: grasp_pose(g),
                             on: surface,
                             also: lingering.filter(|l| l != e),
+                            from,
                         },
                         (Some((_, g)), None) if is_arm(*e) => match lingering.filter(|l| l != e) {
                             Some(l) => ObjectPlacement::Handoff {
@@ -109,6 +115,7 @@ impl Planner<'_> {
                             grasp: grasp_pose(g),
                             on: *receiver,
                             also: lingering.filter(|l| *l != giver),
+                            from: None,
                         },
                         (Some((giver, _)), Some(p)) => ObjectPlacement::Resting {
                             on: giver,
