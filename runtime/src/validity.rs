@@ -11,7 +11,7 @@
 //! given (a held object following its hand).
 
 use std::fmt;
-use std::sync::atomic::{AtomicU32, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU32, Ordering};
 use std::sync::OnceLock;
 
 use cellc_schema::{EndEffectorId, ObjectId};
@@ -219,6 +219,20 @@ pub struct SceneValidity<'a> {
     /// be built: the plain queries then answer, and report why.
     frozen: OnceLock<Option<FrozenScene>>,
     queries: Counter,
+    /// Whether a plain query found a state free of collisions: the standing bodies are
+    /// the same in every state, so none of them intersect, which the freeze need not
+    /// check again.
+    seen_free: Flag,
+}
+
+/// A flag that clones as its current value.
+#[derive(Default)]
+struct Flag(AtomicBool);
+
+impl Clone for Flag {
+    fn clone(&self) -> Flag {
+        Flag(AtomicBool::new(self.0.load(Ordering::Relaxed)))
+    }
 }
 
 /// Queries a [`SceneValidity`] answers the plain way before it freezes the standing
@@ -289,6 +303,7 @@ impl<'a> SceneValidity<'a> {
             swept: OnceLock::new(),
             frozen: OnceLock::new(),
             queries: Counter::default(),
+            seen_free: Flag::default(),
         })
     }
 
@@ -303,6 +318,7 @@ impl<'a> SceneValidity<'a> {
         }));
         self.obstacles = obstacles;
         self.frozen = OnceLock::new();
+        self.seen_free = Flag::default();
         self
     }
 
@@ -325,8 +341,12 @@ impl<'a> SceneValidity<'a> {
                     placement: self.placement,
                     obstacles: self.obstacles,
                 };
+                let known_free = self.seen_free.0.load(Ordering::Relaxed);
                 self.with_arms(q, |arms| {
-                    Ok(self.scene.freeze(arms, &moving, at, scratch).ok())
+                    Ok(self
+                        .scene
+                        .freeze(arms, &moving, at, known_free, scratch)
+                        .ok())
                 })
                 .ok()
                 .flatten()
@@ -432,6 +452,9 @@ impl StateValidity for SceneValidity<'_> {
             let pair =
                 self.scene
                     .collision(arms, self.object, self.placement, self.obstacles, scratch)?;
+            if pair.is_none() {
+                self.seen_free.0.store(true, Ordering::Relaxed);
+            }
             Ok(pair.map(|(a, b)| StateFault::Collision { a, b }))
         })
     }
@@ -447,14 +470,16 @@ impl StateValidity for SceneValidity<'_> {
             }
         }
         self.with_arms(q, |arms| {
-            Ok(out_of_limits(self.scene, &self.slices, q).is_none()
-                && self.scene.is_free(
-                    arms,
-                    self.object,
-                    self.placement,
-                    self.obstacles,
-                    scratch,
-                )?)
+            if out_of_limits(self.scene, &self.slices, q).is_some() {
+                return Ok(false);
+            }
+            let free =
+                self.scene
+                    .is_free(arms, self.object, self.placement, self.obstacles, scratch)?;
+            if free {
+                self.seen_free.0.store(true, Ordering::Relaxed);
+            }
+            Ok(free)
         })
     }
 

@@ -42,8 +42,11 @@ pub(crate) struct Frozen {
     moving: Vec<bool>,
     /// Per body: where a standing body is (`None` for moving and absent bodies).
     standing: Vec<Option<PlacedBody>>,
-    /// The standing bodies' AABBs; leaf data is the body index.
+    /// The standing bodies' AABBs; leaf data is the index into `leaves`.
     bvh: Bvh,
+    /// Body index of each leaf. Leaves are numbered densely from 0 rather than by body
+    /// index: parry's builder assumes leaf 0 (and 1) exist when a tree has one or two.
+    leaves: Vec<u32>,
     /// Whether two standing bodies that may not touch intersect (every state collides).
     blocked: bool,
 }
@@ -59,12 +62,16 @@ impl Frozen {
 impl CollisionWorld {
     /// Freezes the bodies of `state` that do not ride on a robot `moving_robot` marks
     /// nor on an object `moving_object` marks (indices as in the state). The moving
-    /// bodies' entries in `state` are ignored here and given per query.
+    /// bodies' entries in `state` are ignored here and given per query. `known_free`
+    /// says that a state of this motion was already found free, which proves that no
+    /// two standing bodies intersect (they are the same in every state) and spares
+    /// checking it.
     pub(crate) fn freeze(
         &self,
         state: &Configuration<'_>,
         moving_robot: &[bool],
         moving_object: &[bool],
+        known_free: bool,
         scratch: &mut CollisionScratch,
     ) -> Result<Frozen, CollisionError> {
         self.check_state(state)?;
@@ -84,29 +91,35 @@ impl CollisionWorld {
                 standing[i] = self.place_body(state, i, 0.0)?;
             }
         }
+        let leaves: Vec<u32> = (0..n as u32)
+            .filter(|&i| standing[i as usize].is_some())
+            .collect();
         let bvh = Bvh::from_iter(
             BvhBuildStrategy::Binned,
-            standing
+            leaves
                 .iter()
                 .enumerate()
-                .filter_map(|(i, p)| p.map(|p| (i, p.aabb))),
+                .filter_map(|(leaf, &i)| standing[i as usize].map(|p| (leaf, p.aabb))),
         );
         // Two standing bodies that intersect do so in every state of the motion: found
         // once with the plain broad phase, restricted to those pairs.
-        self.place(state, scratch, |_| 0.0)?;
         let mut blocked = false;
-        self.sweep(state, scratch, |i, j, scratch| {
-            if !moving[i] && !moving[j] && self.intersect(i, j, scratch)? {
-                blocked = true;
-                return Ok(Visit::Stop);
-            }
-            Ok(Visit::Continue)
-        })?;
+        if !known_free {
+            self.place(state, scratch, |_| 0.0)?;
+            self.sweep(state, scratch, |i, j, scratch| {
+                if !moving[i] && !moving[j] && self.intersect(i, j, scratch)? {
+                    blocked = true;
+                    return Ok(Visit::Stop);
+                }
+                Ok(Visit::Continue)
+            })?;
+        }
         Ok(Frozen {
             tag: NEXT_TAG.fetch_add(1, Ordering::Relaxed),
             moving,
             standing,
             bvh,
+            leaves,
             blocked,
         })
     }
@@ -250,7 +263,10 @@ impl CollisionWorld {
             // A hair wider than the exact filter below, so that rounding in the
             // hierarchy's own boxes never drops a pair the filter would keep.
             let query = grow(ai, standing_margin + 1e-9);
-            for j in frozen.bvh.intersect_aabb(&query) {
+            for leaf in frozen.bvh.intersect_aabb(&query) {
+                let Some(&j) = frozen.leaves.get(leaf as usize) else {
+                    continue;
+                };
                 let j = j as usize;
                 let Some(sj) = &frozen.standing[j] else {
                     continue;

@@ -28,12 +28,14 @@ pub(crate) struct FrozenScene {
 
 impl Scene {
     /// Freezes every arm but `moving` at the joints `arms` gives (others at home) and
-    /// every object placed as `at` says, except one that follows a moving hand.
+    /// every object placed as `at` says, except one that follows a moving hand;
+    /// `known_free` as in [`CollisionWorld::freeze`](crate::collision::CollisionWorld).
     pub(crate) fn freeze(
         &self,
         arms: &[(EndEffectorId, &[f64])],
         moving: &[EndEffectorId],
         at: Placed<'_>,
+        known_free: bool,
         scratch: &mut SceneScratch,
     ) -> Result<FrozenScene, QueryError> {
         let n = self.robot_holder.len();
@@ -84,6 +86,7 @@ impl Scene {
                 &state,
                 &moving_robot,
                 &moving_object,
+                known_free,
                 &mut scratch.collision,
             )
             .map_err(QueryError::Collision)?;
@@ -153,6 +156,7 @@ impl Scene {
                 return Err(QueryError::NotAnArm(e));
             };
             self.robots[*robot].fk_frames(base, q, &mut scratch.frames[r]);
+            scratch.mark_moved(r);
         }
         scratch.objects.clear();
         scratch.objects.extend_from_slice(&frozen.objects);

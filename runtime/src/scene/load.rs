@@ -262,7 +262,21 @@ impl Scene {
                 }
             }
         };
+        // Every arm's frames at home, once: most queries leave most arms there, and a
+        // line of fifty arms would otherwise run forward kinematics fifty times a check.
+        let home_frames = robot_holder
+            .iter()
+            .map(|&e| {
+                let mut frames = Vec::new();
+                if let Holder::Arm { robot, base, home } = &holders[e] {
+                    robots[*robot].fk_frames(base, home, &mut frames);
+                }
+                frames
+            })
+            .collect();
         Ok(Scene {
+            id: super::next_scene_id(),
+            home_frames,
             robots,
             holders,
             kind_solids,

@@ -87,6 +87,17 @@ pub struct Scene {
     world_fixed: Vec<Option<usize>>,
     /// Per `world` robot: its end-effector.
     robot_holder: Vec<usize>,
+    /// Per `world` robot: its frames at its home configuration.
+    home_frames: Vec<Vec<crate::math::Iso>>,
+    /// Tells scratches apart which scene their cached frames belong to.
+    id: u64,
+}
+
+/// A fresh [`Scene::id`].
+fn next_scene_id() -> u64 {
+    use std::sync::atomic::{AtomicU64, Ordering};
+    static NEXT: AtomicU64 = AtomicU64::new(1);
+    NEXT.fetch_add(1, Ordering::Relaxed)
 }
 
 impl Scene {

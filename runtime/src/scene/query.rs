@@ -106,9 +106,22 @@ pub struct SceneScratch {
     pub(super) frames: Vec<Vec<Iso>>,
     pub(super) objects: Vec<ObjectState>,
     pub(super) collision: CollisionScratch,
+    /// Per world robot: whether `frames` holds its home frames (so an arm left at home
+    /// costs nothing), for the scene `scene`.
+    at_home: Vec<bool>,
+    scene: u64,
     /// How far the bodies travel along the segment a sound motion check is certifying
     /// (`crate::swept`), kept here so that no query allocates.
     pub(crate) sweep: SweepBounds,
+}
+
+impl SceneScratch {
+    /// Robot `r`'s frames were overwritten with another configuration than home.
+    pub(super) fn mark_moved(&mut self, r: usize) {
+        if let Some(h) = self.at_home.get_mut(r) {
+            *h = false;
+        }
+    }
 }
 
 impl Scene {
@@ -215,15 +228,26 @@ impl Scene {
     ) -> Result<T, QueryError> {
         let n = self.robot_holder.len();
         scratch.frames.resize_with(n, Vec::new);
+        if scratch.scene != self.id || scratch.at_home.len() != n {
+            scratch.at_home.clear();
+            scratch.at_home.resize(n, false);
+            scratch.scene = self.id;
+        }
         for (r, &e) in self.robot_holder.iter().enumerate() {
-            let Holder::Arm { robot, base, home } = &self.holders[e] else {
+            let Holder::Arm { robot, base, .. } = &self.holders[e] else {
                 continue;
             };
-            let q = arms
-                .iter()
-                .find(|(arm, _)| arm.index() == e)
-                .map_or(home.as_slice(), |(_, q)| *q);
-            self.robots[*robot].fk_frames(base, q, &mut scratch.frames[r]);
+            match arms.iter().find(|(arm, _)| arm.index() == e) {
+                Some((_, q)) => {
+                    self.robots[*robot].fk_frames(base, q, &mut scratch.frames[r]);
+                    scratch.at_home[r] = false;
+                }
+                None if scratch.at_home[r] => {}
+                None => {
+                    scratch.frames[r].clone_from(&self.home_frames[r]);
+                    scratch.at_home[r] = true;
+                }
+            }
         }
         scratch.objects.clear();
         scratch
