@@ -217,9 +217,7 @@ pub fn read(
         refused(
             path,
             format!(
-                "line {}, column {}: not a plan document ({})",
-                e.line(),
-                e.column(),
+                "not a plan document: {}",
                 crate::render::escape(&e.to_string())
             ),
         )

@@ -87,7 +87,8 @@ function label(text, colour) {
   ctx.fillStyle = '#' + colour.toString(16).padStart(6, '0');
   ctx.fillText(text, 8, 29);
   const s = new THREE.Sprite(new THREE.SpriteMaterial({ map: new THREE.CanvasTexture(c), depthTest: false }));
-  s.scale.set(c.width / 400, c.height / 400, 1);
+  // Labels 4 cm tall, whatever their length.
+  s.scale.set(0.04 * c.width / c.height, 0.04, 1);
   s.renderOrder = 10;
   return s;
 }
@@ -345,7 +346,7 @@ regions.forEach((r) => { if (r.region.kind === 'workspace') bounds.expandByObjec
 if (bounds.isEmpty()) bounds.set(new THREE.Vector3(-1, -1, 0), new THREE.Vector3(1, 1, 1));
 const centre = bounds.getCenter(new THREE.Vector3());
 const size = Math.max(0.5, bounds.getSize(new THREE.Vector3()).length());
-camera.position.set(centre.x + 0.5 * size, centre.y - 0.7 * size, centre.z + 0.45 * size);
+camera.position.set(centre.x + 0.75 * size, centre.y - 0.95 * size, centre.z + 0.65 * size);
 let controls = null;
 if (renderer) {
   host.append(renderer.domElement);
@@ -401,17 +402,22 @@ api.play = play;
 api.pause = pause;
 api.selectState = (object, n) => {
   const i = doc.graphs.findIndex((g) => g.object === object);
-  if (i < 0) return false;
+  if (i < 0 || !(n >= 0 && n < doc.graphs[i].states.length)) return false;
   graphIndex = i; objectSelect.value = i; showGraph(); selectState(n);
   return snapshot === n;
 };
 // Where a body's centre is drawn, in CSS pixels of the page (null when hidden).
 api.project = (name) => {
   const b = bodies.find((x) => x.name === name);
-  if (!b || !b.visible) return null;
-  const box = new THREE.Box3().setFromObject(b);
-  if (box.isEmpty()) return null;
-  const p = box.getCenter(new THREE.Vector3()).project(camera);
+  if (!b || !b.visible || !b.children.length) return null;
+  // The centroid of the first solid's vertices: inside it, as every solid is convex.
+  const mesh = b.children[0];
+  const pos = mesh.geometry.getAttribute('position');
+  const c = new THREE.Vector3();
+  for (let i = 0; i < pos.count; i++) c.add(new THREE.Vector3().fromBufferAttribute(pos, i));
+  c.divideScalar(Math.max(1, pos.count));
+  b.updateMatrixWorld(true);
+  const p = mesh.localToWorld(c).project(camera);
   const r = host.getBoundingClientRect();
   return { x: r.left + (p.x + 1) / 2 * r.width, y: r.top + (1 - p.y) / 2 * r.height };
 };
