@@ -73,7 +73,10 @@ pub fn layout(o: &Object) -> Layout {
     let mut cells: BTreeMap<(usize, usize), Vec<usize>> = BTreeMap::new();
     for (i, n) in nodes.iter().enumerate() {
         cells
-            .entry((row_of[&n.end_effector.index()], col_of[&n.workspace.index()]))
+            .entry((
+                row_of[&n.end_effector.index()],
+                col_of[&n.workspace.index()],
+            ))
             .or_default()
             .push(i);
     }
@@ -131,8 +134,16 @@ pub fn layout(o: &Object) -> Layout {
 /// Where a line from `from` towards `to` leaves the node box around `to`.
 fn trim(from: (f64, f64), to: (f64, f64)) -> (f64, f64) {
     let (dx, dy) = (to.0 - from.0, to.1 - from.1);
-    let tx = if dx.abs() > 1e-9 { (W / 2.0 + 2.0) / dx.abs() } else { f64::INFINITY };
-    let ty = if dy.abs() > 1e-9 { (H / 2.0 + 2.0) / dy.abs() } else { f64::INFINITY };
+    let tx = if dx.abs() > 1e-9 {
+        (W / 2.0 + 2.0) / dx.abs()
+    } else {
+        f64::INFINITY
+    };
+    let ty = if dy.abs() > 1e-9 {
+        (H / 2.0 + 2.0) / dy.abs()
+    } else {
+        f64::INFINITY
+    };
     let t = tx.min(ty).min(1.0);
     (to.0 - dx * t, to.1 - dy * t)
 }
@@ -200,7 +211,12 @@ pub fn svg(a: &Artifact, o: &Object, reason: &dyn Fn(usize) -> String) -> String
     let mut seen: BTreeMap<((u32, u32), bool), usize> = BTreeMap::new();
     let mut lines: Vec<Line> = Vec::new();
     let arcs = o.graph.arcs.iter().map(|arc| (arc, false, 0));
-    let pruned = o.graph.pruned.iter().enumerate().map(|(i, p)| (&p.arc, true, i));
+    let pruned = o
+        .graph
+        .pruned
+        .iter()
+        .enumerate()
+        .map(|(i, p)| (&p.arc, true, i));
     for (arc, is_pruned, index) in arcs.chain(pruned) {
         if arc.from as usize >= l.centres.len() || arc.to as usize >= l.centres.len() {
             continue;
@@ -274,7 +290,10 @@ pub fn svg(a: &Artifact, o: &Object, reason: &dyn Fn(usize) -> String) -> String
     for (i, n) in o.graph.nodes.iter().enumerate() {
         let (cx, cy) = l.centres[i];
         let ee = a.end_effector_name(n.end_effector);
-        let grasp = o.grasps.get(n.grasp.index()).map_or("?", |g| g.name.as_str());
+        let grasp = o
+            .grasps
+            .get(n.grasp.index())
+            .map_or("?", |g| g.name.as_str());
         let ws = a.workspace_name(n.workspace);
         let _ = write!(
             out,

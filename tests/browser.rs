@@ -73,8 +73,16 @@ fn view_pages_in_chromium() {
     let dir = std::env::temp_dir().join(format!("cellc-view-test-{}", std::process::id()));
     std::fs::create_dir_all(&dir).expect("temp dir");
     let shots: &[(&str, &str, &str)] = &[
-        ("vito", "handoff_cylinder", "docs/images/view_vito_handoff.png"),
-        ("two_pandas", "handoff", "docs/images/view_two_pandas_handoff.png"),
+        (
+            "vito",
+            "handoff_cylinder",
+            "docs/images/view_vito_handoff.png",
+        ),
+        (
+            "two_pandas",
+            "handoff",
+            "docs/images/view_two_pandas_handoff.png",
+        ),
     ];
     let mut pages = Vec::new();
     let mut cells: Vec<PathBuf> = std::fs::read_dir("cells")
@@ -89,7 +97,12 @@ fn view_pages_in_chromium() {
         let abstract_cell = !text.lines().any(|l| l.trim_start().starts_with("arm "));
         // Built once, so each page is planned without verifying the cell again.
         let artifact = dir.join(format!("{name}.artifact.json"));
-        ok(&["build", cell.to_str().unwrap(), "-o", artifact.to_str().unwrap()]);
+        ok(&[
+            "build",
+            cell.to_str().unwrap(),
+            "-o",
+            artifact.to_str().unwrap(),
+        ]);
         let art = artifact.to_str().unwrap();
         let page = dir.join(format!("{name}.html"));
         ok(&["view", art, "-o", page.to_str().unwrap()]);
@@ -102,7 +115,14 @@ fn view_pages_in_chromium() {
         });
         for request in declared(&text, "request") {
             let page = dir.join(format!("{name}-{request}.html"));
-            ok(&["view", art, "--request", &request, "-o", page.to_str().unwrap()]);
+            ok(&[
+                "view",
+                art,
+                "--request",
+                &request,
+                "-o",
+                page.to_str().unwrap(),
+            ]);
             let screenshot = shots
                 .iter()
                 .find(|(c, r, _)| *c == name && *r == request)
@@ -129,12 +149,26 @@ fn view_pages_in_chromium() {
     }
     // A plan document written by `cellc plan --format json`, shown without planning.
     let vito = dir.join("vito.artifact.json");
-    let out = cellc(&["plan", vito.to_str().unwrap(), "--request", "trash", "--format", "json"]);
+    let out = cellc(&[
+        "plan",
+        vito.to_str().unwrap(),
+        "--request",
+        "trash",
+        "--format",
+        "json",
+    ]);
     assert!(out.status.success(), "plan trash");
     let plan = dir.join("trash.json");
     std::fs::write(&plan, &out.stdout).expect("plan file");
     let page = dir.join("vito-plan-file.html");
-    ok(&["view", vito.to_str().unwrap(), "--plan", plan.to_str().unwrap(), "-o", page.to_str().unwrap()]);
+    ok(&[
+        "view",
+        vito.to_str().unwrap(),
+        "--plan",
+        plan.to_str().unwrap(),
+        "-o",
+        page.to_str().unwrap(),
+    ]);
     pages.push(Page {
         page,
         screenshot: None,
@@ -153,7 +187,10 @@ fn view_pages_in_chromium() {
         page.to_str().unwrap(),
     ]);
     let html = std::fs::read_to_string(&page).expect("page");
-    assert!(html.contains("\"start_side\":[") && html.contains("\"cut\":[\""), "no explanation in the page");
+    assert!(
+        html.contains("\"start_side\":[") && html.contains("\"cut\":[\""),
+        "no explanation in the page"
+    );
     pages.push(Page {
         page,
         screenshot: Some("docs/images/view_unreachable.png"),
@@ -202,7 +239,15 @@ fn view_pages_in_chromium() {
         pages.len(),
         String::from_utf8_lossy(&run.stderr)
     );
-    assert!(failures.is_empty(), "pages failed:\n{}", failures.join("\n"));
-    assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
+    assert!(
+        failures.is_empty(),
+        "pages failed:\n{}",
+        failures.join("\n")
+    );
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -252,8 +252,16 @@ pub fn build(artifact: &Artifact, scene: &Scene) -> Built {
         }
     }
     for (name, b) in &artifact.obstacles {
-        let size = Vec3::new(b.max[0] - b.min[0], b.max[1] - b.min[1], b.max[2] - b.min[2]);
-        let geom = g.add_geom(&SharedShape::cuboid(size.x / 2.0, size.y / 2.0, size.z / 2.0));
+        let size = Vec3::new(
+            b.max[0] - b.min[0],
+            b.max[1] - b.min[1],
+            b.max[2] - b.min[2],
+        );
+        let geom = g.add_geom(&SharedShape::cuboid(
+            size.x / 2.0,
+            size.y / 2.0,
+            size.z / 2.0,
+        ));
         let body = g.add_body(
             name.clone(),
             BodyKind::Obstacle,

@@ -273,10 +273,7 @@ pub fn run(args: &ViewArgs) -> ExitCode {
         return ExitCode::from(1);
     }
     if let Some((text, _)) = &planned.failure {
-        eprintln!(
-            "{} has no plan ({text}); the page shows why",
-            planned.title
-        );
+        eprintln!("{} has no plan ({text}); the page shows why", planned.title);
     }
     eprintln!(
         "wrote `{}` ({} KiB)",

@@ -142,7 +142,11 @@ fn gap_workspaces(gap: &Gap) -> Vec<WorkspaceId> {
             near_workspaces,
             far_workspaces,
             ..
-        } => near_workspaces.iter().chain(far_workspaces).copied().collect(),
+        } => near_workspaces
+            .iter()
+            .chain(far_workspaces)
+            .copied()
+            .collect(),
         Gap::Apart { shared, .. } => shared.clone(),
         Gap::NoCommonWorkspace { .. } => Vec::new(),
     }
@@ -154,11 +158,8 @@ pub fn explanation(artifact: &Artifact, u: &Unreachable) -> Option<ExplanationOu
     let ex = cellc_runtime::explain::explain(artifact, u).ok()?;
     let words = Words::new(artifact, object);
     let ids = |v: &[cellc_schema::NodeId]| v.iter().map(|n| n.0).collect::<Vec<u32>>();
-    let mut workspaces: Vec<WorkspaceId> = ex
-        .cut
-        .iter()
-        .flat_map(|c| gap_workspaces(&c.gap))
-        .collect();
+    let mut workspaces: Vec<WorkspaceId> =
+        ex.cut.iter().flat_map(|c| gap_workspaces(&c.gap)).collect();
     workspaces.sort_unstable();
     workspaces.dedup();
     Some(ExplanationOut {

@@ -84,7 +84,14 @@ pub fn from_plan(artifact: &Artifact, label: &str, plan: &Plan) -> PlanIn {
                     workspace,
                     object,
                     configurations,
-                } => (Verb::Move, *holder, None, *workspace, *object, configurations.clone()),
+                } => (
+                    Verb::Move,
+                    *holder,
+                    None,
+                    *workspace,
+                    *object,
+                    configurations.clone(),
+                ),
                 Command::Grasp {
                     holder,
                     grasp,
@@ -104,7 +111,14 @@ pub fn from_plan(artifact: &Artifact, label: &str, plan: &Plan) -> PlanIn {
                     grasp,
                     workspace,
                     object,
-                } => (Verb::Ungrasp, *holder, Some(*grasp), *workspace, *object, Vec::new()),
+                } => (
+                    Verb::Ungrasp,
+                    *holder,
+                    Some(*grasp),
+                    *workspace,
+                    *object,
+                    Vec::new(),
+                ),
             };
             let mut s = StepIn {
                 verb,
@@ -119,7 +133,12 @@ pub fn from_plan(artifact: &Artifact, label: &str, plan: &Plan) -> PlanIn {
                     .map(|t| (t.arms.clone(), t.points.clone())),
                 text: String::new(),
             };
-            s.text = step_text(artifact, plan.object, &s, artifact.workspace_name(workspace));
+            s.text = step_text(
+                artifact,
+                plan.object,
+                &s,
+                artifact.workspace_name(workspace),
+            );
             s
         })
         .collect();
@@ -323,7 +342,11 @@ fn pose_of(p: &PoseDoc) -> Result<Iso, String> {
 
 type PlanAndStart = (PlanIn, Option<(ObjectId, Whereabouts)>);
 
-fn plan_of(artifact: &Artifact, scene: Option<&Scene>, p: &PlanDoc) -> Result<PlanAndStart, String> {
+fn plan_of(
+    artifact: &Artifact,
+    scene: Option<&Scene>,
+    p: &PlanDoc,
+) -> Result<PlanAndStart, String> {
     let object = artifact
         .objects
         .iter()
@@ -379,8 +402,14 @@ fn plan_of(artifact: &Artifact, scene: Option<&Scene>, p: &PlanDoc) -> Result<Pl
                     let mut offset = 0;
                     for &e in &arms {
                         let n = match scene.map(|s| (s, s.holders.get(e.index()))) {
-                            Some((s, Some(Holder::Arm { robot, .. }))) => s.robots[*robot].n_joints(),
-                            _ => return Err(at("a motion of an end-effector that is not an arm".into())),
+                            Some((s, Some(Holder::Arm { robot, .. }))) => {
+                                s.robots[*robot].n_joints()
+                            }
+                            _ => {
+                                return Err(at(
+                                    "a motion of an end-effector that is not an arm".into()
+                                ))
+                            }
                         };
                         let part = pt.positions.get(offset..offset + n).ok_or_else(|| {
                             at("a motion point shorter than its arms' joints".to_string())
@@ -432,9 +461,9 @@ fn plan_of(artifact: &Artifact, scene: Option<&Scene>, p: &PlanDoc) -> Result<Pl
             grasp: g,
             ..
         }) if matches!(
-                scene.and_then(|s| s.holders.get(e.index())),
-                Some(Holder::Arm { .. })
-            ) =>
+            scene.and_then(|s| s.holders.get(e.index())),
+            Some(Holder::Arm { .. })
+        ) =>
         {
             Some((object, Whereabouts::Held(e, artifact.grasp_pose(object, g))))
         }

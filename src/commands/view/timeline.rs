@@ -14,8 +14,9 @@ use super::geometry::{pose, round, Built};
 pub const DT: f64 = 0.04;
 /// How long a step without a motion is shown, s.
 const PAUSE: f64 = 0.4;
-/// Frames at most in one page (about 45 minutes of motion): a longer plan is cut there.
-pub const MAX_FRAMES: usize = 60_000;
+/// Frames at most in one page (about 13 minutes of motion, a page of some 40 MiB for two
+/// 7-joint arms): a longer plan is cut there, and the page says so.
+pub const MAX_FRAMES: usize = 20_000;
 
 /// What a step does, as the page names it.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
@@ -214,10 +215,11 @@ pub fn poses(
 }
 
 /// Joints of a trajectory at time `t` (linear between its points, as the simulator
-/// follows it).
+/// follows it). Points are in time order (the planner's, and a plan document's checked),
+/// so the point after `t` is found by bisection.
 fn sample(points: &[(f64, Vec<f64>)], t: f64) -> Option<Vec<f64>> {
-    let after = points.iter().position(|(s, _)| *s >= t);
-    match after {
+    let after = points.partition_point(|(s, _)| *s < t);
+    match (after < points.len()).then_some(after) {
         Some(0) => points.first().map(|p| p.1.clone()),
         Some(i) => {
             let (t0, a) = &points[i - 1];
@@ -380,7 +382,10 @@ pub fn timeline(
                     } else if let Some(p) = step.object.or(now) {
                         // A surface takes it: it lies where the command says once the
                         // arm lets go.
-                        if !matches!(objects.get(o).and_then(|w| w.as_ref()), Some(Whereabouts::Held(..))) {
+                        if !matches!(
+                            objects.get(o).and_then(|w| w.as_ref()),
+                            Some(Whereabouts::Held(..))
+                        ) {
                             objects[o] = Some(Whereabouts::Lying(p));
                         }
                     }
