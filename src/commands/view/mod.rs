@@ -60,7 +60,7 @@ struct Document {
     regions: Vec<Region>,
     timeline: timeline::Timeline,
     graphs: Vec<panel::GraphOut>,
-    snapshots: Vec<Vec<Option<[f64; 7]>>>,
+    snapshots: Vec<timeline::Poses>,
     /// The request's failure, in words, when it has no plan.
     failure: Option<String>,
     explanation: Option<panel::ExplanationOut>,

@@ -11,7 +11,7 @@ use cellc_schema::{Artifact, ObjectId, WorkspaceId};
 use serde::Serialize;
 
 use super::geometry::Built;
-use super::timeline::{poses, Start, Whereabouts};
+use super::timeline::{poses, Poses, Start, Whereabouts};
 use crate::explain_report::words::Words;
 
 /// Snapshots (witness configurations) at most in one page; states past it show none.
@@ -42,7 +42,7 @@ pub fn graphs(
     scene: Option<&Scene>,
     built: &Built,
     start: &Start,
-) -> (Vec<GraphOut>, Vec<Vec<Option<[f64; 7]>>>) {
+) -> (Vec<GraphOut>, Vec<Poses>) {
     let home: Vec<Option<Vec<f64>>> = (0..artifact.end_effectors.len())
         .map(|e| match scene.and_then(|s| s.holders.get(e)) {
             Some(Holder::Arm { home, .. }) => Some(home.clone()),

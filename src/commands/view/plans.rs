@@ -223,12 +223,15 @@ fn refused(path: &str, what: String) -> Diagnostic {
     .help("give the output of `cellc plan CELL --format json` for this cell (docs/view.md)")
 }
 
+/// The plans of a document, and where their objects start.
+pub type PlansAndStarts = (Vec<PlanIn>, Vec<(ObjectId, Whereabouts)>);
+
 /// Reads a plan document and checks it against the cell.
 pub fn read(
     artifact: &Artifact,
     scene: Option<&Scene>,
     path: &str,
-) -> Result<(Vec<PlanIn>, Vec<(ObjectId, Whereabouts)>), Diagnostic> {
+) -> Result<PlansAndStarts, Diagnostic> {
     let bytes = FsFiles
         .read_at_most(path, MAX_PLAN_BYTES)
         .map_err(|e| refused(path, format!("cannot be read: {e}")))?;

@@ -46,7 +46,7 @@ pub struct StepIn {
     /// Arms' joints at the end of the step.
     pub configurations: Vec<(EndEffectorId, Vec<f64>)>,
     /// The motion before the command: the arms in joint order, and (time, joints) points.
-    pub motion: Option<(Vec<EndEffectorId>, Vec<(f64, Vec<f64>)>)>,
+    pub motion: Option<Motion>,
     /// The step in words.
     pub text: String,
 }
@@ -87,6 +87,13 @@ pub enum Whereabouts {
     Lying(Iso),
 }
 
+/// The poses of the moving bodies (one per entry of [`Timeline::moving`], `None` for an
+/// absent object), as `[x, y, z, qx, qy, qz, qw]`.
+pub type Poses = Vec<Option<[f64; 7]>>;
+
+/// A joint motion: the arms in joint order, and (time, concatenated joints) points.
+pub type Motion = (Vec<EndEffectorId>, Vec<(f64, Vec<f64>)>);
+
 /// A frame: a time, the step shown, and the pose of every moving body.
 #[derive(Serialize)]
 pub struct Frame {
@@ -95,7 +102,7 @@ pub struct Frame {
     /// Index into [`Timeline::steps`] (`None` before the first).
     pub step: Option<usize>,
     /// One pose per entry of [`Timeline::moving`]; `None` for an absent object.
-    pub poses: Vec<Option<[f64; 7]>>,
+    pub poses: Poses,
 }
 
 /// A step as the timeline lists it.
@@ -173,7 +180,7 @@ pub fn poses(
     scene: Option<&Scene>,
     arms: &[Option<Vec<f64>>],
     objects: &[Option<Whereabouts>],
-) -> Vec<Option<[f64; 7]>> {
+) -> Poses {
     let mut out = Vec::new();
     let mut frames = Vec::new();
     for arm in built.arms.iter().filter(|_| scene.is_some()) {
