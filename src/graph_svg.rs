@@ -2,7 +2,8 @@
 //! svg`, and the side panel of `cellc view`).
 //!
 //! The layout is a grid that follows the graph's own structure rather than a general
-//! graph drawing: one column (a cluster, as in the DOT output) per workspace, one row
+//! graph drawing: one column (a cluster, as in the DOT output) per workspace, ordered
+//! along the moves so that neighbouring workspaces stand side by side, one row
 //! band per end-effector, so a state S(e, g, w) sits at (row of e, column of w), its
 //! grasps side by side (wrapping after [`WRAP`]). Moves keep the end-effector and grasp
 //! and change the workspace, so they run along a row between clusters; transitions keep
@@ -67,6 +68,7 @@ pub fn layout(o: &Object) -> Layout {
     let mut rows: Vec<usize> = nodes.iter().map(|n| n.end_effector.index()).collect();
     rows.sort_unstable();
     rows.dedup();
+    let columns = along_moves(o, &columns);
     let col_of: BTreeMap<usize, usize> = columns.iter().enumerate().map(|(i, &c)| (c, i)).collect();
     let row_of: BTreeMap<usize, usize> = rows.iter().enumerate().map(|(i, &r)| (r, i)).collect();
     // Nodes of each grid cell, by grasp.
@@ -128,6 +130,67 @@ pub fn layout(o: &Object) -> Layout {
         clusters,
         width,
         height,
+    }
+}
+
+/// The workspaces in an order that keeps moves short: from an end of the chain the moves
+/// make (a workspace with the fewest neighbours, the first declared among equals), each
+/// next one the unplaced workspace with the most moves to the last placed (the first
+/// declared when none has any). Greedy and linear in the moves times the workspaces.
+fn along_moves(o: &Object, columns: &[usize]) -> Vec<usize> {
+    let mut links: BTreeMap<(usize, usize), usize> = BTreeMap::new();
+    for arc in o.graph.arcs.iter().filter(|a| a.kind == ArcKind::Move) {
+        let (Some(a), Some(b)) = (
+            o.graph.nodes.get(arc.from as usize),
+            o.graph.nodes.get(arc.to as usize),
+        ) else {
+            continue;
+        };
+        let (a, b) = (a.workspace.index(), b.workspace.index());
+        if a != b {
+            *links.entry((a.min(b), a.max(b))).or_default() += 1;
+        }
+    }
+    // Neighbours of each column with the number of moves between them.
+    let mut near: BTreeMap<usize, Vec<(usize, usize)>> = BTreeMap::new();
+    for (&(a, b), &n) in &links {
+        near.entry(a).or_default().push((b, n));
+        near.entry(b).or_default().push((a, n));
+    }
+    let degree = |c: usize| near.get(&c).map_or(0, Vec::len);
+    // Ends of chains first; workspaces without moves last.
+    let Some(first) = columns
+        .iter()
+        .copied()
+        .min_by_key(|&c| (degree(c) == 0, degree(c), c))
+    else {
+        return Vec::new();
+    };
+    let mut placed: std::collections::BTreeSet<usize> = std::collections::BTreeSet::new();
+    let mut order = Vec::with_capacity(columns.len());
+    let mut next_unplaced = 0;
+    let mut current = first;
+    loop {
+        placed.insert(current);
+        order.push(current);
+        if order.len() == columns.len() {
+            return order;
+        }
+        let best = near.get(&current).and_then(|v| {
+            v.iter()
+                .filter(|(c, _)| !placed.contains(c))
+                .max_by_key(|&&(c, n)| (n, std::cmp::Reverse(c)))
+                .map(|&(c, _)| c)
+        });
+        current = match best {
+            Some(c) => c,
+            None => {
+                while placed.contains(&columns[next_unplaced]) {
+                    next_unplaced += 1;
+                }
+                columns[next_unplaced]
+            }
+        };
     }
 }
 
