@@ -212,7 +212,14 @@ if (steps.length) {
   $('plan').hidden = false;
   doc.timeline.plans.forEach((p, k) => {
     const li = document.createElement('li');
-    li.textContent = p.label + ' (' + p.object + '): ' + p.holders.join(' → ');
+    li.append(p.label + ' (' + p.object + '): ');
+    p.holders.forEach((h, j) => {
+      if (j) li.append(' → ');
+      const span = document.createElement('span');
+      span.className = 'holder';
+      span.textContent = h;
+      li.append(span);
+    });
     $('holders').append(li);
     holderItems.push(li);
     void k;
@@ -232,7 +239,11 @@ function markStep(i) {
   currentStep = i;
   stepItems.forEach((li, k) => li.classList.toggle('current', k === i));
   const s = i === null || i === undefined ? null : steps[i];
-  holderItems.forEach((li, k) => li.classList.toggle('current', !!s && s.plan === k));
+  holderItems.forEach((li, k) => {
+    const here = !!s && s.plan === k;
+    li.classList.toggle('current', here);
+    li.querySelectorAll('.holder').forEach((h) => h.classList.toggle('current', here && h.textContent === s.holder));
+  });
   markGraph();
 }
 if (doc.timeline.truncated) {
@@ -304,15 +315,21 @@ function selectState(n) {
   const s = g.states[n];
   selected = n;
   markGraph();
+  // The arcs verification pruned at this state, with their reasons (the SVG's titles).
+  const reasons = [];
+  $('graph').querySelectorAll('.arc.pruned').forEach((el) => {
+    if (Number(el.dataset.from) === n || Number(el.dataset.to) === n) reasons.push(el.textContent);
+  });
+  const pruned = reasons.length ? ' Pruned here: ' + reasons.join('; ') + '.' : '';
   const text = 'S(' + s.end_effector + ', ' + s.grasp + ', ' + s.workspace + ')';
   if (s.snapshot === null || !doc.snapshots[s.snapshot]) {
-    $('state').textContent = text + ': no witness configuration (no verified arc at this state).';
+    $('state').textContent = text + ': no witness configuration (no verified arc at this state).' + pruned;
     return;
   }
   pause();
   snapshot = n;
   showPoses(doc.snapshots[s.snapshot], null, 0);
-  $('state').textContent = text + ': the witness configuration is shown; press Play or move the time to go back.';
+  $('state').textContent = text + ': the witness configuration is shown; press Play or move the time to go back.' + pruned;
   draw();
 }
 objectSelect.addEventListener('change', () => { graphIndex = Number(objectSelect.value); showGraph(); });
