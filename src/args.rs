@@ -201,6 +201,44 @@ pub enum Command {
         #[command(flatten)]
         packages: PackageArgs,
     },
+    /// Write one self-contained HTML page showing the cell in 3D (robots, surfaces,
+    /// objects, workspaces and reach boxes), its object-state graphs and, with a request,
+    /// a task or a plan file, the plan animated on a timeline (docs/view.md).
+    View {
+        /// A `.cell` file (compiled and verified now) or an artifact.
+        input: PathBuf,
+        /// Where ROS packages are.
+        #[command(flatten)]
+        packages: PackageArgs,
+        /// A request declared in the cell: planned now and animated.
+        #[arg(long, conflicts_with_all = ["task", "plan"])]
+        request: Option<String>,
+        /// The object to move, for a request given here.
+        #[arg(long, requires_all = ["from", "to"], conflicts_with_all = ["request", "task", "plan"])]
+        object: Option<String>,
+        /// Where the object is (as `cellc plan --from`).
+        #[arg(long, requires_all = ["object", "to"])]
+        from: Option<String>,
+        /// Where it must go (as `cellc plan --to`).
+        #[arg(long, requires_all = ["object", "from"])]
+        to: Option<String>,
+        /// A task the cell declares: planned now and animated move after move.
+        #[arg(long, conflicts_with = "plan")]
+        task: Option<String>,
+        /// A plan document written by `cellc plan CELL --format json`, animated instead of
+        /// planning.
+        #[arg(long, value_name = "PLAN.json")]
+        plan: Option<PathBuf>,
+        /// Start from this world document (docs/world.md).
+        #[arg(long)]
+        world: Option<PathBuf>,
+        /// Seed of the randomized solvers.
+        #[arg(long, default_value_t = 0)]
+        seed: u64,
+        /// The page to write.
+        #[arg(short = 'o', long = "output", value_name = "VIEW.html")]
+        output: PathBuf,
+    },
     /// Plan a move request: a named request of the cell (the first one by default), or one
     /// given with --object, --from and --to (`HOLDER[.GRASP] in WS` or `HOLDER at (x, y, z)
     /// [rpy (r, p, y)]`, metres and degrees unless written).
@@ -321,6 +359,9 @@ pub enum GraphFormat {
     Dot,
     /// JSON with names.
     Json,
+    /// SVG laid out by cellc (no Graphviz needed): a column per workspace, a row per
+    /// end-effector, pruned arcs grey with their reasons as tooltips.
+    Svg,
 }
 
 /// Output style of `cellc plan`.

@@ -11,6 +11,7 @@ pub mod export;
 pub mod fixes;
 pub mod fs_files;
 pub mod fuzzing;
+pub mod graph_svg;
 pub mod import;
 pub mod lsp;
 pub mod output;
@@ -117,6 +118,39 @@ pub fn dispatch() -> ExitCode {
             *format,
             &packages::compile_options(packages),
         ),
+        args::Command::View {
+            input,
+            packages,
+            request,
+            object,
+            from,
+            to,
+            task,
+            plan,
+            world,
+            seed,
+            output,
+        } => commands::view::run(&commands::view::ViewArgs {
+            plan: commands::plan::PlanArgs {
+                input: input.to_string_lossy().into_owned(),
+                request: request.clone(),
+                object: object.clone(),
+                from: from.clone(),
+                to: to.clone(),
+                format: args::PlanFormat::Human,
+                seed: *seed,
+                motions: true,
+                weights: None,
+                time_budget: None,
+                compile: packages::compile_options(packages),
+                task: task.clone(),
+                moves: Vec::new(),
+                world: world.as_ref().map(|p| p.to_string_lossy().into_owned()),
+                clear: false,
+            },
+            plan_file: plan.clone(),
+            output: output.clone(),
+        }),
         args::Command::Serve {
             input,
             addr,

@@ -19,6 +19,9 @@ pub const WORLD_DOCUMENT: Code = Code("R0008");
 pub const WORLD: Code = Code("R0009");
 /// The goal is where another object of the world stands, or the object is absent.
 pub const GOAL_OCCUPIED: Code = Code("R0010");
+/// A plan document (`cellc view --plan FILE`) that cannot be read or does not fit the
+/// cell.
+pub const PLAN_DOCUMENT: Code = Code("R0011");
 /// Every code of this phase.
 pub const ALL: &[Code] = &[
     LOCATE,
@@ -29,4 +32,5 @@ pub const ALL: &[Code] = &[
     WORLD_DOCUMENT,
     WORLD,
     GOAL_OCCUPIED,
+    PLAN_DOCUMENT,
 ];

@@ -1,4 +1,4 @@
-//! `cellc graph CELL_OR_ARTIFACT --object O --format dot|json`
+//! `cellc graph CELL_OR_ARTIFACT --object O --format dot|json|svg`
 
 use std::fmt::Write;
 use std::process::ExitCode;
@@ -16,7 +16,7 @@ pub fn run(
     options: &cellc_compiler::CompileOptions,
 ) -> ExitCode {
     let report = match format {
-        GraphFormat::Dot => crate::artifact_io::Report::Human,
+        GraphFormat::Dot | GraphFormat::Svg => crate::artifact_io::Report::Human,
         GraphFormat::Json => crate::artifact_io::Report::Json,
     };
     let Some(artifact) = crate::artifact_io::cell_or_artifact_reporting(path, report, options)
@@ -35,7 +35,9 @@ pub fn run(
         )
         .help(help);
         match format {
-            GraphFormat::Dot => crate::commands::plan::print(&[d], &cellc_lang::SourceMap::new()),
+            GraphFormat::Dot | GraphFormat::Svg => {
+                crate::commands::plan::print(&[d], &cellc_lang::SourceMap::new())
+            }
             GraphFormat::Json => {
                 print!(
                     "{}",
@@ -48,8 +50,21 @@ pub fn run(
     match format {
         GraphFormat::Dot => print!("{}", dot(&artifact, obj)),
         GraphFormat::Json => print!("{}", json(&artifact, obj)),
+        GraphFormat::Svg => print!("{}", svg(&artifact, obj)),
     }
     ExitCode::SUCCESS
+}
+
+/// SVG laid out without Graphviz ([`crate::graph_svg`]), pruned arcs with their reasons.
+pub fn svg(a: &Artifact, o: &Object) -> String {
+    let reason = |i: usize| {
+        o.graph
+            .pruned
+            .get(i)
+            .map(|p| crate::explain_report::words::infeasibility(a, &p.reason))
+            .unwrap_or_default()
+    };
+    crate::graph_svg::svg(a, o, &reason)
 }
 
 fn quote(text: &str) -> String {

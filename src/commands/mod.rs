@@ -13,3 +13,4 @@ pub mod lsp;
 pub mod plan;
 pub mod run;
 pub mod serve;
+pub mod view;
