@@ -15,6 +15,7 @@
 //! answered with a parse error, a request that fails (bad parameters, a panic in a
 //! handler) with an error response, and the loop goes on.
 
+pub mod actions;
 pub mod analysis;
 pub mod complete;
 pub mod diagnostics;
@@ -186,8 +187,9 @@ impl Server {
                 reply(complete::complete(analyses, docs, parse(params)?))
             }
             request::Formatting::METHOD => reply(format::format(docs, parse(params)?)),
+            request::RangeFormatting::METHOD => reply(format::format_range(docs, parse(params)?)),
             request::CodeActionRequest::METHOD => {
-                reply(navigate::code_actions(analyses, parse(params)?))
+                reply(actions::code_actions(analyses, parse(params)?))
             }
             _ => Err(ResponseError {
                 code: ErrorCode::MethodNotFound as i32,
@@ -305,6 +307,7 @@ fn initialize_result() -> lsp_types::InitializeResult {
             document_symbol_provider: Some(OneOf::Left(true)),
             workspace_symbol_provider: Some(OneOf::Left(true)),
             document_formatting_provider: Some(OneOf::Left(true)),
+            document_range_formatting_provider: Some(OneOf::Left(true)),
             code_action_provider: Some(CodeActionProviderCapability::Simple(true)),
             completion_provider: Some(CompletionOptions {
                 trigger_characters: Some(vec![".".to_string()]),
