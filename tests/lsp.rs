@@ -64,6 +64,11 @@ impl Client {
             init["result"]["capabilities"]["hoverProvider"] == json!(true),
             "{init}"
         );
+        assert_eq!(
+            init["result"]["capabilities"]["documentRangeFormattingProvider"],
+            json!(true),
+            "{init}"
+        );
         client.notify("initialized", json!({}));
         client
     }
@@ -230,7 +235,7 @@ fn shipped_cell_is_clean_and_an_error_shows_and_clears() {
     let edit = &actions["result"][0]["edit"]["changes"][&broken][0];
     assert_eq!(edit["newText"], "w1", "{actions}");
     let declare = &actions["result"][1];
-    assert_eq!(declare["title"], "declare `w4`", "{actions}");
+    assert_eq!(declare["title"], "declare `workspace w4`", "{actions}");
     let insert = &declare["edit"]["changes"][&broken][0];
     assert_eq!(insert["newText"], "  workspace w4\n");
     assert_eq!(
@@ -406,6 +411,23 @@ fn completion_symbols_and_formatting() {
         edits["result"][0]["range"]["end"],
         json!({ "line": 4, "character": 0 })
     );
+    // A range in the `fixed` line formats that item alone: one edit of its line.
+    let one = client.request(
+        "textDocument/rangeFormatting",
+        json!({
+            "textDocument": { "uri": messy },
+            "range": { "start": { "line": 2, "character": 6 }, "end": { "line": 2, "character": 7 } },
+            "options": { "tabSize": 2, "insertSpaces": true },
+        }),
+    );
+    assert_eq!(
+        one["result"],
+        json!([{
+            "range": { "start": { "line": 2, "character": 0 }, "end": { "line": 3, "character": 0 } },
+            "newText": "  fixed t reaches w1\n",
+        }]),
+        "{one}"
+    );
     // One that does not parse is left alone.
     let broken = uri("target/lsp-test/unparsable.cell");
     client.open(&broken, "cell x {\n  workspace\n}\n");
@@ -506,4 +528,156 @@ fn an_error_in_an_included_file_is_published_for_that_file() {
     assert_eq!(client.diagnostics(&main_uri), json!([]));
     assert_eq!(client.stop(), Some(0));
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The labels of a completion answer.
+fn labels(answer: &Value) -> Vec<String> {
+    answer["result"]
+        .as_array()
+        .map(|a| {
+            a.iter()
+                .filter_map(|i| i["label"].as_str().map(str::to_string))
+                .collect()
+        })
+        .unwrap_or_default()
+}
+
+#[test]
+fn completion_of_grasps_after_a_holder_and_in_transitions() {
+    let mut client = Client::start();
+    let vito = uri("cells/vito.cell");
+    let source = text_of("cells/vito.cell");
+    client.open(&vito, &source);
+    // `request single_arm_regrasp: cylinder from left.top ...`: the cylinder's grasps
+    // that the left arm (a softhand) holds, not its resting poses.
+    let (line, column) = find(&source, "left.top in ws_left_table", 5);
+    let by_arm = labels(&client.at("textDocument/completion", &vito, line, column));
+    assert_eq!(by_arm, ["top", "bottom", "side"], "{by_arm:?}");
+    // `... to table.lying in ...`: the resting poses on the tabletop, not the bin's.
+    let (line, column) = find(&source, "table.lying in ws_left_table", 6);
+    let on_table = labels(&client.at("textDocument/completion", &vito, line, column));
+    assert_eq!(
+        on_table,
+        ["standing", "upside_down", "lying"],
+        "{on_table:?}"
+    );
+    // `expect cylinder: table.standing ...`: the same, from an expectation.
+    let (line, column) = find(&source, "table.standing in ws_left_table ->", 6);
+    let expected = labels(&client.at("textDocument/completion", &vito, line, column));
+    assert_eq!(expected, on_table);
+    // In a transition of the cylinder: every grasp and resting pose of the cylinder.
+    let (line, column) = find(&source, "transition standing <-> top", 24);
+    let in_transition = client.at("textDocument/completion", &vito, line, column);
+    let names = labels(&in_transition);
+    assert!(
+        names.contains(&"dropped".to_string()) && names.contains(&"top".to_string()),
+        "{names:?}"
+    );
+    assert!(!names.contains(&"handle".to_string()), "{names:?}");
+    insta::assert_snapshot!("grasp_completion", portable(&in_transition["result"]));
+
+    // A world entry and a task step of a cell being written, and a transition naming
+    // another object's grasp (`OTHER.`).
+    let text = "cell g {\n  workspace w1\n  fixed table reaches w1\n  movable gripper reaches w1\n  object a {\n    grasp down by table\n    grasp held by gripper\n    transition down <-> held\n  }\n  object b {\n    grasp low by table\n    transition low <-> a.\n  }\n  world {\n    a: gripper.\n  }\n  task t {\n    a to table.\n  }\n}\n";
+    let cell = uri("target/lsp-test/grasps.cell");
+    client.open(&cell, text);
+    client.diagnostics(&cell);
+    let (line, column) = find(text, "a.\n", 2);
+    let other = labels(&client.at("textDocument/completion", &cell, line, column));
+    assert_eq!(other, ["down", "held"], "{other:?}");
+    let (line, column) = find(text, "gripper.\n", 8);
+    let world = labels(&client.at("textDocument/completion", &cell, line, column));
+    assert_eq!(world, ["held"], "{world:?}");
+    let (line, column) = find(text, "table.\n", 6);
+    let step = labels(&client.at("textDocument/completion", &cell, line, column));
+    assert_eq!(step, ["down"], "{step:?}");
+    assert_eq!(client.stop(), Some(0));
+}
+
+/// `text` with one insertion at `position` (ASCII text).
+fn insert_at(text: &str, position: &Value, insert: &str) -> String {
+    let line = position["line"].as_u64().unwrap_or(0) as usize;
+    let column = position["character"].as_u64().unwrap_or(0) as usize;
+    let start: usize = text.split_inclusive('\n').take(line).map(str::len).sum();
+    let at = start + column;
+    format!("{}{insert}{}", &text[..at], &text[at..])
+}
+
+#[test]
+fn a_missing_declaration_is_added_and_the_error_goes() {
+    let text = "cell decl {\n  workspace w1\n  fixed table reaches w1\n  surface shelf : board box center (0, 0, 0) size (1, 1, 0.1)\n  object box {\n    grasp down by table\n    grasp held by gripper\n    transition down <-> held\n  }\n  request r: crate from table in w1 to table in w1\n}\n";
+    let mut client = Client::start();
+    let cell = uri("target/lsp-test/declare.cell");
+    client.open(&cell, text);
+    let diagnostics = client.diagnostics(&cell);
+    let unknown: Vec<Value> = diagnostics
+        .as_array()
+        .map(|d| d.iter().filter(|d| d["code"] == "E0101").cloned().collect())
+        .unwrap_or_default();
+    assert_eq!(unknown.len(), 3, "{diagnostics}");
+    let actions = client.request(
+        "textDocument/codeAction",
+        json!({
+            "textDocument": { "uri": cell },
+            "range": { "start": { "line": 0, "character": 0 }, "end": { "line": 10, "character": 0 } },
+            "context": { "diagnostics": unknown },
+        }),
+    );
+    insta::assert_snapshot!("declare_actions", portable(&actions["result"]));
+    let titles: Vec<&str> = actions["result"]
+        .as_array()
+        .map(|a| a.iter().filter_map(|a| a["title"].as_str()).collect())
+        .unwrap_or_default();
+    assert_eq!(
+        titles,
+        [
+            "declare `support board`",
+            "declare `movable gripper reaches w1`",
+            "declare `object crate {}`",
+        ],
+        "{actions}"
+    );
+    // Each edit alone: the declaration parses, the formatter keeps it, and its error
+    // goes (the others stay).
+    for (version, (action, d)) in actions["result"]
+        .as_array()
+        .cloned()
+        .unwrap_or_default()
+        .iter()
+        .zip(&unknown)
+        .enumerate()
+    {
+        let edit = &action["edit"]["changes"][&cell][0];
+        let inserted = edit["newText"].as_str().unwrap_or_default();
+        let edited = insert_at(text, &edit["range"]["start"], inserted);
+        let parsed = cellc_lang::parse(cellc_lang::FileId(0), &edited);
+        let tree = parsed.file.expect("it parses");
+        assert!(parsed.diagnostics.is_empty(), "{edited}");
+        assert!(
+            cellc_lang::format(&tree, &edited).contains(inserted),
+            "{edited}"
+        );
+        client.notify(
+            "textDocument/didChange",
+            json!({
+                "textDocument": { "uri": cell, "version": version + 2 },
+                "contentChanges": [{ "text": edited }],
+            }),
+        );
+        let after = client.diagnostics(&cell);
+        let messages: Vec<&str> = after
+            .as_array()
+            .map(|a| a.iter().filter_map(|d| d["message"].as_str()).collect())
+            .unwrap_or_default();
+        let gone = d["message"].as_str().unwrap_or_default().lines().next();
+        assert!(
+            !messages.iter().any(|m| m.lines().next() == gone),
+            "{gone:?} is still there: {after}"
+        );
+        let still = after
+            .as_array()
+            .map_or(0, |a| a.iter().filter(|d| d["code"] == "E0101").count());
+        assert_eq!(still, 2, "{after}");
+    }
+    assert_eq!(client.stop(), Some(0));
 }

@@ -60,3 +60,26 @@ fn grammar_highlights_every_keyword() {
         );
     }
 }
+
+/// The grammar test of the extension (`editors/vscode/tests/*.cell`, assertions on the
+/// scopes each token gets) through the pinned `vscode-tmgrammar-test`, installed by the
+/// README's test command (`npm ci --prefix editors/vscode`).
+#[test]
+fn grammar_test_files_pass() {
+    let bin = format!("{ROOT}/node_modules/.bin/vscode-tmgrammar-test");
+    assert!(
+        std::path::Path::new(&bin).exists(),
+        "the grammar test needs its npm packages: run `npm ci --ignore-scripts --prefix editors/vscode`"
+    );
+    let out = std::process::Command::new(&bin)
+        .arg("tests/*.cell")
+        .current_dir(ROOT)
+        .output()
+        .expect("node runs the grammar test");
+    assert!(
+        out.status.success(),
+        "grammar test failed:\n{}{}",
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr)
+    );
+}

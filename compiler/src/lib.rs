@@ -82,7 +82,19 @@ pub fn compile_with(
     path: &str,
     options: &CompileOptions,
 ) -> Compilation {
-    let loaded = load::load(files, path);
+    compile_parsed_with(files, reach, &load::Fresh, path, options)
+}
+
+/// [`compile_with`], with the files' trees made by `parser` (a language server's cache
+/// of unchanged files).
+pub fn compile_parsed_with(
+    files: &dyn Files,
+    reach: &dyn reach::ReachSolver,
+    parser: &dyn load::Parser,
+    path: &str,
+    options: &CompileOptions,
+) -> Compilation {
+    let loaded = load::load_with(files, parser, path);
     let mut diagnostics = loaded.diagnostics.clone();
     // Items that failed to parse are missing from the trees, so resolving anyway would
     // report every reference to them as unknown: syntax errors are reported alone.

@@ -34,6 +34,26 @@ pub struct Loaded {
     pub diagnostics: Vec<Diagnostic>,
 }
 
+/// How the loader turns a file's text into a tree.
+///
+/// [`Fresh`] parses every time. A language server compiles the same files after every
+/// keystroke, most of them unchanged (the libraries a cell includes), so it passes a
+/// parser that returns the tree it already has for the same path and text.
+pub trait Parser {
+    /// The tree and syntax diagnostics of `text`, read from `path`, as file `id` of the
+    /// source map (the diagnostics' labels name `id`).
+    fn parse(&self, id: FileId, path: &str, text: &str) -> cellc_lang::Parsed;
+}
+
+/// Parses every file as it is read.
+pub struct Fresh;
+
+impl Parser for Fresh {
+    fn parse(&self, id: FileId, _path: &str, text: &str) -> cellc_lang::Parsed {
+        cellc_lang::parse(id, text)
+    }
+}
+
 /// The most source text one compilation reads, the main file and its includes together
 /// (64 MiB): each file is also at most [`MAX_SOURCE_BYTES`].
 pub const MAX_TOTAL_SOURCE_BYTES: u64 = 64 << 20;
@@ -44,8 +64,14 @@ pub const MAX_TOTAL_SOURCE_BYTES: u64 = 64 << 20;
 /// The walk keeps its own stack rather than recursing, so a chain of thousands of
 /// includes cannot overflow the thread's stack.
 pub fn load(files: &dyn Files, path: &str) -> Loaded {
+    load_with(files, &Fresh, path)
+}
+
+/// [`load`], with the trees made by `parser`.
+pub fn load_with(files: &dyn Files, parser: &dyn Parser, path: &str) -> Loaded {
     let mut loader = Loader {
         files,
+        parser,
         read: HashSet::new(),
         bytes_left: MAX_TOTAL_SOURCE_BYTES,
         loaded: Loaded::default(),
@@ -132,6 +158,7 @@ struct Frame {
 
 struct Loader<'f> {
     files: &'f dyn Files,
+    parser: &'f dyn Parser,
     /// Paths read and parsed.
     read: HashSet<String>,
     /// What [`MAX_TOTAL_SOURCE_BYTES`] leaves.
@@ -154,7 +181,9 @@ impl Loader<'_> {
         };
         self.bytes_left -= text.len() as u64;
         let id = self.loaded.sources.add(path, text);
-        let parsed = cellc_lang::parse(id, &self.loaded.sources.get(id).text);
+        let parsed = self
+            .parser
+            .parse(id, path, &self.loaded.sources.get(id).text);
         diagnostics.extend(parsed.diagnostics);
         let includes: Vec<(String, Span)> = parsed
             .file

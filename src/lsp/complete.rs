@@ -2,13 +2,15 @@
 //! the names in scope, narrowed by the word before the cursor to the kinds the grammar
 //! allows there (holder kinds after `with`, `by` and `on`, workspaces after `in` and
 //! `reaches`, robots after `=`, an arm's joints in `home (...)`, its links after `ARM.`
-//! in `allow contact`).
+//! in `allow contact`, an object's grasps after `HOLDER.` in placements and in
+//! transitions).
 //!
 //! Names come from the last compilation of the document, so a name declared in an
 //! include is offered and one being typed right now is not (yet).
 
 use std::collections::BTreeMap;
 
+use cellc_lang::ast::{GraspKeyword, Item, ObjectMember};
 use lsp_types::{CompletionItem, CompletionItemKind, CompletionParams, CompletionResponse};
 
 use super::analysis::Analysis;
@@ -79,6 +81,8 @@ pub fn complete(
             .collect()
     } else if let Some(words) = robot_words(analysis, typed) {
         words
+    } else if let Some(words) = grasp_words(analysis, &text[..line_start], typed) {
+        words
     } else {
         // In a list (`reaches w1, w2, `), what the list follows decides.
         let previous = typed
@@ -93,19 +97,7 @@ pub fn complete(
 
 /// The first word of the line that opened the innermost open block.
 fn enclosing_block(before: &str) -> Option<&str> {
-    let mut depth = 0;
-    for (i, c) in before.char_indices().rev() {
-        match c {
-            '}' => depth += 1,
-            '{' if depth > 0 => depth -= 1,
-            '{' => {
-                let start = before[..i].rfind('\n').map_or(0, |n| n + 1);
-                return before[start..i].split_whitespace().next();
-            }
-            _ => {}
-        }
-    }
-    None
+    enclosing_header(before)?.first().copied()
 }
 
 /// Which names fit after `previous`, the word before the cursor.
@@ -185,6 +177,139 @@ fn robot_words(analysis: Option<&Analysis>, typed: &str) -> Option<Vec<Completio
             })
             .collect(),
     )
+}
+
+/// Grasps: after `HOLDER.` in a placement (a request's, an expectation's, a world
+/// entry's, a task step's), the grasps of the placed object that `HOLDER` can hold; in a
+/// transition, the grasps of the object being declared, or of `OBJECT` after `OBJECT.`.
+/// `None` where no grasp is wanted.
+fn grasp_words(
+    analysis: Option<&Analysis>,
+    before_line: &str,
+    typed: &str,
+) -> Option<Vec<CompletionItem>> {
+    let analysis = analysis?;
+    let words: Vec<&str> = typed
+        .split(|c: char| c.is_whitespace() || c == ',')
+        .filter(|w| !w.is_empty())
+        .collect();
+    let dotted = typed
+        .strip_suffix('.')
+        .map(|t| t.rsplit([' ', '\t', ',']).next().unwrap_or(""));
+    let grasps_of = |object: &str| -> Vec<(String, Kind)> {
+        analysis
+            .index
+            .occurrences
+            .iter()
+            .filter_map(|o| match (&o.key, o.declares) {
+                (Key::Grasp { object: of, grasp }, Some(kind)) if of == object => {
+                    Some((grasp.clone(), kind))
+                }
+                _ => None,
+            })
+            .collect()
+    };
+    let found = if words.first() == Some(&"transition") {
+        // `transition a <-> b, OTHER.c`: a name alone is a grasp of this object.
+        match dotted {
+            Some(other) => grasps_of(other),
+            None => {
+                let object = enclosing_header(before_line)?;
+                (object.first() == Some(&"object")).then_some(())?;
+                grasps_of(object.get(1)?)
+            }
+        }
+    } else {
+        let holder = dotted?;
+        let object = match words.first()? {
+            &"request" => typed.split(':').nth(1)?.split_whitespace().next()?,
+            &"expect" => words.get(1)?.trim_end_matches(':'),
+            // A world entry (`OBJECT: ...`) or a task step (`OBJECT to ...`).
+            first => first.trim_end_matches(':'),
+        };
+        holdable(analysis, object, holder).unwrap_or_else(|| grasps_of(object))
+    };
+    if found.is_empty() {
+        return None;
+    }
+    let mut seen = std::collections::BTreeSet::new();
+    Some(
+        found
+            .into_iter()
+            .filter(|(name, _)| seen.insert(name.clone()))
+            .map(|(name, kind)| CompletionItem {
+                label: name,
+                kind: Some(CompletionItemKind::FIELD),
+                detail: Some(kind.noun().to_string()),
+                ..CompletionItem::default()
+            })
+            .collect(),
+    )
+}
+
+/// The grasps of `object` that end-effector `holder` can hold: those declared `by` it or
+/// by its holder kind (an arm's `with`, a surface's `: KIND`), read from the trees so
+/// that a cell with errors (the line being typed) is answered too; `None` when `holder`
+/// is not an end-effector.
+fn holdable(analysis: &Analysis, object: &str, holder: &str) -> Option<Vec<(String, Kind)>> {
+    let index = &analysis.index;
+    if !index
+        .kind_of(&Key::Global(holder.to_string()))?
+        .is_end_effector()
+    {
+        return None;
+    }
+    let items = || {
+        index
+            .trees
+            .iter()
+            .filter_map(|(_, t)| t.as_ref())
+            .flat_map(|t| t.items.iter())
+    };
+    let kind = items().find_map(|i| match i {
+        Item::Arm(a) if a.name.text == holder => Some(a.kind.text.as_str()),
+        Item::Surface(s) if s.name.text == holder => Some(s.kind.text.as_str()),
+        _ => None,
+    });
+    let declared = items().find_map(|i| match i {
+        Item::Object(o) if o.name.text == object => Some(o),
+        _ => None,
+    })?;
+    Some(
+        declared
+            .members
+            .iter()
+            .filter_map(|m| match m {
+                ObjectMember::Grasp(g)
+                    if g.holder.text == holder || Some(g.holder.text.as_str()) == kind =>
+                {
+                    let kind = match g.keyword {
+                        GraspKeyword::Grasp => Kind::Grasp,
+                        GraspKeyword::Rest => Kind::Rest,
+                    };
+                    Some((g.name.text.clone(), kind))
+                }
+                _ => None,
+            })
+            .collect(),
+    )
+}
+
+/// The words of the line that opened the innermost open block (`object cup {`).
+fn enclosing_header(before: &str) -> Option<Vec<&str>> {
+    let mut depth = 0;
+    for (i, c) in before.char_indices().rev() {
+        match c {
+            '}' => depth += 1,
+            '{' if depth > 0 => depth -= 1,
+            '{' => {
+                let start = before[..i].rfind('\n').map_or(0, |n| n + 1);
+                return Some(before[start..i].split_whitespace().collect());
+            }
+            _ => {}
+        }
+    }
+    None
 }
 
 fn item_kind(kind: Kind) -> CompletionItemKind {

@@ -4,9 +4,10 @@
 //! object; requests and tasks their own). Definition, references, hover, completion and
 //! symbols all read this one table, so they agree on what a name means.
 //!
-//! The trees are parsed again from the compilation's source map rather than kept from
-//! the compiler: parsing a cell takes microseconds, and the index then holds exactly
-//! the texts the diagnostics were computed from.
+//! The trees are taken through the parser the compiler used (the server's cache of
+//! trees, which has them from the compilation just made), for the texts of the
+//! compilation's source map: the index holds exactly the texts the diagnostics were
+//! computed from.
 
 use cellc_lang::ast::{self, Item, ObjectMember, Qualified};
 use cellc_lang::{FileId, SourceMap, Span};
@@ -143,11 +144,11 @@ pub struct Index {
 }
 
 impl Index {
-    /// Indexes every file of `sources`.
-    pub fn build(sources: &SourceMap) -> Index {
+    /// Indexes every file of `sources`, with trees made by `parser`.
+    pub fn build(sources: &SourceMap, parser: &dyn cellc_compiler::load::Parser) -> Index {
         let mut index = Index::default();
         for (id, source) in sources.iter() {
-            let parsed = cellc_lang::parse(id, &source.text);
+            let parsed = parser.parse(id, &source.path, &source.text);
             if let Some(tree) = &parsed.file {
                 let mut walk = Walk {
                     index: &mut index,

@@ -7,14 +7,19 @@
 //! it ([`index::Index`]).
 //!
 //! Messages are read on their own thread and handled in batches: every message already
-//! waiting is taken at once, changes only replace texts, and the cells are compiled once
-//! per batch (or before the first request that needs them). A burst of keystrokes costs
-//! one compilation, of the latest text.
+//! waiting is taken at once, changes only replace texts (and note their paths), and the
+//! cells are compiled once per batch (or before the first request that needs them). A
+//! burst of keystrokes costs one compilation, of the latest text. Only the compilations
+//! that read a changed file are made again (an edit of one cell leaves the other open
+//! cells' compilations as they are, an edit of a library redoes the cells that include
+//! it), and within one, only the changed files are parsed again
+//! ([`analysis::ParseCache`]).
 //!
 //! Nothing a client sends stops the server but `exit`: a message that is not JSON-RPC is
 //! answered with a parse error, a request that fails (bad parameters, a panic in a
 //! handler) with an error response, and the loop goes on.
 
+pub mod actions;
 pub mod analysis;
 pub mod complete;
 pub mod diagnostics;
@@ -27,7 +32,7 @@ pub mod position;
 pub mod quantities;
 mod transport;
 
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, BTreeSet};
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::process::ExitCode;
 
@@ -37,7 +42,7 @@ use lsp_types::request::Request as _;
 use lsp_types::{notification, request};
 use serde_json::Value;
 
-use analysis::{Analysis, ReachCache};
+use analysis::{Analysis, ParseCache, ReachCache};
 use documents::{path_of, uri_of, Documents};
 use transport::Incoming;
 
@@ -77,13 +82,18 @@ struct Server {
     state: State,
     options: cellc_compiler::CompileOptions,
     documents: Documents,
-    /// One compilation per open document, by path; empty while `stale`.
+    /// One compilation per open document, by path; missing for a document opened, or
+    /// reading a file changed, since the last refresh.
     analyses: BTreeMap<String, Analysis>,
-    /// Texts changed since the compilations were made.
-    stale: bool,
+    /// The paths of the documents opened, changed or closed since the last refresh.
+    changed: BTreeSet<String>,
+    /// A save (the disk may hold new text for files no buffer shows): every
+    /// compilation is made again.
+    everything: bool,
     /// What was last published, by path, so unchanged lists are not sent again.
     published: BTreeMap<String, Vec<lsp_types::Diagnostic>>,
     reach: ReachCache,
+    trees: ParseCache,
 }
 
 impl Server {
@@ -93,9 +103,11 @@ impl Server {
             options,
             documents: Documents::default(),
             analyses: BTreeMap::new(),
-            stale: false,
+            changed: BTreeSet::new(),
+            everything: false,
             published: BTreeMap::new(),
             reach: ReachCache::default(),
+            trees: ParseCache::default(),
         }
     }
 
@@ -186,8 +198,9 @@ impl Server {
                 reply(complete::complete(analyses, docs, parse(params)?))
             }
             request::Formatting::METHOD => reply(format::format(docs, parse(params)?)),
+            request::RangeFormatting::METHOD => reply(format::format_range(docs, parse(params)?)),
             request::CodeActionRequest::METHOD => {
-                reply(navigate::code_actions(analyses, parse(params)?))
+                reply(actions::code_actions(analyses, parse(params)?))
             }
             _ => Err(ResponseError {
                 code: ErrorCode::MethodNotFound as i32,
@@ -204,8 +217,8 @@ impl Server {
                     serde_json::from_value::<lsp_types::DidOpenTextDocumentParams>(n.params)
                 {
                     let d = p.text_document;
-                    self.documents.open(d.uri, d.version, d.text);
-                    self.stale = true;
+                    self.changed
+                        .extend(self.documents.open(d.uri, d.version, d.text));
                 }
             }
             notification::DidChangeTextDocument::METHOD => {
@@ -215,8 +228,8 @@ impl Server {
                     // Full synchronisation: the last change holds the whole text.
                     if let Some(change) = p.content_changes.into_iter().last() {
                         let d = p.text_document;
-                        self.documents.open(d.uri, d.version, change.text);
-                        self.stale = true;
+                        let path = self.documents.open(d.uri, d.version, change.text);
+                        self.changed.extend(path);
                     }
                 }
             }
@@ -224,33 +237,48 @@ impl Server {
                 if let Ok(p) =
                     serde_json::from_value::<lsp_types::DidCloseTextDocumentParams>(n.params)
                 {
-                    self.documents.close(&p.text_document.uri);
-                    self.stale = true;
+                    self.changed
+                        .extend(self.documents.close(&p.text_document.uri));
                 }
             }
-            // `initialized`, `didSave`, `$/cancelRequest` and the rest need nothing.
+            // Saving may change files that were read from the disk (a library saved in
+            // another editor is caught at the next save here).
+            notification::DidSaveTextDocument::METHOD => self.everything = true,
+            // `initialized`, `$/cancelRequest` and the rest need nothing.
             _ => {}
         }
     }
 
-    /// Compiles every open document again if any text changed, and publishes what
-    /// changed in the diagnostics.
+    /// Compiles again the open documents whose compilations read a changed file (and
+    /// those opened since), and publishes what changed in the diagnostics.
     fn refresh(&mut self) {
-        if !self.stale {
+        if self.changed.is_empty() && !self.everything {
             return;
         }
-        self.stale = false;
-        self.analyses.clear();
+        let changed = std::mem::take(&mut self.changed);
+        if std::mem::take(&mut self.everything) {
+            self.analyses.clear();
+        }
+        let documents = &self.documents;
+        self.analyses
+            .retain(|path, a| documents.get(path).is_some() && !a.reads_any(path, &changed));
         let overlay = self.documents.overlay();
-        let mut merged: BTreeMap<String, Vec<lsp_types::Diagnostic>> = BTreeMap::new();
         for (path, _) in self.documents.iter() {
-            let compiled = catch_unwind(AssertUnwindSafe(|| {
-                Analysis::new(&overlay, &self.reach, path, &self.options)
-            }));
-            let Ok(analysis) = compiled else {
-                eprintln!("cellc lsp: compiling `{path}` failed");
+            if self.analyses.contains_key(path) {
                 continue;
-            };
+            }
+            let compiled = catch_unwind(AssertUnwindSafe(|| {
+                Analysis::new(&overlay, (&self.reach, &self.trees), path, &self.options)
+            }));
+            match compiled {
+                Ok(analysis) => {
+                    self.analyses.insert(path.to_string(), analysis);
+                }
+                Err(_) => eprintln!("cellc lsp: compiling `{path}` failed"),
+            }
+        }
+        let mut merged: BTreeMap<String, Vec<lsp_types::Diagnostic>> = BTreeMap::new();
+        for (path, analysis) in &self.analyses {
             let c = &analysis.compilation;
             for (file, list) in diagnostics::by_file(&c.diagnostics, &c.sources, path) {
                 let entry = merged.entry(file).or_default();
@@ -260,7 +288,6 @@ impl Server {
                     }
                 }
             }
-            self.analyses.insert(path.to_string(), analysis);
         }
         for (path, old) in &self.published {
             if !merged.contains_key(path) && !old.is_empty() {
@@ -305,6 +332,7 @@ fn initialize_result() -> lsp_types::InitializeResult {
             document_symbol_provider: Some(OneOf::Left(true)),
             workspace_symbol_provider: Some(OneOf::Left(true)),
             document_formatting_provider: Some(OneOf::Left(true)),
+            document_range_formatting_provider: Some(OneOf::Left(true)),
             code_action_provider: Some(CodeActionProviderCapability::Simple(true)),
             completion_provider: Some(CompletionOptions {
                 trigger_characters: Some(vec![".".to_string()]),

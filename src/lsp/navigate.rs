@@ -1,13 +1,12 @@
-//! Go to definition, find references, the outline, workspace symbols and the quick fixes
-//! of "did you mean", all read from the index of names.
+//! Go to definition, find references, the outline and workspace symbols, all read from
+//! the index of names.
 
 use std::collections::BTreeMap;
 
 use cellc_lang::{FileId, Span};
 use lsp_types::{
-    CodeAction, CodeActionKind, CodeActionOrCommand, CodeActionParams, DocumentSymbol,
-    DocumentSymbolParams, DocumentSymbolResponse, GotoDefinitionParams, GotoDefinitionResponse,
-    Location, OneOf, Range, ReferenceParams, SymbolKind, TextEdit, WorkspaceEdit, WorkspaceSymbol,
+    DocumentSymbol, DocumentSymbolParams, DocumentSymbolResponse, GotoDefinitionParams,
+    GotoDefinitionResponse, Location, OneOf, Range, ReferenceParams, SymbolKind, WorkspaceSymbol,
     WorkspaceSymbolParams, WorkspaceSymbolResponse,
 };
 
@@ -189,86 +188,4 @@ pub fn workspace_symbols(
         }
     }
     Some(WorkspaceSymbolResponse::Nested(found))
-}
-
-/// The quick fixes of the diagnostics in range: a "did you mean `x`?" replaces the
-/// marked name with `x`; an unknown workspace, holder kind or object can be declared
-/// (a line before the cell's closing brace, in the form that needs nothing else).
-pub fn code_actions(
-    analyses: &BTreeMap<String, Analysis>,
-    params: CodeActionParams,
-) -> Option<Vec<CodeActionOrCommand>> {
-    let uri = params.text_document.uri;
-    let text = analysis_for(analyses, &uri)
-        .and_then(|(a, file)| a.source(file))
-        .map(|(_, text)| text);
-    let mut actions = Vec::new();
-    let mut action = |title: String, d: &lsp_types::Diagnostic, edit: TextEdit, preferred: bool| {
-        actions.push(CodeActionOrCommand::CodeAction(CodeAction {
-            title,
-            kind: Some(CodeActionKind::QUICKFIX),
-            diagnostics: Some(vec![d.clone()]),
-            edit: Some(WorkspaceEdit {
-                changes: Some([(uri.clone(), vec![edit])].into_iter().collect()),
-                ..WorkspaceEdit::default()
-            }),
-            is_preferred: Some(preferred),
-            ..CodeAction::default()
-        }))
-    };
-    for d in &params.context.diagnostics {
-        if let Some(suggestion) = did_you_mean(&d.message) {
-            let edit = TextEdit::new(d.range, suggestion.to_string());
-            action(format!("change to `{suggestion}`"), d, edit, true);
-        }
-        let declaration = unknown(&d.message).and_then(|(sort, name)| {
-            let line = match sort {
-                "workspace" => format!("workspace {name}"),
-                "holder kind" => format!("support {name}"),
-                "object" => format!("object {name} {{\n  }}"),
-                _ => return None,
-            };
-            Some((name, line))
-        });
-        if let (Some((name, line)), Some(text)) = (declaration, text) {
-            if let Some(edit) = insert_before_closing_brace(text, &line) {
-                action(format!("declare `{name}`"), d, edit, false);
-            }
-        }
-    }
-    Some(actions)
-}
-
-/// The sort and name of an "unknown SORT `NAME`" message (E0101).
-fn unknown(message: &str) -> Option<(&str, &str)> {
-    let rest = message.strip_prefix("unknown ")?;
-    let (sort, rest) = rest.split_once(" `")?;
-    let name = rest.split('`').next()?;
-    Some((sort, name))
-}
-
-/// An edit that writes `line` (indented by two spaces) on its own line before the last
-/// `}` of `text`, the cell's closing brace.
-fn insert_before_closing_brace(text: &str, line: &str) -> Option<TextEdit> {
-    let brace = text.rfind('}')?;
-    let line_start = text[..brace].rfind('\n').map_or(0, |i| i + 1);
-    let lines = Lines::new(text);
-    let indented = line.replace('\n', "\n  ");
-    if text[line_start..brace].trim().is_empty() {
-        let at = lines.position(line_start);
-        Some(TextEdit::new(Range::new(at, at), format!("  {indented}\n")))
-    } else {
-        let at = lines.position(brace);
-        Some(TextEdit::new(
-            Range::new(at, at),
-            format!("\n  {indented}\n"),
-        ))
-    }
-}
-
-/// The name a diagnostic's help suggests (`help: did you mean `x`?`).
-fn did_you_mean(message: &str) -> Option<&str> {
-    let rest = message.split("did you mean `").nth(1)?;
-    let name = rest.split('`').next()?;
-    (!name.is_empty()).then_some(name)
 }
