@@ -336,3 +336,52 @@ fn request_weights_replace_the_cells() {
     let original = planner.plan(&req).expect("plans");
     assert!((original.cost - 8.0).abs() < 1e-9, "{}", original.cost);
 }
+
+/// Costs are the decimal sums of the arc weights, not their drifting binary sums: the
+/// assembly line's plan (many moves of 0.1 and transitions of 1, whose floating-point
+/// sum is 8.599999999999998) costs exactly what its arcs add up to in tenths, and the
+/// JSON says so in the shortest decimal.
+#[test]
+fn plan_costs_are_decimal_sums_of_the_weights() {
+    let a = artifact("cells/assembly_line.cell");
+    let named = &a.requests[0].clone();
+    let request = cellc_runtime::plan::named_request(
+        named,
+        PlanOptions {
+            motions: false,
+            ..PlanOptions::default()
+        },
+    );
+    let mut cell = Cell::from_artifact(a, &FsFiles).expect("loads");
+    cell.verify(&VerifyOptions::default());
+    let plan = cell.plan(&request).expect("the line plans");
+    let graph = &cell.artifact().objects[request.object.index()].graph;
+    let mut tenths = 0u64;
+    let mut float_sum = 0.0;
+    for w in plan.states.windows(2) {
+        let arc = graph
+            .arcs
+            .iter()
+            .filter(|arc| {
+                graph.nodes[arc.from as usize] == w[0] && graph.nodes[arc.to as usize] == w[1]
+            })
+            .min_by(|x, y| x.weight.total_cmp(&y.weight))
+            .expect("consecutive states are joined by an arc");
+        tenths += (arc.weight * 10.0).round() as u64;
+        float_sum += arc.weight;
+    }
+    assert!(
+        plan.states.len() > 10,
+        "a long plan: {} states",
+        plan.states.len()
+    );
+    assert_ne!(
+        float_sum,
+        tenths as f64 / 10.0,
+        "the binary sum drifts on this plan"
+    );
+    assert_eq!(plan.cost, tenths as f64 / 10.0);
+    let json = serde_json::to_string(&plan.cost).expect("serialises");
+    assert_eq!(json, format!("{}", tenths as f64 / 10.0));
+    assert!(!json.contains("0000"), "{json}");
+}

@@ -19,6 +19,9 @@ pub struct SearchGraph {
     reweight: Option<(f64, f64)>,
 }
 
+/// Billionths per unit of cost, for [`SearchGraph::path_cost`].
+const BILLION: f64 = 1e9;
+
 /// A path: node indices, the arcs between them (indices into `Graph::arcs`), its cost.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Path {
@@ -109,6 +112,7 @@ impl SearchGraph {
             .windows(2)
             .map(|w| self.cheapest_arc(w[0], w[1], removed))
             .collect::<Option<Vec<usize>>>()?;
+        let cost = self.path_cost(&arcs).unwrap_or(cost);
         Some(Path { nodes, arcs, cost })
     }
 
@@ -140,10 +144,30 @@ impl SearchGraph {
                 nodes.extend(rest.nodes);
                 let mut arcs = vec![arc];
                 arcs.extend(rest.arcs);
+                let cost = self.path_cost(&arcs).unwrap_or(cost);
                 best = Some(Path { nodes, arcs, cost });
             }
         }
         best
+    }
+
+    /// The cost of a path of `arcs` as the sum of its weights in decimal: the weights
+    /// are written in decimal (0.1 per move), and their binary sum drifts
+    /// (`8.599999999999998` for 8.6), so they are added as whole billionths and the
+    /// total converted once. `None` when a weight is not a whole number of billionths
+    /// within 10^-12 (or is too large for that), which no cell's weights are.
+    fn path_cost(&self, arcs: &[usize]) -> Option<f64> {
+        let mut total: i128 = 0;
+        for &arc in arcs {
+            let w = self.weight(self.graph.edge_weight(EdgeIndex::new(arc))?);
+            let scaled = w * BILLION;
+            let whole = scaled.round();
+            if !(whole.abs() < 1e18) || (scaled - whole).abs() > 1e-3 {
+                return None;
+            }
+            total += whole as i128;
+        }
+        Some(total as f64 / BILLION)
     }
 
     fn cheapest_arc(&self, from: NodeId, to: NodeId, removed: &HashSet<ArcRef>) -> Option<usize> {
