@@ -32,6 +32,9 @@ pub struct Loaded {
     pub files: Vec<LoadedFile>,
     /// Syntax errors and include problems.
     pub diagnostics: Vec<Diagnostic>,
+    /// Grasp-set files (`grasp NAME by HAND from "FILE"`) read, by normalised path, each
+    /// in the source map so that a bad row is shown in the file.
+    pub grasp_files: HashMap<String, FileId>,
 }
 
 /// The most source text one compilation reads, the main file and its includes together
@@ -49,6 +52,7 @@ pub fn load(files: &dyn Files, path: &str) -> Loaded {
         read: HashSet::new(),
         bytes_left: MAX_TOTAL_SOURCE_BYTES,
         loaded: Loaded::default(),
+        grasp_failed: HashSet::new(),
     };
     let mut stack: Vec<Frame> = Vec::new();
     // Path -> its index in `stack`, for include cycles.
@@ -137,6 +141,8 @@ struct Loader<'f> {
     /// What [`MAX_TOTAL_SOURCE_BYTES`] leaves.
     bytes_left: u64,
     loaded: Loaded,
+    /// Grasp-set files that could not be read (reported once).
+    grasp_failed: HashSet<String>,
 }
 
 impl Loader<'_> {
@@ -176,11 +182,76 @@ impl Loader<'_> {
             ast: parsed.file,
         });
         self.read.insert(path.to_string());
+        let ast = self.loaded.files.last().and_then(|f| f.ast.clone());
+        self.read_grasp_files(id, path, ast.as_ref());
         Some(Frame {
             path: path.to_string(),
             id,
             includes,
             next: 0,
         })
+    }
+
+    /// Reads the grasp-set files `file` names (each once per compilation), within
+    /// [`crate::grasp_file::MAX_GRASP_FILE_BYTES`] and the total budget; a file that is
+    /// not text never enters the source map.
+    fn read_grasp_files(&mut self, id: FileId, path: &str, file: Option<&ast::File>) {
+        let named = file.iter().flat_map(|f| f.items.iter()).filter_map(|item| match item {
+            ast::Item::Object(o) => Some(o),
+            _ => None,
+        });
+        for object in named {
+            for member in &object.members {
+                let ast::ObjectMember::Grasp(g) = member else {
+                    continue;
+                };
+                let Some(name) = &g.file else { continue };
+                let grasps = join(path, &name.value);
+                if self.loaded.grasp_files.contains_key(&grasps) || self.grasp_failed.contains(&grasps) {
+                    continue;
+                }
+                let at = (id, name.span);
+                match self.read_grasp_file(&grasps, at) {
+                    Ok(text) => {
+                        self.bytes_left -= text.len() as u64;
+                        let fid = self.loaded.sources.add(grasps.clone(), text);
+                        self.loaded.grasp_files.insert(grasps, fid);
+                    }
+                    Err(d) => {
+                        self.loaded.diagnostics.push(d);
+                        self.grasp_failed.insert(grasps);
+                    }
+                }
+            }
+        }
+    }
+
+    fn read_grasp_file(&self, path: &str, at: (FileId, Span)) -> Result<String, Diagnostic> {
+        let budget = crate::grasp_file::MAX_GRASP_FILE_BYTES.min(self.bytes_left);
+        let bytes = self.files.read_at_most(path, budget).map_err(|error| {
+            diagnostics::refused_file("grasp-set file", path, &error, Some(at)).unwrap_or_else(|| {
+                Diagnostic::error(
+                    diagnostics::codes::FILE_UNREADABLE,
+                    format!("cannot read grasp-set file `{path}`: {error}"),
+                )
+                .primary(at.0, at.1, "named here")
+                .help("check the path: it is relative to the file that names it")
+            })
+        })?;
+        let text = String::from_utf8(bytes).map_err(|e| {
+            diagnostics::grasp_file_not_text(
+                path,
+                at,
+                &format!("not UTF-8 at byte {}", e.utf8_error().valid_up_to()),
+            )
+        })?;
+        if let Some(offset) = text.find(|c: char| c.is_control() && !matches!(c, '\n' | '\r' | '\t')) {
+            return Err(diagnostics::grasp_file_not_text(
+                path,
+                at,
+                &format!("a control character at byte {offset}"),
+            ));
+        }
+        Ok(text)
     }
 }
