@@ -290,6 +290,9 @@ impl Resolver<'_, '_> {
             if let Some(f) = self.families.get(&(id, q.name.text.clone())) {
                 // A family whose expansion failed was reported where it is declared.
                 if f.members.is_empty() {
+                    if !self.cell.incomplete_objects.contains(&id) {
+                        self.cell.incomplete_objects.push(id);
+                    }
                     return None;
                 }
                 return Some(Side::Family(f.clone()));
