@@ -59,7 +59,10 @@ pub fn parse(file: FileId, text: &str, diagnostics: &mut Vec<Diagnostic>) -> Gra
         if trimmed.is_empty() || trimmed.starts_with('#') {
             continue;
         }
-        let line_span = Span::new(start + (line.len() - line.trim_start().len()), start + line.trim_end().len());
+        let line_span = Span::new(
+            start + (line.len() - line.trim_start().len()),
+            start + line.trim_end().len(),
+        );
         let fields = fields(line, start);
         if !header_seen {
             header_seen = true;
@@ -104,7 +107,9 @@ pub fn parse(file: FileId, text: &str, diagnostics: &mut Vec<Diagnostic>) -> Gra
     if bad > MAX_ROW_DIAGNOSTICS {
         if let Some(last) = diagnostics.last_mut() {
             let more = bad - MAX_ROW_DIAGNOSTICS;
-            *last = last.clone().note(format!("{more} more bad rows are not shown"));
+            *last = last
+                .clone()
+                .note(format!("{more} more bad rows are not shown"));
         }
     }
     rows
@@ -146,7 +151,11 @@ fn row(fields: &[(&str, Span)], line: Span) -> Result<Iso, RowError> {
             )
         })?;
         if !value.is_finite() {
-            return Err((*span, format!("`{}` is not finite", shorten(text)), "expected a finite number"));
+            return Err((
+                *span,
+                format!("`{}` is not finite", shorten(text)),
+                "expected a finite number",
+            ));
         }
         values[i] = value;
     }

@@ -196,10 +196,13 @@ impl Loader<'_> {
     /// [`crate::grasp_file::MAX_GRASP_FILE_BYTES`] and the total budget; a file that is
     /// not text never enters the source map.
     fn read_grasp_files(&mut self, id: FileId, path: &str, file: Option<&ast::File>) {
-        let named = file.iter().flat_map(|f| f.items.iter()).filter_map(|item| match item {
-            ast::Item::Object(o) => Some(o),
-            _ => None,
-        });
+        let named = file
+            .iter()
+            .flat_map(|f| f.items.iter())
+            .filter_map(|item| match item {
+                ast::Item::Object(o) => Some(o),
+                _ => None,
+            });
         for object in named {
             for member in &object.members {
                 let ast::ObjectMember::Grasp(g) = member else {
@@ -207,7 +210,9 @@ impl Loader<'_> {
                 };
                 let Some(name) = &g.file else { continue };
                 let grasps = join(path, &name.value);
-                if self.loaded.grasp_files.contains_key(&grasps) || self.grasp_failed.contains(&grasps) {
+                if self.loaded.grasp_files.contains_key(&grasps)
+                    || self.grasp_failed.contains(&grasps)
+                {
                     continue;
                 }
                 let at = (id, name.span);
@@ -229,14 +234,16 @@ impl Loader<'_> {
     fn read_grasp_file(&self, path: &str, at: (FileId, Span)) -> Result<String, Diagnostic> {
         let budget = crate::grasp_file::MAX_GRASP_FILE_BYTES.min(self.bytes_left);
         let bytes = self.files.read_at_most(path, budget).map_err(|error| {
-            diagnostics::refused_file("grasp-set file", path, &error, Some(at)).unwrap_or_else(|| {
-                Diagnostic::error(
-                    diagnostics::codes::FILE_UNREADABLE,
-                    format!("cannot read grasp-set file `{path}`: {error}"),
-                )
-                .primary(at.0, at.1, "named here")
-                .help("check the path: it is relative to the file that names it")
-            })
+            diagnostics::refused_file("grasp-set file", path, &error, Some(at)).unwrap_or_else(
+                || {
+                    Diagnostic::error(
+                        diagnostics::codes::FILE_UNREADABLE,
+                        format!("cannot read grasp-set file `{path}`: {error}"),
+                    )
+                    .primary(at.0, at.1, "named here")
+                    .help("check the path: it is relative to the file that names it")
+                },
+            )
         })?;
         let text = String::from_utf8(bytes).map_err(|e| {
             diagnostics::grasp_file_not_text(
@@ -245,7 +252,9 @@ impl Loader<'_> {
                 &format!("not UTF-8 at byte {}", e.utf8_error().valid_up_to()),
             )
         })?;
-        if let Some(offset) = text.find(|c: char| c.is_control() && !matches!(c, '\n' | '\r' | '\t')) {
+        if let Some(offset) =
+            text.find(|c: char| c.is_control() && !matches!(c, '\n' | '\r' | '\t'))
+        {
             return Err(diagnostics::grasp_file_not_text(
                 path,
                 at,

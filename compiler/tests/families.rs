@@ -42,7 +42,11 @@ fn codes(c: &Compilation) -> Vec<&str> {
 fn grasp_names(c: &Compilation) -> Vec<String> {
     let cell = c.cell.as_ref().expect("a cell");
     let (_, object) = cell.objects.iter().next().expect("an object");
-    object.grasps.iter().map(|&g| cell.grasps[g].name.clone()).collect()
+    object
+        .grasps
+        .iter()
+        .map(|&g| cell.grasps[g].name.clone())
+        .collect()
 }
 
 /// Directed transitions as (from, to) names.
@@ -51,7 +55,12 @@ fn transitions(c: &Compilation) -> Vec<(String, String)> {
     let mut out: Vec<(String, String)> = cell
         .transitions
         .iter()
-        .map(|t| (cell.grasps[t.from].name.clone(), cell.grasps[t.to].name.clone()))
+        .map(|t| {
+            (
+                cell.grasps[t.from].name.clone(),
+                cell.grasps[t.to].name.clone(),
+            )
+        })
         .collect();
     out.sort();
     out
@@ -90,7 +99,10 @@ fn member_poses_move_the_holder_round_the_object() {
     // the object turned by -90° in it.
     let turned = pose("side_1_0");
     assert!((turned.translation.vector.y - 0.06).abs() < 1e-12);
-    let expected = nalgebra::UnitQuaternion::from_axis_angle(&nalgebra::Vector3::z_axis(), -std::f64::consts::FRAC_PI_2);
+    let expected = nalgebra::UnitQuaternion::from_axis_angle(
+        &nalgebra::Vector3::z_axis(),
+        -std::f64::consts::FRAC_PI_2,
+    );
     assert!(turned.rotation.angle_to(&expected) < 1e-12);
 }
 
@@ -101,7 +113,13 @@ fn symmetric_members_are_one_state_and_their_names_aliases() {
     let c = compiled(&[("f.cell", &src)]);
     assert!(codes(&c).is_empty(), "{:?}", c.diagnostics);
     assert_eq!(grasp_names(&c), ["down", "side_0"]);
-    assert_eq!(transitions(&c), [("down".into(), "side_0".into()), ("side_0".into(), "down".into())]);
+    assert_eq!(
+        transitions(&c),
+        [
+            ("down".into(), "side_0".into()),
+            ("side_0".into(), "down".into())
+        ]
+    );
     // Order 2 (written after the family: the order of lines does not matter): half of
     // the twelve turns are new.
     let src = cell("    rest down on table\n    grasp side by left at (0, 0.06, 0.1) every 30 deg about z\n    symmetry about z order 2\n    transition down <-> side");
@@ -140,7 +158,10 @@ fn limits_and_misuse_are_coded() {
     assert_eq!(codes(&c), ["E0324"]);
     let c = compiled(&[("f.cell", &cell("    grasp a by left every 90 deg about z\n    grasp b by right along z at (0, 1)\n    transition a <-> b matching"))]);
     assert_eq!(codes(&c), ["E0325"]);
-    let c = compiled(&[("f.cell", &cell("    grasp a by left every 90 deg about z\n    grasp a_1 by right"))]);
+    let c = compiled(&[(
+        "f.cell",
+        &cell("    grasp a by left every 90 deg about z\n    grasp a_1 by right"),
+    )]);
     assert_eq!(codes(&c), ["E0102"]);
 }
 

@@ -14,7 +14,9 @@ pub fn family_empty(name: &str, file: FileId, span: Span, why: &str) -> Diagnost
         format!("family `{name}` has no members: {why}"),
     )
     .primary(file, span, "this gives no member")
-    .help("give a positive step (`every 30 deg about z`), or a grasp-set file with at least one row")
+    .help(
+        "give a positive step (`every 30 deg about z`), or a grasp-set file with at least one row",
+    )
 }
 
 /// A family of more members than [`MAX_FAMILY_MEMBERS`].
@@ -47,13 +49,21 @@ pub fn family_mismatch(file: FileId, span: Span, left: &str, right: &str) -> Dia
 }
 
 /// A family where one grasp or resting pose is needed (a placement, `ARM.GRASP`).
-pub fn family_not_a_grasp(name: &str, first: &str, members: usize, file: FileId, span: Span) -> Diagnostic {
+pub fn family_not_a_grasp(
+    name: &str,
+    first: &str,
+    members: usize,
+    file: FileId,
+    span: Span,
+) -> Diagnostic {
     Diagnostic::error(
         FAMILY_NOT_A_GRASP,
         format!("`{name}` is a family of {members} members, not one grasp or resting pose"),
     )
     .primary(file, span, "a family")
-    .help(format!("name one member, like `{first}` (see the naming rule in docs/language.md)"))
+    .help(format!(
+        "name one member, like `{first}` (see the naming rule in docs/language.md)"
+    ))
 }
 
 /// A grasp-set file that is not text.

@@ -126,8 +126,12 @@ impl Resolver<'_, '_> {
         let go = origin(file, g.span, &g.name);
         let key = (id, g.name.text.clone());
         if let Some(first) = self.family_or_grasp_origin(id, &g.name.text) {
-            self.diagnostics
-                .push(diagnostics::duplicate_name(Sort::Grasp, &g.name.text, first, go));
+            self.diagnostics.push(diagnostics::duplicate_name(
+                Sort::Grasp,
+                &g.name.text,
+                first,
+                go,
+            ));
             return;
         }
         // Registered before expansion, so that a family whose expansion failed is still
@@ -152,7 +156,8 @@ impl Resolver<'_, '_> {
             let Some(&fid) = self.loaded.grasp_files.get(&grasps) else {
                 return; // Not read: reported when it was loaded.
             };
-            let rows = crate::grasp_file::parse(fid, &self.loaded.sources.get(fid).text, self.diagnostics);
+            let rows =
+                crate::grasp_file::parse(fid, &self.loaded.sources.get(fid).text, self.diagnostics);
             if rows.failed {
                 return;
             }
@@ -191,7 +196,12 @@ impl Resolver<'_, '_> {
                     }
                     let a = unit_axis(*axis);
                     (0..steps as usize)
-                        .map(|k| Iso::from_parts(Default::default(), Quat::from_axis_angle(&a, step_rad * k as f64)))
+                        .map(|k| {
+                            Iso::from_parts(
+                                Default::default(),
+                                Quat::from_axis_angle(&a, step_rad * k as f64),
+                            )
+                        })
                         .collect()
                 }
                 ast::FamilyClause::Along { axis, offsets, .. } => {
@@ -213,12 +223,21 @@ impl Resolver<'_, '_> {
             ranges.push(Range::Motions(motions));
         }
         if count > MAX_FAMILY_MEMBERS as f64 {
-            let span = g.family.first().map_or(g.span, |c| c.span()).join(g.family.last().map_or(g.span, |c| c.span()));
+            let span = g
+                .family
+                .first()
+                .map_or(g.span, |c| c.span())
+                .join(g.family.last().map_or(g.span, |c| c.span()));
             let span = match &g.file {
                 Some(f) => f.span.join(span),
                 None => span,
             };
-            self.diagnostics.push(diagnostics::family_too_large(&g.name.text, count, file, span));
+            self.diagnostics.push(diagnostics::family_too_large(
+                &g.name.text,
+                count,
+                file,
+                span,
+            ));
             return;
         }
         let dims: Vec<usize> = ranges
@@ -231,7 +250,10 @@ impl Resolver<'_, '_> {
         let symmetries: Vec<cellc_schema::Symmetry> = self.cell.objects[id]
             .symmetries
             .iter()
-            .map(|s| cellc_schema::Symmetry { axis: s.axis, order: s.order })
+            .map(|s| cellc_schema::Symmetry {
+                axis: s.axis,
+                order: s.order,
+            })
             .collect();
         let mut members = Vec::new();
         let mut kept: Vec<(Iso, GraspId)> = Vec::new();
@@ -248,7 +270,8 @@ impl Resolver<'_, '_> {
             let pose = base.unwrap_or_else(Iso::identity) * motion.inverse();
             let name = member_name(&g.name.text, &indices);
             if let Some(first) = self.family_or_grasp_origin(id, &name) {
-                self.diagnostics.push(diagnostics::duplicate_name(Sort::Grasp, &name, first, go));
+                self.diagnostics
+                    .push(diagnostics::duplicate_name(Sort::Grasp, &name, first, go));
                 continue;
             }
             let same = kept.iter().find(|(k, _)| {
@@ -261,7 +284,10 @@ impl Resolver<'_, '_> {
                 None => {
                     let gid = self.cell.grasps.insert(Grasp {
                         name: name.clone(),
-                        label: g.label.as_ref().map(|l| format!("{} ({})", l.value, &name[g.name.text.len() + 1..])),
+                        label: g
+                            .label
+                            .as_ref()
+                            .map(|l| format!("{} ({})", l.value, &name[g.name.text.len() + 1..])),
                         object: id,
                         holder: None,
                         keyword: g.keyword,
@@ -276,7 +302,14 @@ impl Resolver<'_, '_> {
             self.grasp_names.insert((id, name), gid);
             members.push((indices, gid));
         }
-        self.families.insert(key, Family { members, dims, span: g.span });
+        self.families.insert(
+            key,
+            Family {
+                members,
+                dims,
+                span: g.span,
+            },
+        );
     }
 
     /// One side of a transition: a grasp, or every member of a family (by index).

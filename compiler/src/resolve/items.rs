@@ -229,7 +229,8 @@ impl Resolver<'_, '_> {
                             }
                             // `g <-> g` (one hand kind's grasp passed between two hands of
                             // that kind) is one directed transition, not two.
-                            if t.direction == ast::Direction::Both && a != b && added.insert((b, a)) {
+                            if t.direction == ast::Direction::Both && a != b && added.insert((b, a))
+                            {
                                 self.add_transition(b, a, o);
                             }
                         }

@@ -1,7 +1,7 @@
 //! `object NAME { members }`: an object's shape, symmetries, grasps and resting poses, and
 //! the transitions between them.
 
-use super::{Name, Pose, Quantity, Qualified, Shape, StringLit};
+use super::{Name, Pose, Qualified, Quantity, Shape, StringLit};
 use crate::span::Span;
 
 /// `object NAME { members }`.
