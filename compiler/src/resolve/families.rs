@@ -180,7 +180,7 @@ impl Resolver<'_, '_> {
                     let Some(step_rad) = self.eval(file, units).angle(step) else {
                         return;
                     };
-                    if !(step_rad > 0.0) {
+                    if step_rad.is_nan() || step_rad <= 0.0 {
                         self.diagnostics.push(diagnostics::family_empty(
                             &g.name.text,
                             file,

@@ -190,18 +190,15 @@ impl Resolver<'_, '_> {
                     for &member in &targets {
                         self.cell.grasps[member].holder = holder;
                     }
-                    match holder {
-                        Some(holder) => {
-                            if g.keyword == GraspKeyword::Rest && self.is_hand(holder) {
-                                let o = self.cell.grasps[gid].origin;
-                                self.diagnostics.push(diagnostics::rest_on_hand(
-                                    &g.holder.text,
-                                    o,
-                                    g.holder.span,
-                                ));
-                            }
+                    if let Some(holder) = holder {
+                        if g.keyword == GraspKeyword::Rest && self.is_hand(holder) {
+                            let o = self.cell.grasps[gid].origin;
+                            self.diagnostics.push(diagnostics::rest_on_hand(
+                                &g.holder.text,
+                                o,
+                                g.holder.span,
+                            ));
                         }
-                        None => {}
                     }
                 }
                 ast::ObjectMember::Transition(t) => {
