@@ -162,6 +162,7 @@ impl Loader<'_> {
         let id = self.loaded.sources.add(path, text);
         let parsed = cellc_lang::parse(id, &self.loaded.sources.get(id).text);
         diagnostics.extend(parsed.diagnostics);
+        let grasp_files = grasp_files_named(path, parsed.file.as_ref());
         let includes: Vec<(String, Span)> = parsed
             .file
             .iter()
@@ -182,8 +183,7 @@ impl Loader<'_> {
             ast: parsed.file,
         });
         self.read.insert(path.to_string());
-        let ast = self.loaded.files.last().and_then(|f| f.ast.clone());
-        self.read_grasp_files(id, path, ast.as_ref());
+        self.read_grasp_files(id, grasp_files);
         Some(Frame {
             path: path.to_string(),
             id,
@@ -192,40 +192,24 @@ impl Loader<'_> {
         })
     }
 
-    /// Reads the grasp-set files `file` names (each once per compilation), within
+    /// Reads the grasp-set files a cell file names (each once per compilation), within
     /// [`crate::grasp_file::MAX_GRASP_FILE_BYTES`] and the total budget; a file that is
     /// not text never enters the source map.
-    fn read_grasp_files(&mut self, id: FileId, path: &str, file: Option<&ast::File>) {
-        let named = file
-            .iter()
-            .flat_map(|f| f.items.iter())
-            .filter_map(|item| match item {
-                ast::Item::Object(o) => Some(o),
-                _ => None,
-            });
-        for object in named {
-            for member in &object.members {
-                let ast::ObjectMember::Grasp(g) = member else {
-                    continue;
-                };
-                let Some(name) = &g.file else { continue };
-                let grasps = join(path, &name.value);
-                if self.loaded.grasp_files.contains_key(&grasps)
-                    || self.grasp_failed.contains(&grasps)
-                {
-                    continue;
+    fn read_grasp_files(&mut self, id: FileId, named: Vec<(String, Span)>) {
+        for (grasps, span) in named {
+            if self.loaded.grasp_files.contains_key(&grasps) || self.grasp_failed.contains(&grasps)
+            {
+                continue;
+            }
+            match self.read_grasp_file(&grasps, (id, span)) {
+                Ok(text) => {
+                    self.bytes_left -= text.len() as u64;
+                    let fid = self.loaded.sources.add(grasps.clone(), text);
+                    self.loaded.grasp_files.insert(grasps, fid);
                 }
-                let at = (id, name.span);
-                match self.read_grasp_file(&grasps, at) {
-                    Ok(text) => {
-                        self.bytes_left -= text.len() as u64;
-                        let fid = self.loaded.sources.add(grasps.clone(), text);
-                        self.loaded.grasp_files.insert(grasps, fid);
-                    }
-                    Err(d) => {
-                        self.loaded.diagnostics.push(d);
-                        self.grasp_failed.insert(grasps);
-                    }
+                Err(d) => {
+                    self.loaded.diagnostics.push(d);
+                    self.grasp_failed.insert(grasps);
                 }
             }
         }
@@ -263,4 +247,24 @@ impl Loader<'_> {
         }
         Ok(text)
     }
+}
+
+/// The grasp-set files (`grasp NAME by HAND from "FILE"`) a file names, each joined to the
+/// file's path, with the span of its name.
+fn grasp_files_named(path: &str, file: Option<&ast::File>) -> Vec<(String, Span)> {
+    let objects = file
+        .iter()
+        .flat_map(|f| f.items.iter())
+        .filter_map(|item| match item {
+            ast::Item::Object(o) => Some(o),
+            _ => None,
+        });
+    objects
+        .flat_map(|o| o.members.iter())
+        .filter_map(|member| match member {
+            ast::ObjectMember::Grasp(g) => g.file.as_ref(),
+            _ => None,
+        })
+        .map(|name| (join(path, &name.value), name.span))
+        .collect()
 }
