@@ -302,3 +302,53 @@ mod trajectories {
         assert!(trajectories >= planned * 2, "{trajectories} trajectories");
     }
 }
+
+/// `cells/vito_full.cell`: the same cell with grasp and rest families. After verification
+/// (every arc checked, the pruned ones removed) each object's graph is at least as large
+/// as the paper's (Table I), and the five behaviours still emerge from its requests.
+#[test]
+fn vito_full_is_at_the_papers_scale_and_the_behaviours_still_emerge() {
+    let cell = cell("cells/vito_full.cell");
+    let a = cell.artifact();
+    // The paper's Table I: (object, nodes, arcs).
+    for (object, nodes, arcs) in [
+        ("pitcher", 108, 1609),
+        ("colander", 144, 3426),
+        ("ball", 80, 1056),
+        ("cylinder", 224, 5248),
+    ] {
+        let o = a
+            .objects
+            .iter()
+            .find(|o| o.name == object)
+            .expect("declared");
+        let g = &o.graph;
+        assert!(
+            g.nodes.len() >= nodes && g.arcs.len() >= arcs,
+            "{object}: {} nodes, {} arcs after verification (the paper: {nodes}, {arcs})",
+            g.nodes.len(),
+            g.arcs.len()
+        );
+        assert!(
+            g.arcs.iter().all(|arc| arc.witness.is_some()),
+            "{object}: an arc without a witness"
+        );
+    }
+    let (h, s) = behaviour(&cell, "handoff_cylinder", 0);
+    assert_eq!(h, ["table", "left", "right", "table"]);
+    assert_eq!(s, "handoff");
+    let (h, s) = behaviour(&cell, "handoff_colander", 0);
+    assert_eq!(h, ["table", "left", "right", "table"]);
+    assert_eq!(s, "handoff");
+    let (h, s) = behaviour(&cell, "single_arm_regrasp", 0);
+    assert_eq!(h, ["left", "table", "left", "table"]);
+    assert_eq!(s, "single-arm regrasp via surface");
+    let (h, s) = behaviour(&cell, "dual_arm_regrasp", 0);
+    assert_eq!(h, ["left", "table", "right", "table"]);
+    assert_eq!(s, "dual-arm regrasp via surface");
+    let (h, s) = behaviour(&cell, "pick_and_place", 0);
+    assert_eq!(h, ["table", "left", "table"]);
+    assert_eq!(s, "pick-and-place");
+    let (h, _) = behaviour(&cell, "trash", 0);
+    assert_eq!(h, ["table", "right", "bin"]);
+}

@@ -8,7 +8,8 @@
 //! `Instant`, on one thread (the planner is single-threaded).
 //!
 //! Rows:
-//! - `cells/vito.cell` (geometric: the two LWRs, table, bin), one row per object. The
+//! - `cells/vito.cell` (geometric: the two LWRs, table, bin), one row per object, and
+//!   `cells/vito_full.cell`, the same cell with grasp families at the paper's scale. The
 //!   artifact is compiled and verified once (in parallel, build time, not counted), then
 //!   "high level" is `Planner::plan` with `motions: false`: locate (Cartesian pose ->
 //!   state), Dijkstra with backtracking, simplification, and the state path -> Cartesian
@@ -115,28 +116,32 @@ fn main() {
     println!("protocol: 5 start/goal pairs x {trials} trials per row (seeds 0..{trials}), every request timed alone; times per request in ms\n");
     let mut rows = Vec::new();
 
-    // The shipped geometric Vito cell.
-    match geometric("cells/vito.cell") {
-        Ok(g) => {
-            println!(
-                "vito.cell: compiled and verified once in {} ms (build time, parallel, not part of any request)",
-                ms(g.build_seconds)
-            );
-            let planner = Planner::new(&g.artifact, Some(&g.scene));
-            for object in ["pitcher", "colander", "ball", "cylinder"] {
-                let label = format!("vito.cell {object}");
-                eprintln!("measuring {label}");
-                rows.push(measure(
-                    &label,
-                    paper(object),
-                    &planner,
-                    Some(&g.scene),
-                    object,
-                    trials,
-                ));
+    // The shipped geometric Vito cell, and the same cell at the paper's scale (grasp and
+    // rest families: graphs at least as large as the paper's).
+    for path in ["cells/vito.cell", "cells/vito_full.cell"] {
+        let file = path.trim_start_matches("cells/");
+        match geometric(path) {
+            Ok(g) => {
+                println!(
+                    "{file}: compiled and verified once in {} ms (build time, parallel, not part of any request)",
+                    ms(g.build_seconds)
+                );
+                let planner = Planner::new(&g.artifact, Some(&g.scene));
+                for object in ["pitcher", "colander", "ball", "cylinder"] {
+                    let label = format!("{file} {object}");
+                    eprintln!("measuring {label}");
+                    rows.push(measure(
+                        &label,
+                        paper(object),
+                        &planner,
+                        Some(&g.scene),
+                        object,
+                        trials,
+                    ));
+                }
             }
+            Err(e) => rows.push(skipped(file, None, e)),
         }
-        Err(e) => rows.push(skipped("vito.cell", None, e)),
     }
 
     // The original database: the paper's pitcher and colander graphs, abstract.

@@ -195,7 +195,10 @@ fn check_grasps(cell: &Cell, diagnostics: &mut Vec<Diagnostic>) {
                 continue;
             }
         }
-        if grasp.holder.is_some() && !used.contains(&g) {
+        if grasp.holder.is_some()
+            && !used.contains(&g)
+            && !cell.incomplete_objects.contains(&grasp.object)
+        {
             diagnostics.push(diagnostics::unused_grasp(&grasp.name, grasp.origin));
         }
     }

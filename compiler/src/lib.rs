@@ -16,6 +16,7 @@ pub mod checks;
 pub mod diagnostics;
 pub mod expect;
 pub mod graph;
+pub mod grasp_file;
 pub mod ids;
 pub mod load;
 pub mod math;

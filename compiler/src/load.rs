@@ -32,6 +32,9 @@ pub struct Loaded {
     pub files: Vec<LoadedFile>,
     /// Syntax errors and include problems.
     pub diagnostics: Vec<Diagnostic>,
+    /// Grasp-set files (`grasp NAME by HAND from "FILE"`) read, by normalised path, each
+    /// in the source map so that a bad row is shown in the file.
+    pub grasp_files: HashMap<String, FileId>,
 }
 
 /// How the loader turns a file's text into a tree.
@@ -75,6 +78,7 @@ pub fn load_with(files: &dyn Files, parser: &dyn Parser, path: &str) -> Loaded {
         read: HashSet::new(),
         bytes_left: MAX_TOTAL_SOURCE_BYTES,
         loaded: Loaded::default(),
+        grasp_failed: HashSet::new(),
     };
     let mut stack: Vec<Frame> = Vec::new();
     // Path -> its index in `stack`, for include cycles.
@@ -164,6 +168,8 @@ struct Loader<'f> {
     /// What [`MAX_TOTAL_SOURCE_BYTES`] leaves.
     bytes_left: u64,
     loaded: Loaded,
+    /// Grasp-set files that could not be read (reported once).
+    grasp_failed: HashSet<String>,
 }
 
 impl Loader<'_> {
@@ -185,6 +191,7 @@ impl Loader<'_> {
             .parser
             .parse(id, path, &self.loaded.sources.get(id).text);
         diagnostics.extend(parsed.diagnostics);
+        let grasp_files = grasp_files_named(path, parsed.file.as_ref());
         let includes: Vec<(String, Span)> = parsed
             .file
             .iter()
@@ -205,6 +212,7 @@ impl Loader<'_> {
             ast: parsed.file,
         });
         self.read.insert(path.to_string());
+        self.read_grasp_files(id, grasp_files);
         Some(Frame {
             path: path.to_string(),
             id,
@@ -212,4 +220,80 @@ impl Loader<'_> {
             next: 0,
         })
     }
+
+    /// Reads the grasp-set files a cell file names (each once per compilation), within
+    /// [`crate::grasp_file::MAX_GRASP_FILE_BYTES`] and the total budget; a file that is
+    /// not text never enters the source map.
+    fn read_grasp_files(&mut self, id: FileId, named: Vec<(String, Span)>) {
+        for (grasps, span) in named {
+            if self.loaded.grasp_files.contains_key(&grasps) || self.grasp_failed.contains(&grasps)
+            {
+                continue;
+            }
+            match self.read_grasp_file(&grasps, (id, span)) {
+                Ok(text) => {
+                    self.bytes_left -= text.len() as u64;
+                    let fid = self.loaded.sources.add(grasps.clone(), text);
+                    self.loaded.grasp_files.insert(grasps, fid);
+                }
+                Err(d) => {
+                    self.loaded.diagnostics.push(d);
+                    self.grasp_failed.insert(grasps);
+                }
+            }
+        }
+    }
+
+    fn read_grasp_file(&self, path: &str, at: (FileId, Span)) -> Result<String, Diagnostic> {
+        let budget = crate::grasp_file::MAX_GRASP_FILE_BYTES.min(self.bytes_left);
+        let bytes = self.files.read_at_most(path, budget).map_err(|error| {
+            diagnostics::refused_file("grasp-set file", path, &error, Some(at)).unwrap_or_else(
+                || {
+                    Diagnostic::error(
+                        diagnostics::codes::FILE_UNREADABLE,
+                        format!("cannot read grasp-set file `{path}`: {error}"),
+                    )
+                    .primary(at.0, at.1, "named here")
+                    .help("check the path: it is relative to the file that names it")
+                },
+            )
+        })?;
+        let text = String::from_utf8(bytes).map_err(|e| {
+            diagnostics::grasp_file_not_text(
+                path,
+                at,
+                &format!("not UTF-8 at byte {}", e.utf8_error().valid_up_to()),
+            )
+        })?;
+        if let Some(offset) =
+            text.find(|c: char| c.is_control() && !matches!(c, '\n' | '\r' | '\t'))
+        {
+            return Err(diagnostics::grasp_file_not_text(
+                path,
+                at,
+                &format!("a control character at byte {offset}"),
+            ));
+        }
+        Ok(text)
+    }
+}
+
+/// The grasp-set files (`grasp NAME by HAND from "FILE"`) a file names, each joined to the
+/// file's path, with the span of its name.
+fn grasp_files_named(path: &str, file: Option<&ast::File>) -> Vec<(String, Span)> {
+    let objects = file
+        .iter()
+        .flat_map(|f| f.items.iter())
+        .filter_map(|item| match item {
+            ast::Item::Object(o) => Some(o),
+            _ => None,
+        });
+    objects
+        .flat_map(|o| o.members.iter())
+        .filter_map(|member| match member {
+            ast::ObjectMember::Grasp(g) => g.file.as_ref(),
+            _ => None,
+        })
+        .map(|name| (join(path, &name.value), name.span))
+        .collect()
 }

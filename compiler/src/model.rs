@@ -443,6 +443,10 @@ pub struct Cell {
     /// What `reach auto` computed, per arm that asked (for `cellc info`; its boxes are in
     /// the arms' `reach_boxes`).
     pub auto_reach: Vec<crate::reach::AutoReach>,
+    /// Objects with a grasp or rest family that did not expand (reported where it is
+    /// declared): whether their other grasps are used is not judged, since the
+    /// transitions naming the family are missing.
+    pub incomplete_objects: Vec<ObjectId>,
 }
 
 impl Cell {

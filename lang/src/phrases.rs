@@ -184,6 +184,13 @@ pub fn phrase(rule: Rule) -> &'static str {
         Rule::rest_item => "a resting pose like `rest standing on tabletop`",
         Rule::transition_item => "a transition like `transition g1 <-> g2, g3`",
         Rule::qualified_list => "a list of grasps like `g2, g3`",
+        Rule::grasps_file => "a grasp-set file like `from \"grasps/pitcher.csv\"`",
+        Rule::family_clause => {
+            "a family clause like `every 30 deg about z` or `along z at (0, 5 cm)`"
+        }
+        Rule::every_clause => "a rotation step like `every 30 deg about z`",
+        Rule::along_clause => "offsets along an axis like `along z at (-5 cm, 0, 5 cm)`",
+        Rule::quantity_list => "a list of lengths like `(-5 cm, 0 cm, 5 cm)`",
         Rule::arrow => "`<->` or `->`",
         Rule::both_ways => "`<->`",
         Rule::one_way => "`->`",
@@ -254,6 +261,9 @@ pub fn phrase(rule: Rule) -> &'static str {
         Rule::kw_rpy => "`rpy`",
         Rule::kw_quat => "`quat`",
         Rule::kw_transition => "`transition`",
+        Rule::kw_every => "`every`",
+        Rule::kw_along => "`along`",
+        Rule::kw_matching => "`matching`",
         Rule::kw_move => "`move`",
         Rule::kw_expect => "`expect`",
         Rule::kw_in => "`in`",

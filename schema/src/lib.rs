@@ -29,6 +29,8 @@ pub mod math;
 pub use files::{FileError, Files, MemoryFiles};
 pub use hash::sha256_hex;
 pub mod rules;
+/// Object symmetries: which rotations leave an object looking the same.
+pub mod symmetry;
 pub mod world;
 pub use blocked::{BlockedPart, BlockedStep, Blocker};
 pub use ids::{EndEffectorId, GraspId, NodeId, ObjectId, RobotId, SpanId, WorkspaceId};

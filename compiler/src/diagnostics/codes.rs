@@ -82,6 +82,16 @@ pub const GRAPH_TOO_LARGE: Code = Code("E0320");
 pub const DERIVATION_TOO_LARGE: Code = Code("E0321");
 /// `expect` requirements that would take too long to check.
 pub const EXPECT_TOO_COSTLY: Code = Code("E0322");
+/// A grasp or rest family that expands to no members.
+pub const FAMILY_EMPTY: Code = Code("E0323");
+/// A grasp or rest family of more members than the limit.
+pub const FAMILY_TOO_LARGE: Code = Code("E0324");
+/// `transition ... matching` between sides whose members do not pair up.
+pub const FAMILY_MISMATCH: Code = Code("E0325");
+/// A family named where one grasp or resting pose is needed.
+pub const FAMILY_NOT_A_GRASP: Code = Code("E0326");
+/// A grasp-set file with a row that is not a pose.
+pub const BAD_GRASP_FILE: Code = Code("E0327");
 
 /// A URDF (or SRDF) file that can't be read.
 pub const URDF_UNREADABLE: Code = Code("E0401");
@@ -163,6 +173,11 @@ pub const ALL: &[Code] = &[
     GRAPH_TOO_LARGE,
     DERIVATION_TOO_LARGE,
     EXPECT_TOO_COSTLY,
+    FAMILY_EMPTY,
+    FAMILY_TOO_LARGE,
+    FAMILY_MISMATCH,
+    FAMILY_NOT_A_GRASP,
+    BAD_GRASP_FILE,
     URDF_UNREADABLE,
     URDF_INVALID,
     URDF_UNKNOWN_LINK,

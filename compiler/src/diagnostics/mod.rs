@@ -14,12 +14,14 @@ use cellc_schema::FileError;
 use crate::model::Origin;
 
 pub mod codes;
+mod families;
 mod kinematics;
 mod robots;
 mod trust;
 mod urdf;
 mod values;
 mod world;
+pub use families::*;
 pub use kinematics::*;
 pub use robots::*;
 pub use trust::*;

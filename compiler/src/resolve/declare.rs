@@ -284,8 +284,31 @@ impl Resolver<'_, '_> {
                         .symmetries
                         .push(Symmetry { axis, order });
                 }
+                ast::ObjectMember::Grasp(_) | ast::ObjectMember::Transition(_) => {}
+            }
+        }
+        // Grasps after the symmetries, which families need wherever they are written.
+        for member in &obj.members {
+            match member {
+                ast::ObjectMember::Grasp(g) if g.is_family() => {
+                    self.declare_family(file, path, units, id, g);
+                }
                 ast::ObjectMember::Grasp(g) => {
                     let go = origin(file, g.span, &g.name);
+                    if let Some(family) = self.families.get(&(id, g.name.text.clone())) {
+                        let first = Origin {
+                            file,
+                            span: family.span,
+                            name_span: family.span,
+                        };
+                        self.diagnostics.push(diagnostics::duplicate_name(
+                            Sort::Grasp,
+                            &g.name.text,
+                            first,
+                            go,
+                        ));
+                        continue;
+                    }
                     if let Some(&first) = self.grasp_names.get(&(id, g.name.text.clone())) {
                         let first = self.cell.grasps[first].origin;
                         self.diagnostics.push(diagnostics::duplicate_name(
@@ -310,7 +333,7 @@ impl Resolver<'_, '_> {
                     self.grasp_names.insert((id, g.name.text.clone()), gid);
                     self.cell.objects[id].grasps.push(gid);
                 }
-                ast::ObjectMember::Transition(_) => {}
+                _ => {}
             }
         }
     }

@@ -131,12 +131,20 @@ impl Resolver<'_, '_> {
         for member in &obj.members {
             match member {
                 ast::ObjectMember::Grasp(g) => {
-                    let Some(&gid) = self.grasp_names.get(&(id, g.name.text.clone())) else {
+                    let targets: Vec<GraspId> = if g.is_family() {
+                        match self.families.get(&(id, g.name.text.clone())) {
+                            Some(f) if f.span == g.span => f.distinct(),
+                            _ => continue,
+                        }
+                    } else {
+                        match self.grasp_names.get(&(id, g.name.text.clone())) {
+                            Some(&gid) if self.cell.grasps[gid].origin.span == g.span => vec![gid],
+                            _ => continue,
+                        }
+                    };
+                    let Some(&gid) = targets.first() else {
                         continue;
                     };
-                    if self.cell.grasps[gid].origin.span != g.span {
-                        continue;
-                    }
                     let holder = match self.names.get(&g.holder.text).copied() {
                         Some(Entry::EndEffector(e)) => Some(Holder::EndEffector(e)),
                         Some(Entry::HolderKind(k)) => Some(Holder::Kind(k)),
@@ -179,19 +187,18 @@ impl Resolver<'_, '_> {
                             None
                         }
                     };
-                    match holder {
-                        Some(holder) => {
-                            self.cell.grasps[gid].holder = Some(holder);
-                            if g.keyword == GraspKeyword::Rest && self.is_hand(holder) {
-                                let o = self.cell.grasps[gid].origin;
-                                self.diagnostics.push(diagnostics::rest_on_hand(
-                                    &g.holder.text,
-                                    o,
-                                    g.holder.span,
-                                ));
-                            }
+                    for &member in &targets {
+                        self.cell.grasps[member].holder = holder;
+                    }
+                    if let Some(holder) = holder {
+                        if g.keyword == GraspKeyword::Rest && self.is_hand(holder) {
+                            let o = self.cell.grasps[gid].origin;
+                            self.diagnostics.push(diagnostics::rest_on_hand(
+                                &g.holder.text,
+                                o,
+                                g.holder.span,
+                            ));
                         }
-                        None => self.cell.grasps[gid].holder = None,
                     }
                 }
                 ast::ObjectMember::Transition(t) => {
@@ -200,18 +207,29 @@ impl Resolver<'_, '_> {
                         span: t.span,
                         name_span: t.from.span,
                     };
-                    let Some(from) = self.qualified_grasp(file, id, &t.from) else {
+                    let Some(from) = self.transition_side(file, id, &t.from) else {
                         continue;
                     };
+                    // Pairs once per line: families whose members alias one another, and
+                    // `<->` between families, give some pairs more than once.
+                    let mut added = std::collections::HashSet::new();
                     for to in &t.to {
-                        let Some(to) = self.qualified_grasp(file, id, to) else {
+                        let Some(to) = self.transition_side(file, id, to) else {
                             continue;
                         };
-                        self.add_transition(from, to, o);
-                        // `g <-> g` (one hand kind's grasp passed between two hands of
-                        // that kind) is one directed transition, not two.
-                        if t.direction == ast::Direction::Both && from != to {
-                            self.add_transition(to, from, o);
+                        let Some(pairs) = self.side_pairs(file, t, &from, &to) else {
+                            continue;
+                        };
+                        for (a, b) in pairs {
+                            if added.insert((a, b)) {
+                                self.add_transition(a, b, o);
+                            }
+                            // `g <-> g` (one hand kind's grasp passed between two hands of
+                            // that kind) is one directed transition, not two.
+                            if t.direction == ast::Direction::Both && a != b && added.insert((b, a))
+                            {
+                                self.add_transition(b, a, o);
+                            }
                         }
                     }
                 }

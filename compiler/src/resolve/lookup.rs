@@ -89,6 +89,16 @@ impl Resolver<'_, '_> {
         if let Some(&g) = self.grasp_names.get(&(object, name.text.clone())) {
             return Some(g);
         }
+        if let Some(f) = self.families.get(&(object, name.text.clone())) {
+            if let Some((indices, _)) = f.members.first() {
+                let first = crate::resolve::member_name(&name.text, indices);
+                let n = f.members.len();
+                self.diagnostics.push(diagnostics::family_not_a_grasp(
+                    &name.text, &first, n, file, name.span,
+                ));
+            }
+            return None;
+        }
         let object_name = self.cell.objects[object].name.clone();
         let cell = &self.cell;
         let suggestion = self.suggestions.search(|| {

@@ -27,6 +27,7 @@
 
 mod contacts;
 mod declare;
+mod families;
 mod items;
 mod lookup;
 mod requirements;
@@ -49,6 +50,12 @@ use crate::units::{Eval, FileUnits};
 /// Default height of a surface's reach above its top face: tall enough for the objects
 /// a cell handles to stand on it.
 pub const DEFAULT_SURFACE_REACH_HEIGHT: f64 = 0.3;
+
+/// The most members one grasp or rest family may have (E0324 beyond): a family this
+/// large already gives an object thousands of states per hand.
+pub const MAX_FAMILY_MEMBERS: usize = 1024;
+
+pub use families::member_name;
 
 #[derive(Clone, Copy, Debug)]
 enum Entry {
@@ -90,6 +97,8 @@ pub fn resolve(
         names: BTreeMap::new(),
         origins: HashMap::new(),
         grasp_names: HashMap::new(),
+        families: HashMap::new(),
+        loaded,
         weight_origins: [None, None],
         transition_origins: HashMap::new(),
         obstacle_names: HashSet::new(),
@@ -178,7 +187,12 @@ struct Resolver<'w, 'd> {
     /// hashing (it compares a bounded number of them).
     names: BTreeMap<String, Entry>,
     origins: HashMap<String, Origin>,
+    /// Grasps and family members (aliases too) by object and name.
     grasp_names: HashMap<(ObjectId, String), GraspId>,
+    /// Grasp and rest families by object and name.
+    families: HashMap<(ObjectId, String), families::Family>,
+    /// The files read, for the grasp-set files families name.
+    loaded: &'w Loaded,
     /// Where the move and transition weights were set, to refuse setting them twice.
     weight_origins: [Option<Origin>; 2],
     /// First declaration of each directed transition.

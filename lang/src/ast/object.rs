@@ -1,7 +1,7 @@
 //! `object NAME { members }`: an object's shape, symmetries, grasps and resting poses, and
 //! the transitions between them.
 
-use super::{Name, Pose, Qualified, Shape, StringLit};
+use super::{Name, Pose, Qualified, Quantity, Shape, StringLit};
 use crate::span::Span;
 
 /// `object NAME { members }`.
@@ -106,8 +106,56 @@ pub struct GraspMember {
     pub holder: Name,
     /// Pose of the object in the holder's frame.
     pub pose: Option<Pose>,
+    /// `from "FILE"`: the poses of a grasp-set file instead of one pose (grasps only).
+    pub file: Option<StringLit>,
+    /// The family clauses in written order; empty for a single grasp. A member with a
+    /// file or any clause is a family: the compiler expands it into members.
+    pub family: Vec<FamilyClause>,
     /// Whole member.
     pub span: Span,
+}
+
+impl GraspMember {
+    /// True when the line declares a family (a file, or family clauses) rather than one
+    /// grasp or resting pose.
+    pub fn is_family(&self) -> bool {
+        self.file.is_some() || !self.family.is_empty()
+    }
+}
+
+/// One clause of a family: how the holder moves relative to the object from one member
+/// to the next. The syntax tree keeps the clause as written; the compiler expands it.
+#[derive(Clone, Debug, PartialEq)]
+pub enum FamilyClause {
+    /// `every STEP about AXIS`: the holder turned about the object's axis by 0, STEP,
+    /// 2 STEP, ... up to a full turn.
+    Every {
+        /// The angle between members.
+        step: Quantity,
+        /// The object's axis.
+        axis: Axis,
+        /// The clause.
+        span: Span,
+    },
+    /// `along AXIS at (D1, D2, ...)`: the holder moved along the object's axis by each
+    /// offset.
+    Along {
+        /// The object's axis.
+        axis: Axis,
+        /// The offsets, at least one.
+        offsets: Vec<Quantity>,
+        /// The clause.
+        span: Span,
+    },
+}
+
+impl FamilyClause {
+    /// Span of the clause.
+    pub fn span(&self) -> Span {
+        match self {
+            FamilyClause::Every { span, .. } | FamilyClause::Along { span, .. } => *span,
+        }
+    }
 }
 
 /// `<->` or `->`.
@@ -128,6 +176,8 @@ pub struct TransitionMember {
     pub direction: Direction,
     /// Right side.
     pub to: Vec<Qualified>,
+    /// `matching`: between families, members with the same indices only.
+    pub matching: Option<Span>,
     /// Whole member.
     pub span: Span,
 }

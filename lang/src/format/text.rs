@@ -307,6 +307,13 @@ pub(super) fn member_text(member: &ObjectMember) -> String {
                 out.push(' ');
                 out.push_str(&pose(p));
             }
+            if let Some(file) = &g.file {
+                out.push_str(&format!(" from {}", string(file)));
+            }
+            for clause in &g.family {
+                out.push(' ');
+                out.push_str(&family_clause(clause));
+            }
             out
         }
         ObjectMember::Transition(t) => {
@@ -315,11 +322,29 @@ pub(super) fn member_text(member: &ObjectMember) -> String {
                 Direction::OneWay => "->",
             };
             let to: Vec<String> = t.to.iter().map(qualified).collect();
+            let matching = if t.matching.is_some() {
+                " matching"
+            } else {
+                ""
+            };
             format!(
-                "transition {} {arrow} {}",
+                "transition {} {arrow} {}{matching}",
                 qualified(&t.from),
                 to.join(", ")
             )
+        }
+    }
+}
+
+/// `every 30 deg about z` or `along z at (-5 cm, 0 cm)`, as written.
+fn family_clause(clause: &FamilyClause) -> String {
+    match clause {
+        FamilyClause::Every { step, axis, .. } => {
+            format!("every {} about {}", quantity(step), axis.as_str())
+        }
+        FamilyClause::Along { axis, offsets, .. } => {
+            let offsets: Vec<String> = offsets.iter().map(quantity).collect();
+            format!("along {} at ({})", axis.as_str(), offsets.join(", "))
         }
     }
 }

@@ -276,11 +276,18 @@ impl Builder<'_, '_> {
                 let mut label = None;
                 let mut holder = None;
                 let mut pose = None;
+                let mut file = None;
+                let mut family = Vec::new();
                 for p in inner {
                     match p.as_rule() {
                         Rule::label => label = Some(self.string(p.into_inner().next()?)?),
                         Rule::name => holder = Some(self.name(p)?),
                         Rule::pose => pose = Some(self.pose(p)?),
+                        Rule::grasps_file => {
+                            let string = p.into_inner().find(|q| q.as_rule() == Rule::string)?;
+                            file = Some(self.string(string)?);
+                        }
+                        Rule::family_clause => family.push(self.family_clause(p)?),
                         _ => {}
                     }
                 }
@@ -294,6 +301,8 @@ impl Builder<'_, '_> {
                     label,
                     holder: holder?,
                     pose,
+                    file,
+                    family,
                     span,
                 })
             }
@@ -308,10 +317,12 @@ impl Builder<'_, '_> {
                     .into_inner()
                     .map(|p| self.qualified(p))
                     .collect::<Option<Vec<_>>>()?;
+                let matching = inner.next().map(|p| span_of(&p));
                 ObjectMember::Transition(TransitionMember {
                     from,
                     direction,
                     to,
+                    matching,
                     span,
                 })
             }

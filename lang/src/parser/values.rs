@@ -108,6 +108,41 @@ impl Builder<'_, '_> {
         })
     }
 
+    /// `every STEP about AXIS` or `along AXIS at (D1, ...)`.
+    pub(super) fn family_clause(&mut self, pair: Pair<'_, Rule>) -> Option<FamilyClause> {
+        let clause = pair.into_inner().next()?;
+        let span = span_of(&clause);
+        let rule = clause.as_rule();
+        let mut step = None;
+        let mut axis = None;
+        let mut offsets = Vec::new();
+        for p in clause.into_inner() {
+            match p.as_rule() {
+                Rule::quantity => step = Some(self.quantity(p)?),
+                Rule::axis => axis = Some(axis_of(p.as_str())),
+                Rule::quantity_list => {
+                    offsets = p
+                        .into_inner()
+                        .map(|q| self.quantity(q))
+                        .collect::<Option<Vec<_>>>()?;
+                }
+                _ => {}
+            }
+        }
+        Some(match rule {
+            Rule::every_clause => FamilyClause::Every {
+                step: step?,
+                axis: axis?,
+                span,
+            },
+            _ => FamilyClause::Along {
+                axis: axis?,
+                offsets,
+                span,
+            },
+        })
+    }
+
     pub(super) fn quantity(&mut self, pair: Pair<'_, Rule>) -> Option<Quantity> {
         let span = span_of(&pair);
         let mut inner = pair.into_inner();
@@ -184,5 +219,14 @@ impl Builder<'_, '_> {
             }
         }
         Some(StringLit { value, span })
+    }
+}
+
+/// An axis as the grammar's `axis` rule matched it.
+pub(super) fn axis_of(text: &str) -> Axis {
+    match text {
+        "x" => Axis::X,
+        "y" => Axis::Y,
+        _ => Axis::Z,
     }
 }
