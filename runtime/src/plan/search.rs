@@ -162,7 +162,7 @@ impl SearchGraph {
             let w = self.weight(self.graph.edge_weight(EdgeIndex::new(arc))?);
             let scaled = w * BILLION;
             let whole = scaled.round();
-            if !(whole.abs() < 1e18) || (scaled - whole).abs() > 1e-3 {
+            if !whole.is_finite() || whole.abs() >= 1e18 || (scaled - whole).abs() > 1e-3 {
                 return None;
             }
             total += whole as i128;
