@@ -354,27 +354,14 @@ impl<'a> SceneValidity<'a> {
             .as_ref()
     }
 
-    /// The moving arms' joints at `q`, listed without allocating for up to
-    /// [`INLINE_ARMS`] arms.
+    /// Calls `query` with only the moving arms' joints at `q` (what the frozen queries
+    /// take: the stationary arms are frozen with the rest).
     fn with_moving<T>(
         &self,
         q: &[f64],
         query: impl FnOnce(&[(EndEffectorId, &[f64])]) -> Result<T, QueryError>,
     ) -> Result<T, QueryError> {
-        let n = self.slices.len();
-        let mut inline: [(EndEffectorId, &[f64]); INLINE_ARMS] =
-            [(EndEffectorId(0), &[]); INLINE_ARMS];
-        let mut heap: Vec<(EndEffectorId, &[f64])>;
-        let list: &mut [(EndEffectorId, &[f64])] = if n <= INLINE_ARMS {
-            &mut inline[..n]
-        } else {
-            heap = vec![(EndEffectorId(0), &[][..]); n];
-            &mut heap
-        };
-        for (slot, s) in list.iter_mut().zip(&self.slices) {
-            *slot = (s.end_effector, &q[s.offset..s.offset + s.len]);
-        }
-        query(list)
+        self.list_arms(q, &[], query)
     }
 
     /// Joint values in one configuration.
@@ -407,10 +394,21 @@ impl<'a> SceneValidity<'a> {
     }
 
     /// Calls `query` with every arm's joints at `q` (moving arms from `q`, then the
-    /// stationary ones), listed without allocating for up to [`INLINE_ARMS`] arms.
+    /// stationary ones).
     fn with_arms<T>(
         &self,
         q: &[f64],
+        query: impl FnOnce(&[(EndEffectorId, &[f64])]) -> Result<T, QueryError>,
+    ) -> Result<T, QueryError> {
+        self.list_arms(q, self.stationary, query)
+    }
+
+    /// The moving arms at `q`, then `stationary`, listed without allocating for up to
+    /// [`INLINE_ARMS`] arms.
+    fn list_arms<T>(
+        &self,
+        q: &[f64],
+        stationary: &[(EndEffectorId, Vec<f64>)],
         query: impl FnOnce(&[(EndEffectorId, &[f64])]) -> Result<T, QueryError>,
     ) -> Result<T, QueryError> {
         if q.len() != self.dim {
@@ -419,7 +417,7 @@ impl<'a> SceneValidity<'a> {
                 found: q.len(),
             });
         }
-        let n = self.slices.len() + self.stationary.len();
+        let n = self.slices.len() + stationary.len();
         let mut inline: [(EndEffectorId, &[f64]); INLINE_ARMS] =
             [(EndEffectorId(0), &[]); INLINE_ARMS];
         let mut heap: Vec<(EndEffectorId, &[f64])>;
@@ -432,7 +430,7 @@ impl<'a> SceneValidity<'a> {
         for (slot, s) in list.iter_mut().zip(&self.slices) {
             *slot = (s.end_effector, &q[s.offset..s.offset + s.len]);
         }
-        for (slot, (e, joints)) in list[self.slices.len()..].iter_mut().zip(self.stationary) {
+        for (slot, (e, joints)) in list[self.slices.len()..].iter_mut().zip(stationary) {
             *slot = (*e, joints.as_slice());
         }
         query(list)

@@ -114,7 +114,7 @@ impl CollisionWorld {
                 None => return Ok(None),
             },
         };
-        let mut aabb = match (b.fixed_aabb, b.cylinder) {
+        let aabb = match (b.fixed_aabb, b.cylinder) {
             (Some(a), _) => a,
             (None, Some((h, r))) => cylinder_aabb(&pose, h, r),
             (None, None) => b.shape.compute_aabb(&pose),
@@ -124,13 +124,9 @@ impl CollisionWorld {
                 body: b.name.clone(),
             });
         }
-        if margin > 0.0 {
-            aabb.mins -= Vec3::repeat(margin);
-            aabb.maxs += Vec3::repeat(margin);
-        }
         Ok(Some(PlacedBody {
             pose,
-            aabb,
+            aabb: grow(&aabb, margin),
             centre: pose * b.sphere_centre,
             margin: margin.max(0.0),
         }))
@@ -220,6 +216,17 @@ pub(super) struct PlacedBody {
     pub(super) aabb: Aabb,
     pub(super) centre: Point,
     pub(super) margin: f64,
+}
+
+/// `aabb` grown by `margin` on every side (unchanged when `margin` is not positive): how
+/// every query grows a body by how far it may travel or by half a clearance cutoff.
+pub(super) fn grow(aabb: &Aabb, margin: f64) -> Aabb {
+    let mut a = *aabb;
+    if margin > 0.0 {
+        a.mins -= Vec3::repeat(margin);
+        a.maxs += Vec3::repeat(margin);
+    }
+    a
 }
 
 /// The exact AABB of a parry cylinder (axis along its local y) at `pose`: along world

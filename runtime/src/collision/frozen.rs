@@ -22,12 +22,11 @@ use std::sync::atomic::{AtomicU64, Ordering};
 use parry3d_f64::bounding_volume::Aabb;
 use parry3d_f64::partitioning::{Bvh, BvhBuildStrategy};
 
-use super::broad_phase::PlacedBody;
+use super::broad_phase::{grow, PlacedBody};
 use super::build::Mount;
 use super::swept::CONTACT;
 use super::world::{CollisionScratch, CollisionWorld, Visit};
 use super::{CollisionError, Configuration, SweepBounds};
-use crate::math::Vec3;
 
 /// Tags a [`Frozen`] so a scratch knows whether it already holds its standing bodies.
 static NEXT_TAG: AtomicU64 = AtomicU64::new(1);
@@ -292,15 +291,4 @@ impl CollisionWorld {
         }
         Ok(())
     }
-}
-
-/// `aabb` grown by `margin` on every side, as the plain placement grows it (unchanged
-/// when `margin` is not positive).
-fn grow(aabb: &Aabb, margin: f64) -> Aabb {
-    let mut a = *aabb;
-    if margin > 0.0 {
-        a.mins -= Vec3::repeat(margin);
-        a.maxs += Vec3::repeat(margin);
-    }
-    a
 }
