@@ -351,3 +351,25 @@ proptest::proptest! {
         }
     }
 }
+
+/// Two hands with the same grasp and no symmetry turn to tell them apart occupy one place:
+/// the handoff is refused for the two hands' solids, before (and instead of) the closed
+/// chain that the symmetric ball of `far_arms.cell` fails on.
+#[test]
+fn two_hands_in_one_place_are_refused_for_their_overlap() {
+    let (artifact, _) = verified("tests/data/verify/far_arms_one_turn.cell", 0);
+    let ball = &artifact.objects[0];
+    assert!(ball.graph.arcs.is_empty(), "{:?}", ball.graph.arcs);
+    assert_eq!(ball.graph.pruned.len(), 2);
+    for pruned in &ball.graph.pruned {
+        match &pruned.reason {
+            Infeasibility::Collision { a, b } => {
+                assert_eq!(
+                    (a.as_str(), b.as_str()),
+                    ("left/softhand", "right/softhand")
+                )
+            }
+            other => panic!("wrong reason: {other:?}"),
+        }
+    }
+}

@@ -73,6 +73,7 @@ mod build;
 mod error;
 mod frozen;
 mod swept;
+mod tip;
 mod world;
 
 use parry3d_f64::shape::SharedShape;

@@ -18,6 +18,7 @@ use crate::robot::Robot;
 mod frozen;
 mod load;
 mod query;
+mod tip;
 
 pub(crate) use frozen::FrozenScene;
 pub use load::SceneError;

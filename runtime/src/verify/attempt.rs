@@ -147,6 +147,13 @@ impl Attempt<'_> {
         outcome: &mut Outcome,
     ) -> Option<Witness> {
         let tip = object_pose * self.grasp.inverse();
+        // Where the hand must be is known before any IK: a hand in the table is refused
+        // at once, whatever the joints would be.
+        if let Some(c) = self.scene.tip_hits_fixed(self.e, &tip) {
+            let (a, b) = self.scene.world.names(&c);
+            outcome.last_collision = Some((a.to_string(), b.to_string()));
+            return None;
+        }
         match solve_ik(
             self.robot,
             &self.base,

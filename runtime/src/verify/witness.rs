@@ -9,6 +9,7 @@ use rand::Rng;
 use rand_chacha::ChaCha8Rng;
 
 use super::attempt::{arm, invalidity, sample_point, Attempt, Outcome};
+use super::hands::{TurnTable, Turns};
 use super::{rng_for, Check, VerifyOptions};
 use crate::closed_chain::{solve_handoff, HandoffProblem};
 use crate::math::{iso_to_schema, Iso, Point, Quat, Vec3};
@@ -22,10 +23,12 @@ pub(super) fn run_check(
     scene: &Scene,
     scratch: &mut SceneScratch,
     options: &VerifyOptions,
+    turns: &TurnTable,
     check: Check,
 ) -> Result<Witness, Infeasibility> {
     let mut answer = Answer {
         artifact,
+        turns,
         scene,
         options,
         scratch,
@@ -64,6 +67,7 @@ pub(super) fn run_check(
 /// attempts saw.
 struct Answer<'a> {
     artifact: &'a Artifact,
+    turns: &'a TurnTable,
     scene: &'a Scene,
     options: &'a VerifyOptions,
     scratch: &'a mut SceneScratch,
@@ -168,25 +172,22 @@ impl Answer<'_> {
         };
         let boxes = &scene.workspaces[w.index()];
         outcome.partner = Some(b);
-        // A symmetric object may be held by B in a grasp turned by a symmetry: a ball
-        // passed between two hands with the same grasp is held from opposite sides.
-        let all_turns = crate::symmetry::candidates(&artifact.objects[object.index()].symmetries);
-        // With the same grasp on both sides, the unturned grasp puts both hands in one
-        // place: only turns that send the second hand round to the other side (over
-        // 120°) can work, so only those are tried.
-        let turns: Vec<_> = if ga == gb {
-            let far: Vec<_> = all_turns
-                .iter()
-                .copied()
-                .filter(|t| t.angle() > 2.0)
-                .collect();
-            if far.is_empty() {
-                all_turns
-            } else {
-                far
+        // A symmetric object may be held by B in a grasp turned by a symmetry (a ball
+        // passed between two hands with the same grasp is held from opposite sides); the
+        // turns that put the two hands into each other are left out before any IK.
+        let turns = match self.turns.get(artifact, scene, object, (a, ga), (b, gb)) {
+            Turns::Apart(turns) if !turns.is_empty() => turns,
+            Turns::Apart(_) => {
+                return Err(Infeasibility::NoPlacement {
+                    detail: "the object has no symmetry turn to try".into(),
+                })
             }
-        } else {
-            all_turns
+            Turns::Overlap { a, b } => {
+                return Err(Infeasibility::Collision {
+                    a: scene.world.name(a).to_string(),
+                    b: scene.world.name(b).to_string(),
+                })
+            }
         };
         for attempt in 0..options.placements {
             let Some(target) = sample_point(boxes, rng) else {

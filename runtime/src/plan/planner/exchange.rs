@@ -52,6 +52,9 @@ impl Planner<'_> {
                 // Many candidates are screened, so each gets a few restarts only.
                 let found = turns.iter().find_map(|turn| {
                     let tip = pose * (pose_of(arm.grasp) * turn).inverse();
+                    if scene.tip_hits_fixed(arm.end_effector, &tip).is_some() {
+                        return None;
+                    }
                     solve_ik(
                         &scene.robots[*robot],
                         base,
@@ -343,6 +346,11 @@ impl Planner<'_> {
                 break;
             }
             let tip = pose * (grasp * turns[attempt % turns.len()]).inverse();
+            if let Some(c) = scene.tip_hits_fixed(arm.end_effector, &tip) {
+                let (a, b) = scene.world.names(&c);
+                last_collision = Some((a.to_string(), b.to_string()));
+                continue;
+            }
             match solve_ik(
                 robot,
                 base,
