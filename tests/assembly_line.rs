@@ -17,6 +17,9 @@ use cellc_runtime::verify::{verify, VerifyOptions};
 use cellc_schema::Artifact;
 
 const CELL: &str = "cells/assembly_line.cell";
+/// The same line with grasp families, at the paper's scale (Table I: 736 nodes, 14,016
+/// arcs).
+const FULL: &str = "cells/assembly_line_full.cell";
 
 /// The paper's holder sequence.
 const PAPERS: [&str; 9] = [
@@ -25,8 +28,13 @@ const PAPERS: [&str; 9] = [
 
 /// The cell compiled, lowered, and verified with `seed`, with its scene.
 fn verified(seed: u64) -> (Artifact, Scene) {
-    let compilation = cellc_compiler::compile(&FsFiles, CELL);
-    assert!(!compilation.has_errors(), "{CELL} has errors");
+    verified_cell(CELL, seed)
+}
+
+/// `path` compiled, lowered, and verified with `seed`, with its scene.
+fn verified_cell(path: &str, seed: u64) -> (Artifact, Scene) {
+    let compilation = cellc_compiler::compile(&FsFiles, path);
+    assert!(!compilation.has_errors(), "{path} has errors");
     let cell = compilation.cell.as_ref().expect("resolved");
     let mut artifact =
         cellc_compiler::artifact::lower(cell, &compilation.graphs, &compilation.sources);
@@ -215,7 +223,12 @@ fn verification_rules_out_the_shortcuts_and_keeps_the_chain() {
 /// Plans the request, checks the paper's sequence, executes it in the simulator and checks
 /// the goal pose and that the conveyor moved.
 fn plan_and_run(seed: u64) {
-    let (artifact, scene) = verified(seed);
+    plan_and_run_cell(CELL, seed);
+}
+
+/// [`plan_and_run`] on the cell at `path`.
+fn plan_and_run_cell(path: &str, seed: u64) -> Artifact {
+    let (artifact, scene) = verified_cell(path, seed);
     let planner = Planner::new(&artifact, Some(&scene));
     let request = line_request(&artifact, seed);
     let plan = planner.plan(&request).expect("the request plans");
@@ -292,6 +305,37 @@ fn plan_and_run(seed: u64) {
         "{:?}",
         simulator.log
     );
+    // The planner and the simulator borrow the artifact to the end of this scope.
+    artifact.clone()
+}
+
+/// At the paper's scale, with every arc verified, the grasp families leave the chain as
+/// it was: the part still passes bench 1, arm 1, arm 2, bench 2, arm 3, arm 4, the
+/// conveyor, arm 5, bench 4 (the nest's handoffs between arms 2 and 3 all pruned).
+#[test]
+fn the_full_line_is_at_the_papers_scale_and_the_plan_is_still_the_papers() {
+    let artifact = plan_and_run_cell(FULL, 0);
+    let graph = &artifact.objects[0].graph;
+    assert!(
+        graph.nodes.len() >= 736 && graph.arcs.len() >= 14_016,
+        "{} nodes, {} verified arcs: smaller than the paper's 736 / 14,016",
+        graph.nodes.len(),
+        graph.arcs.len()
+    );
+    let (arm2, arm3) = (
+        end_effector(&artifact, "arm2"),
+        end_effector(&artifact, "arm3"),
+    );
+    let handoffs_2_3 = graph
+        .arcs
+        .iter()
+        .filter(|a| {
+            let (from, to) = (graph.nodes[a.from as usize], graph.nodes[a.to as usize]);
+            [from.end_effector, to.end_effector] == [arm2, arm3]
+                || [from.end_effector, to.end_effector] == [arm3, arm2]
+        })
+        .count();
+    assert_eq!(handoffs_2_3, 0, "arms 2 and 3 hand over directly");
 }
 
 #[test]
