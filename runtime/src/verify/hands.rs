@@ -44,8 +44,12 @@ type Key = (ObjectId, Option<u32>, GraspId, Option<u32>, GraspId);
 
 /// The turns of every handoff check's grasp pair, computed once per pair.
 pub(super) struct TurnTable {
-    turns: BTreeMap<Key, Turns>,
+    turns: BTreeMap<Key, Pair>,
 }
+
+/// A grasp pair's answer, for any two arms with those hands: the turns that keep the hands
+/// apart, or the two hand solids (A's, B's) that overlap under every turn.
+type Pair = Result<Vec<Quat>, (usize, usize)>;
 
 impl TurnTable {
     /// Tests the grasp pair of every handoff among `checks`, in parallel.
@@ -88,30 +92,24 @@ impl TurnTable {
         (b, gb): (EndEffectorId, GraspId),
     ) -> Turns {
         let kind = |e: EndEffectorId| artifact.end_effectors[e.index()].kind;
-        match self.turns.get(&(object, kind(a), ga, kind(b), gb)) {
-            Some(Turns::Apart(turns)) => Turns::Apart(turns.clone()),
-            Some(&Turns::Overlap { a: sa, b: sb }) => {
-                let robot = |e: EndEffectorId| scene.world_robot(e);
-                match (robot(a), robot(b), sa, sb) {
-                    (
-                        Some(ra),
-                        Some(rb),
-                        BodyId::Hand { solid: s, .. },
-                        BodyId::Hand { solid: t, .. },
-                    ) => Turns::Overlap {
-                        a: BodyId::Hand {
-                            robot: ra,
-                            solid: s,
-                        },
-                        b: BodyId::Hand {
-                            robot: rb,
-                            solid: t,
-                        },
-                    },
-                    _ => Turns::Overlap { a: sa, b: sb },
-                }
-            }
+        let pair = match self.turns.get(&(object, kind(a), ga, kind(b), gb)) {
+            Some(pair) => pair.clone(),
             None => grasp_pair(artifact, scene, object, (a, ga), (b, gb)),
+        };
+        match (pair, scene.world_robot(a), scene.world_robot(b)) {
+            (Err((s, t)), Some(ra), Some(rb)) => Turns::Overlap {
+                a: BodyId::Hand {
+                    robot: ra,
+                    solid: s,
+                },
+                b: BodyId::Hand {
+                    robot: rb,
+                    solid: t,
+                },
+            },
+            (Ok(turns), ..) => Turns::Apart(turns),
+            // An overlap is only ever found between two arms' hands.
+            (Err(_), ..) => Turns::Apart(Vec::new()),
         }
     }
 }
@@ -137,7 +135,7 @@ fn grasp_pair(
     object: ObjectId,
     (a, ga): (EndEffectorId, GraspId),
     (b, gb): (EndEffectorId, GraspId),
-) -> Turns {
+) -> Pair {
     let turns = candidate_turns(artifact, object, ga == gb);
     let solids = |e: EndEffectorId| -> &[PlacedShape] {
         artifact.end_effectors[e.index()]
@@ -147,10 +145,10 @@ fn grasp_pair(
     };
     let (solids_a, solids_b) = (solids(a), solids(b));
     let (Some(ra), Some(rb)) = (scene.world_robot(a), scene.world_robot(b)) else {
-        return Turns::Apart(turns);
+        return Ok(turns);
     };
     if solids_a.is_empty() || solids_b.is_empty() {
-        return Turns::Apart(turns);
+        return Ok(turns);
     }
     // Hands the cell allows to touch are never refused.
     let allowed = |s: usize, t: usize| {
@@ -184,17 +182,8 @@ fn grasp_pair(
         })
         .collect();
     match (apart.is_empty(), first_overlap) {
-        (true, Some((s, t))) => Turns::Overlap {
-            a: BodyId::Hand {
-                robot: ra,
-                solid: s,
-            },
-            b: BodyId::Hand {
-                robot: rb,
-                solid: t,
-            },
-        },
-        _ => Turns::Apart(apart),
+        (true, Some(solids)) => Err(solids),
+        _ => Ok(apart),
     }
 }
 
