@@ -70,7 +70,24 @@ pub(super) struct Outcome {
     pub(super) best_ik: BestIk,
     /// For a handoff, the other arm: the failure is the closed chain's, not one arm's.
     pub(super) partner: Option<EndEffectorId>,
-    pub(super) last_collision: Option<(String, String)>,
+    pub(super) last_collision: Option<Fault>,
+}
+
+/// A failed state check as it was found. The pair a pruned arc names is worked out only
+/// for the last one, when the check's reason is asked for: naming it can mean listing
+/// every collision of the state ([`blamed`]), and a check that fails all its placements
+/// (a nest handoff of the assembly line closes its chain 16 times) used to pay that for
+/// each of them, though only the last is reported.
+pub(super) enum Fault {
+    /// Named already: a hand in a fixed body, a query that failed, a joint limit.
+    Named(String, String),
+    /// The first colliding pair found in the state of `arms` at `q`.
+    Collision {
+        arms: Vec<EndEffectorId>,
+        q: Vec<f64>,
+        placement: ObjectPlacement,
+        found: (String, String),
+    },
 }
 
 impl Outcome {
@@ -84,12 +101,22 @@ impl Outcome {
 
     /// The reason of the failed check: the last collision seen, else the best IK (or
     /// closed-chain) error, else `no_placement`.
-    pub(super) fn reason(&self, no_placement: &str) -> Infeasibility {
-        if let Some((a, b)) = &self.last_collision {
-            return Infeasibility::Collision {
-                a: a.clone(),
-                b: b.clone(),
+    pub(super) fn reason(
+        &self,
+        (scene, object, scratch): (&Scene, ObjectId, &mut SceneScratch),
+        no_placement: &str,
+    ) -> Infeasibility {
+        if let Some(fault) = &self.last_collision {
+            let (a, b) = match fault {
+                Fault::Named(a, b) => (a.clone(), b.clone()),
+                Fault::Collision {
+                    arms,
+                    q,
+                    placement,
+                    found,
+                } => blamed(scene, (arms, q), object, *placement, scratch, found.clone()),
             };
+            return Infeasibility::Collision { a, b };
         }
         if let (true, Some(b)) = (self.best_ik.seen, self.partner) {
             return Infeasibility::NoClosedChain {
@@ -151,7 +178,7 @@ impl Attempt<'_> {
         // at once, whatever the joints would be.
         if let Some(c) = self.scene.tip_hits_fixed(self.e, &tip) {
             let (a, b) = self.scene.world.names(&c);
-            outcome.last_collision = Some((a.to_string(), b.to_string()));
+            outcome.last_collision = Some(Fault::Named(a.to_string(), b.to_string()));
             return None;
         }
         match solve_ik(
@@ -171,8 +198,8 @@ impl Attempt<'_> {
                         joints: q,
                     }],
                 }),
-                Some(pair) => {
-                    outcome.last_collision = Some(pair);
+                Some(fault) => {
+                    outcome.last_collision = Some(fault);
                     None
                 }
             },
@@ -184,9 +211,9 @@ impl Attempt<'_> {
     }
 }
 
-/// Why a state is not valid, as the pair a pruned arc reports, or `None` when it is. A
-/// state the scene cannot evaluate counts as colliding (with the reason as the pair),
-/// never as free; so would a joint outside its limits, which the solvers never return.
+/// Why a state is not valid, or `None` when it is. A state the scene cannot evaluate
+/// counts as colliding (with the reason as the pair), never as free; so would a joint
+/// outside its limits, which the solvers never return.
 pub(super) fn invalidity(
     scene: &Scene,
     arms: &[EndEffectorId],
@@ -194,18 +221,24 @@ pub(super) fn invalidity(
     object: ObjectId,
     placement: ObjectPlacement,
     scratch: &mut SceneScratch,
-) -> Option<(String, String)> {
+) -> Option<Fault> {
     let validity = match SceneValidity::new(scene, arms, &[], object, placement) {
         Ok(validity) => validity,
-        Err(error) => return Some(("state".to_string(), format!("{error:?}"))),
+        Err(error) => return Some(Fault::Named("state".to_string(), format!("{error:?}"))),
     };
     match validity.check(q, scratch) {
         Ok(None) => None,
-        Ok(Some(StateFault::Collision { a, b })) => {
-            Some(blamed(scene, (arms, q), object, placement, scratch, (a, b)))
-        }
-        Ok(Some(fault)) => Some(("joint limits".to_string(), fault.to_string())),
-        Err(error) => Some(("collision query".to_string(), format!("{error:?}"))),
+        Ok(Some(StateFault::Collision { a, b })) => Some(Fault::Collision {
+            arms: arms.to_vec(),
+            q: q.to_vec(),
+            placement,
+            found: (a, b),
+        }),
+        Ok(Some(fault)) => Some(Fault::Named("joint limits".to_string(), fault.to_string())),
+        Err(error) => Some(Fault::Named(
+            "collision query".to_string(),
+            format!("{error:?}"),
+        )),
     }
 }
 

@@ -117,12 +117,13 @@ impl Answer<'_> {
                             }],
                         })
                     }
-                    Some(pair) => outcome.last_collision = Some(pair),
+                    Some(fault) => outcome.last_collision = Some(fault),
                 }
             }
-            return Err(
-                outcome.reason("the robot's joints never bring the object into the workspace")
-            );
+            return Err(outcome.reason(
+                (scene, object, scratch),
+                "the robot's joints never bring the object into the workspace",
+            ));
         }
         let attempt = Attempt {
             scene,
@@ -150,7 +151,7 @@ impl Answer<'_> {
                 return Ok(witness);
             }
         }
-        Err(outcome.reason("the workspace has no volume"))
+        Err(outcome.reason((scene, object, scratch), "the workspace has no volume"))
     }
 
     /// Arms `a` and `b`, each with its grasp, holding the object at once in `w`.
@@ -242,13 +243,13 @@ impl Answer<'_> {
                                 ],
                             })
                         }
-                        Some(pair) => outcome.last_collision = Some(pair),
+                        Some(fault) => outcome.last_collision = Some(fault),
                     }
                 }
                 Err(error) => outcome.best_ik.record(a, &error),
             }
         }
-        Err(outcome.reason("the workspace has no volume"))
+        Err(outcome.reason((scene, object, scratch), "the workspace has no volume"))
     }
 
     /// Arm `e` with grasp `g` taking the object from (or leaving it on) `surface`, where
@@ -312,7 +313,7 @@ impl Answer<'_> {
                 return Ok(witness);
             }
         }
-        Err(outcome.reason("no resting pose"))
+        Err(outcome.reason((scene, object, scratch), "no resting pose"))
     }
 }
 
