@@ -12,6 +12,7 @@ pub mod fixes;
 pub mod fs_files;
 pub mod fuzzing;
 pub mod graph_svg;
+pub mod grouping;
 pub mod import;
 pub mod lsp;
 pub mod output;

@@ -8,6 +8,7 @@ use cellc_lang::{Diagnostic, FileId, Severity, SourceMap};
 use miette::{GraphicalReportHandler, GraphicalTheme, LabeledSpan, NamedSource};
 use serde::Serialize;
 
+use crate::grouping;
 use crate::snippet::{Shared, Sources};
 
 /// Output style.
@@ -73,12 +74,15 @@ fn neutralize(text: &str) -> Cow<'_, str> {
     Cow::Owned(out)
 }
 
-/// The most diagnostics one human rendering shows: nobody reads more, and a hostile cell
-/// can have hundreds of thousands (the short and JSON forms list them all).
+/// The most diagnostics one human rendering shows in full, whatever their codes: nobody
+/// reads more, and a hostile cell can have hundreds of thousands of many codes (the short
+/// and JSON forms list them all). Grouping by code ([`grouping`]) usually shows far fewer.
 pub const MAX_HUMAN_DIAGNOSTICS: usize = 500;
 
-/// Human rendering of a list of diagnostics (at most [`MAX_HUMAN_DIAGNOSTICS`], then a
-/// line that counts the rest).
+/// Human rendering of a list of diagnostics: the first [`grouping::SHOWN_PER_CODE`] of
+/// each code in full (at most [`MAX_HUMAN_DIAGNOSTICS`], errors before warnings when that
+/// cuts), then one line per code that counts the ones not shown. Only the diagnostics
+/// shown are rendered, so the cost is linear in the list and bounded in snippets.
 pub fn human(diagnostics: &[Diagnostic], sources: &SourceMap, color: Color) -> String {
     let theme = match color {
         Color::Always => GraphicalTheme::unicode(),
@@ -90,8 +94,9 @@ pub fn human(diagnostics: &[Diagnostic], sources: &SourceMap, color: Color) -> S
         .without_syntax_highlighting();
     let mut out = String::new();
     let mut files = Sources::new(sources, |text| neutralize(text).into_owned());
-    let (shown, hidden) = diagnostics.split_at(diagnostics.len().min(MAX_HUMAN_DIAGNOSTICS));
-    for diagnostic in shown {
+    let selection = grouping::select(diagnostics, MAX_HUMAN_DIAGNOSTICS);
+    for &i in &selection.shown {
+        let diagnostic = &diagnostics[i];
         let report = Report::new(diagnostic, sources, &mut files);
         if handler.render_report(&mut out, &report).is_err() {
             // Rendering into a String cannot fail for I/O reasons; fall back to the short
@@ -100,12 +105,20 @@ pub fn human(diagnostics: &[Diagnostic], sources: &SourceMap, color: Color) -> S
         }
         out.push('\n');
     }
-    if !hidden.is_empty() {
+    for hidden in &selection.hidden {
+        let noun = match (hidden.severity, hidden.count) {
+            (Severity::Error, 1) => "error",
+            (Severity::Error, _) => "errors",
+            (Severity::Warning, 1) => "warning",
+            (Severity::Warning, _) => "warnings",
+        };
         out.push_str(&format!(
-            "... and {} more diagnostics, not shown (`cellc check --format short` or \
-             `--format json` lists every one)\n\n",
-            hidden.len()
+            "... and {} more {noun} {}, not shown\n",
+            hidden.count, hidden.code
         ));
+    }
+    if !selection.hidden.is_empty() {
+        out.push_str("(`cellc check --format short` or `--format json` lists every one)\n\n");
     }
     out
 }

@@ -1,7 +1,9 @@
 //! UI tests: every `tests/ui/*.cell` holds one problem, names the code it must produce
 //! on its first line (`// expect: E0101`), and has an insta snapshot of its source plus
 //! the rendered diagnostics. The harness fails when the codes produced differ from the
-//! one written, so a snapshot can never quietly bless a wrong diagnostic.
+//! ones written, so a snapshot can never quietly bless a wrong diagnostic. A file about
+//! how diagnostics are shown together (grouping by code) names every code it produces
+//! (`// expect: W0003 W0005`).
 //!
 //! Files under `tests/ui/support/` are included or referenced by UI files, not tested
 //! alone.
@@ -11,13 +13,15 @@ use std::collections::BTreeSet;
 use cellc::fs_files::FsFiles;
 use cellc::render::{self, Color};
 
-fn expected_code(source: &str) -> Option<&str> {
-    source
+fn expected_codes(source: &str) -> Option<BTreeSet<&str>> {
+    let codes: BTreeSet<&str> = source
         .lines()
         .next()?
         .trim()
-        .strip_prefix("// expect:")
-        .map(str::trim)
+        .strip_prefix("// expect:")?
+        .split_whitespace()
+        .collect();
+    (!codes.is_empty()).then_some(codes)
 }
 
 #[test]
@@ -32,7 +36,7 @@ fn ui() {
             .to_string_lossy()
             .replace('\\', "/");
         let source = std::fs::read_to_string(path).unwrap_or_default();
-        let Some(code) = expected_code(&source) else {
+        let Some(codes) = expected_codes(&source) else {
             failures.push(format!("{relative}: first line must be `// expect: CODE`"));
             return;
         };
@@ -42,9 +46,9 @@ fn ui() {
             .iter()
             .map(|d| d.code.as_str())
             .collect();
-        if produced != BTreeSet::from([code]) {
+        if produced != codes {
             failures.push(format!(
-                "{relative}: expected only {code}, got {produced:?}"
+                "{relative}: expected only {codes:?}, got {produced:?}"
             ));
         }
         let rendered = render::human(&compilation.diagnostics, &compilation.sources, Color::Never);
