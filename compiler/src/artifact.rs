@@ -3,7 +3,7 @@
 //! The artifact is the compiler/runtime boundary: everything the runtime needs, with ids
 //! turned into indices and spans into a table, and nothing of the compiler's own types.
 
-use std::collections::HashMap;
+use rustc_hash::FxHashMap as HashMap;
 
 use cellc_lang::ast::GraspKeyword;
 use cellc_lang::{FileId, SourceMap, Span};
@@ -376,7 +376,7 @@ impl<'s> SpanTable<'s> {
         SpanTable {
             sources,
             table: Vec::new(),
-            index: HashMap::new(),
+            index: HashMap::default(),
         }
     }
 

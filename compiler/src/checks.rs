@@ -1,9 +1,10 @@
 //! Semantic checks on the resolved cell, before and after graph generation.
 
-use std::collections::{BTreeMap, HashSet};
+use std::collections::BTreeMap;
 
 use cellc_lang::Diagnostic;
 use petgraph::Direction as Dir;
+use rustc_hash::FxHashSet as HashSet;
 
 use crate::diagnostics;
 use crate::graph::ObjectGraph;
@@ -171,12 +172,19 @@ fn check_overlaps(cell: &Cell, diagnostics: &mut Vec<Diagnostic>) {
     }
 }
 
+/// Whether each grasp (by index) is in some transition: a flag per grasp, as a cell of
+/// 10^6 transitions would spend more hashing them than checking.
+fn used_grasps(cell: &Cell) -> Vec<bool> {
+    let mut used = vec![false; cell.grasps.len()];
+    for t in &cell.transitions {
+        used[t.from.index()] = true;
+        used[t.to.index()] = true;
+    }
+    used
+}
+
 fn check_grasps(cell: &Cell, diagnostics: &mut Vec<Diagnostic>) {
-    let used: HashSet<GraspId> = cell
-        .transitions
-        .iter()
-        .flat_map(|t| [t.from, t.to])
-        .collect();
+    let used = used_grasps(cell);
     let mut kind_has_holder = vec![false; cell.holder_kinds.len()];
     for (_, e) in cell.end_effectors.iter() {
         if let Some(kind) = e.kind {
@@ -196,7 +204,7 @@ fn check_grasps(cell: &Cell, diagnostics: &mut Vec<Diagnostic>) {
             }
         }
         if grasp.holder.is_some()
-            && !used.contains(&g)
+            && !used[g.index()]
             && !cell.incomplete_objects.contains(&grasp.object)
         {
             diagnostics.push(diagnostics::unused_grasp(&grasp.name, grasp.origin));
@@ -207,7 +215,7 @@ fn check_grasps(cell: &Cell, diagnostics: &mut Vec<Diagnostic>) {
 fn check_transitions(cell: &Cell, diagnostics: &mut Vec<Diagnostic>) {
     let declared: HashSet<(GraspId, GraspId)> =
         cell.transitions.iter().map(|t| (t.from, t.to)).collect();
-    let mut reported: HashSet<(GraspId, GraspId)> = HashSet::new();
+    let mut reported: HashSet<(GraspId, GraspId)> = HashSet::default();
     let holders = cell.holders();
     for t in &cell.transitions {
         let (from, to) = (&cell.grasps[t.from], &cell.grasps[t.to]);
@@ -255,18 +263,14 @@ fn check_transitions(cell: &Cell, diagnostics: &mut Vec<Diagnostic>) {
 /// Checks that need the graphs: states that can never be entered or left. Grasps in no
 /// transition are already reported as unused, so their states are not reported again.
 pub fn check_graphs(cell: &Cell, graphs: &[ObjectGraph], diagnostics: &mut Vec<Diagnostic>) {
-    let used: HashSet<GraspId> = cell
-        .transitions
-        .iter()
-        .flat_map(|t| [t.from, t.to])
-        .collect();
+    let used = used_grasps(cell);
     for graph in graphs {
         // (grasp, "entered"/"left") -> (first such state, how many), so one warning
         // covers all workspaces; a name is made only for the state shown.
         let mut dead: BTreeMap<(GraspId, &str), (crate::graph::State, usize)> = BTreeMap::new();
         for node in graph.graph.node_indices() {
             let state = graph.graph[node];
-            if !used.contains(&state.grasp) {
+            if !used[state.grasp.index()] {
                 continue;
             }
             for (direction, never) in [(Dir::Incoming, "entered"), (Dir::Outgoing, "left")] {

@@ -7,7 +7,7 @@
 //! Each arc records which declaration made it, so any finding about an arc can point at
 //! source lines.
 
-use std::collections::HashMap;
+use rustc_hash::FxHashMap as HashMap;
 
 use cellc_schema::rules::{
     Adjacency, CellRules, EndEffectorFacts, GraspFacts, ObjectRules, Provenance,
@@ -77,7 +77,7 @@ impl ObjectGraph {
         ObjectGraph {
             object,
             graph: DiGraph::new(),
-            index: HashMap::new(),
+            index: HashMap::default(),
         }
     }
 
@@ -213,7 +213,7 @@ fn build_object(cell: &Cell, rules: &GraphRules, object: ObjectId, obj: &Object)
     let object_rules = &rules.objects[object.index()];
     let declared = &rules.transitions[object.index()];
     let mut graph = DiGraph::new();
-    let mut index = HashMap::new();
+    let mut index = HashMap::default();
     for s in rules.cell.states(object_rules) {
         let state = State {
             end_effector: EndEffectorId(s.end_effector.0),

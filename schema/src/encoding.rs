@@ -79,13 +79,22 @@ impl Artifact {
     pub fn to_bytes(&self, encoding: Encoding) -> Vec<u8> {
         match encoding {
             Encoding::Json => {
-                // Serialising plain data with string keys cannot fail.
-                let mut content = serde_json::to_vec(self).unwrap_or_default();
-                content.push(b'\n');
-                let mut bytes = JSON_CHECKSUM.to_vec();
-                bytes.extend_from_slice(sha256_hex(&content).as_bytes());
-                bytes.extend_from_slice(b"\",");
-                bytes.extend_from_slice(content.get(1..).unwrap_or_default());
+                // One buffer: the content is written after room for the checksum field,
+                // its `{` then becomes the field's `,`, so an artifact of a hundred
+                // megabytes is not copied once more to put its checksum in front.
+                let content_at = JSON_CHECKSUM.len() + HEX_LEN + 1;
+                let mut bytes = vec![0; content_at];
+                // Serialising plain data with string keys cannot fail; if it did, the
+                // content would be empty, as before.
+                if serde_json::to_writer(&mut bytes, self).is_err() {
+                    bytes.truncate(content_at);
+                }
+                bytes.push(b'\n');
+                let checksum = sha256_hex(&bytes[content_at..]);
+                bytes[..JSON_CHECKSUM.len()].copy_from_slice(JSON_CHECKSUM);
+                bytes[JSON_CHECKSUM.len()..content_at - 1].copy_from_slice(checksum.as_bytes());
+                bytes[content_at - 1] = b'"';
+                bytes[content_at] = b',';
                 bytes
             }
             Encoding::Binary => {

@@ -295,7 +295,7 @@ impl Resolver<'_, '_> {
                 }
                 ast::ObjectMember::Grasp(g) => {
                     let go = origin(file, g.span, &g.name);
-                    if let Some(family) = self.families.get(&(id, g.name.text.clone())) {
+                    if let Some(family) = self.families.get(id, &g.name.text) {
                         let first = Origin {
                             file,
                             span: family.span,
@@ -309,7 +309,7 @@ impl Resolver<'_, '_> {
                         ));
                         continue;
                     }
-                    if let Some(&first) = self.grasp_names.get(&(id, g.name.text.clone())) {
+                    if let Some(&first) = self.grasp_names.get(id, &g.name.text) {
                         let first = self.cell.grasps[first].origin;
                         self.diagnostics.push(diagnostics::duplicate_name(
                             Sort::Grasp,
@@ -330,7 +330,7 @@ impl Resolver<'_, '_> {
                         pose,
                         origin: go,
                     });
-                    self.grasp_names.insert((id, g.name.text.clone()), gid);
+                    self.grasp_names.insert(id, g.name.text.clone(), gid);
                     self.cell.objects[id].grasps.push(gid);
                 }
                 _ => {}

@@ -124,7 +124,6 @@ impl Resolver<'_, '_> {
         g: &ast::GraspMember,
     ) {
         let go = origin(file, g.span, &g.name);
-        let key = (id, g.name.text.clone());
         if let Some(first) = self.family_or_grasp_origin(id, &g.name.text) {
             self.diagnostics.push(diagnostics::duplicate_name(
                 Sort::Grasp,
@@ -137,7 +136,8 @@ impl Resolver<'_, '_> {
         // Registered before expansion, so that a family whose expansion failed is still
         // known by name (its transitions then report nothing more).
         self.families.insert(
-            key.clone(),
+            id,
+            g.name.text.clone(),
             Family {
                 members: Vec::new(),
                 dims: Vec::new(),
@@ -299,11 +299,12 @@ impl Resolver<'_, '_> {
                     gid
                 }
             };
-            self.grasp_names.insert((id, name), gid);
+            self.grasp_names.insert(id, name, gid);
             members.push((indices, gid));
         }
         self.families.insert(
-            key,
+            id,
+            g.name.text.clone(),
             Family {
                 members,
                 dims,
@@ -320,7 +321,7 @@ impl Resolver<'_, '_> {
         q: &ast::Qualified,
     ) -> Option<Side> {
         if q.object.is_none() {
-            if let Some(f) = self.families.get(&(id, q.name.text.clone())) {
+            if let Some(f) = self.families.get(id, &q.name.text) {
                 // A family whose expansion failed was reported where it is declared.
                 if f.members.is_empty() {
                     if !self.cell.incomplete_objects.contains(&id) {
@@ -374,11 +375,10 @@ impl Resolver<'_, '_> {
 
     /// Where `name` is already declared in object `id`, as a grasp, a member or a family.
     fn family_or_grasp_origin(&self, id: ObjectId, name: &str) -> Option<Origin> {
-        let key = (id, name.to_string());
-        if let Some(&g) = self.grasp_names.get(&key) {
+        if let Some(&g) = self.grasp_names.get(id, name) {
             return Some(self.cell.grasps[g].origin);
         }
-        self.families.get(&key).map(|f| Origin {
+        self.families.get(id, name).map(|f| Origin {
             file: self.cell.objects[id].origin.file,
             span: f.span,
             name_span: f.span,

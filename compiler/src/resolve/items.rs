@@ -132,12 +132,12 @@ impl Resolver<'_, '_> {
             match member {
                 ast::ObjectMember::Grasp(g) => {
                     let targets: Vec<GraspId> = if g.is_family() {
-                        match self.families.get(&(id, g.name.text.clone())) {
+                        match self.families.get(id, &g.name.text) {
                             Some(f) if f.span == g.span => f.distinct(),
                             _ => continue,
                         }
                     } else {
-                        match self.grasp_names.get(&(id, g.name.text.clone())) {
+                        match self.grasp_names.get(id, &g.name.text) {
                             Some(&gid) if self.cell.grasps[gid].origin.span == g.span => vec![gid],
                             _ => continue,
                         }
@@ -212,7 +212,7 @@ impl Resolver<'_, '_> {
                     };
                     // Pairs once per line: families whose members alias one another, and
                     // `<->` between families, give some pairs more than once.
-                    let mut added = std::collections::HashSet::new();
+                    let mut added = rustc_hash::FxHashSet::default();
                     for to in &t.to {
                         let Some(to) = self.transition_side(file, id, to) else {
                             continue;
@@ -324,14 +324,21 @@ impl Resolver<'_, '_> {
 
     /// Adds a directed transition once; a repeat is reported and adds no arcs.
     fn add_transition(&mut self, from: GraspId, to: GraspId, origin: Origin) {
-        if let Some(&first) = self.transition_origins.get(&(from, to)) {
-            let (a, b) = (&self.cell.grasps[from].name, &self.cell.grasps[to].name);
-            self.diagnostics
-                .push(diagnostics::duplicate_transition(a, b, origin, first));
-            return;
+        match self.transition_origins.entry((from, to)) {
+            std::collections::hash_map::Entry::Occupied(first) => {
+                let (a, b) = (&self.cell.grasps[from].name, &self.cell.grasps[to].name);
+                self.diagnostics.push(diagnostics::duplicate_transition(
+                    a,
+                    b,
+                    origin,
+                    *first.get(),
+                ));
+            }
+            std::collections::hash_map::Entry::Vacant(slot) => {
+                slot.insert(origin);
+                self.cell.transitions.push(Transition { from, to, origin });
+            }
         }
-        self.transition_origins.insert((from, to), origin);
-        self.cell.transitions.push(Transition { from, to, origin });
     }
 
     fn is_hand(&self, holder: Holder) -> bool {

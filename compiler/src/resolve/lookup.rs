@@ -86,10 +86,10 @@ impl Resolver<'_, '_> {
         object: ObjectId,
         name: &ast::Name,
     ) -> Option<GraspId> {
-        if let Some(&g) = self.grasp_names.get(&(object, name.text.clone())) {
+        if let Some(&g) = self.grasp_names.get(object, &name.text) {
             return Some(g);
         }
-        if let Some(f) = self.families.get(&(object, name.text.clone())) {
+        if let Some(f) = self.families.get(object, &name.text) {
             if let Some((indices, _)) = f.members.first() {
                 let first = crate::resolve::member_name(&name.text, indices);
                 let n = f.members.len();

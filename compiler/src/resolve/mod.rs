@@ -33,7 +33,9 @@ mod lookup;
 mod requirements;
 mod world;
 
-use std::collections::{BTreeMap, HashMap, HashSet};
+use std::collections::BTreeMap;
+
+use rustc_hash::{FxHashMap as HashMap, FxHashSet as HashSet};
 
 use cellc_lang::ast;
 use cellc_lang::diagnostic::SuggestionBudget;
@@ -95,14 +97,14 @@ pub fn resolve(
         packages: cellc_urdf::PackagePath::new(),
         cell: Cell::default(),
         names: BTreeMap::new(),
-        origins: HashMap::new(),
-        grasp_names: HashMap::new(),
-        families: HashMap::new(),
+        origins: HashMap::default(),
+        grasp_names: ByObject::default(),
+        families: ByObject::default(),
         loaded,
         weight_origins: [None, None],
-        transition_origins: HashMap::new(),
-        obstacle_names: HashSet::new(),
-        request_names: HashMap::new(),
+        transition_origins: HashMap::default(),
+        obstacle_names: HashSet::default(),
+        request_names: HashMap::default(),
         suggestions: SuggestionBudget::default(),
         urdfs: crate::urdf::UrdfCache::default(),
         diagnostics,
@@ -188,9 +190,9 @@ struct Resolver<'w, 'd> {
     names: BTreeMap<String, Entry>,
     origins: HashMap<String, Origin>,
     /// Grasps and family members (aliases too) by object and name.
-    grasp_names: HashMap<(ObjectId, String), GraspId>,
+    grasp_names: ByObject<GraspId>,
     /// Grasp and rest families by object and name.
-    families: HashMap<(ObjectId, String), families::Family>,
+    families: ByObject<families::Family>,
     /// The files read, for the grasp-set files families name.
     loaded: &'w Loaded,
     /// Where the move and transition weights were set, to refuse setting them twice.
@@ -226,7 +228,7 @@ impl Resolver<'_, '_> {
         files: &[(FileId, &str, &ast::File)],
         options: &crate::CompileOptions,
     ) {
-        let mut first: HashMap<String, Origin> = HashMap::new();
+        let mut first: HashMap<String, Origin> = HashMap::default();
         for (id, path, file) in files {
             for item in &file.items {
                 let ast::Item::Package(p) = item else {
@@ -277,5 +279,28 @@ impl Resolver<'_, '_> {
         self.names.insert(name.text.clone(), entry);
         self.origins.insert(name.text.clone(), origin);
         true
+    }
+}
+
+/// Values by object and name (grasps, family members, families), looked up with a
+/// borrowed name: a transition line names every grasp it pairs, and building an owned
+/// `(object, name)` key for each lookup cost an allocation per name.
+struct ByObject<V>(HashMap<ObjectId, HashMap<String, V>>);
+
+impl<V> Default for ByObject<V> {
+    fn default() -> Self {
+        ByObject(HashMap::default())
+    }
+}
+
+impl<V> ByObject<V> {
+    /// The value of `name` in `object`.
+    fn get(&self, object: ObjectId, name: &str) -> Option<&V> {
+        self.0.get(&object)?.get(name)
+    }
+
+    /// Sets the value of `name` in `object`.
+    fn insert(&mut self, object: ObjectId, name: String, value: V) {
+        self.0.entry(object).or_default().insert(name, value);
     }
 }
