@@ -1,26 +1,54 @@
-//! Cheapest state paths on an object's graph (Dijkstra through petgraph), with arcs that
-//! failed during this request left out, and the paper's simplification of runs of moves.
+//! Cheapest state paths on an object's graph, with arcs that failed during this request
+//! left out, and the paper's simplification of runs of moves.
+//!
+//! The graph is stored once per object in compressed sparse rows (an offset per node,
+//! then its leaving arcs as target, weight and arc index, contiguous), and Dijkstra runs
+//! in a [`Scratch`] that the caller keeps: distances, predecessors, the goal and
+//! left-out marks are stamped with the search's epoch, so starting a search is O(1)
+//! however large the graph, and a search allocates nothing once its scratch has grown to
+//! the graph. A request searches again after every failed step, and a service answers
+//! many requests on one graph, so the per-search cost is the heap work alone.
+//!
+//! Ties are broken as the petgraph search this replaced broke them (a cell's plans did not
+//! change with it; the property test below holds the two to the same paths): a node's
+//! leaving arcs are relaxed last-declared first, a distance is replaced only by a strictly
+//! lower one, the queue is the standard binary heap ordered by distance alone, and the
+//! first goal taken from it ends the search. Between two consecutive states of the path,
+//! the cheapest arc is taken, the first declared among equals.
 
-use std::collections::HashSet;
+use std::collections::{BinaryHeap, HashSet};
 
 use cellc_schema::{ArcKind, Graph, NodeId};
-use petgraph::graph::{DiGraph, EdgeIndex, NodeIndex};
-use petgraph::visit::EdgeFiltered;
 
 use super::ArcRef;
+
+/// An arc as stored in the rows of its tail: where it leads, what it costs, which arc of
+/// the artifact's graph it is.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct OutArc {
+    to: u32,
+    weight: f64,
+    arc: u32,
+}
 
 /// An object's graph ready for repeated searches.
 #[derive(Clone, Debug)]
 pub struct SearchGraph {
-    graph: DiGraph<(), (f64, usize)>,
+    /// Node `n`'s leaving arcs are `out[offsets[n]..offsets[n + 1]]`, last declared first.
+    offsets: Vec<u32>,
+    out: Vec<OutArc>,
+    /// Per arc of the artifact's graph: its weight here (the artifact's, or by kind when
+    /// re-weighted), for the path's cost.
+    weights: Vec<f64>,
     /// Per arc: true for moves (to re-weight by kind).
     is_move: Vec<bool>,
-    /// Weights replacing the artifact's, by kind (move, transition).
-    reweight: Option<(f64, f64)>,
 }
 
 /// Billionths per unit of cost, for [`SearchGraph::path_cost`].
 const BILLION: f64 = 1e9;
+
+/// No predecessor: the search's start.
+const NONE: u32 = u32::MAX;
 
 /// A path: node indices, the arcs between them (indices into `Graph::arcs`), its cost.
 #[derive(Clone, Debug, PartialEq)]
@@ -33,6 +61,126 @@ pub struct Path {
     pub cost: f64,
 }
 
+/// A path found by [`SearchGraph::search`], borrowed from its scratch (no allocation).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Route<'s> {
+    /// Nodes, start first.
+    pub nodes: &'s [NodeId],
+    /// Arc indices, one fewer than nodes.
+    pub arcs: &'s [usize],
+    /// Sum of arc weights.
+    pub cost: f64,
+}
+
+impl Route<'_> {
+    /// The path, owned.
+    pub fn to_path(&self) -> Path {
+        Path {
+            nodes: self.nodes.to_vec(),
+            arcs: self.arcs.to_vec(),
+            cost: self.cost,
+        }
+    }
+}
+
+/// What a search writes as it goes, kept between searches so that none allocates: sized
+/// to the largest graph searched with it, and reset by moving to the next epoch (an entry
+/// stamped with an older epoch reads as unwritten).
+#[derive(Clone, Debug, Default)]
+pub struct Scratch {
+    epoch: u32,
+    /// Per node: the epoch in which `distance` and `predecessor` were written.
+    reached: Vec<u32>,
+    distance: Vec<f64>,
+    predecessor: Vec<u32>,
+    /// Per node: the epoch in which it was made a goal.
+    goal: Vec<u32>,
+    /// Per stored arc (index into the rows): the epoch in which it was left out.
+    left_out: Vec<u32>,
+    heap: BinaryHeap<Queued>,
+    nodes: Vec<NodeId>,
+    arcs: Vec<usize>,
+}
+
+impl Scratch {
+    /// Starts a search on a graph of `n_nodes` nodes and `n_out` stored arcs: grows the
+    /// marks if needed, and moves to a fresh epoch (clearing every mark only when the
+    /// epoch counter wraps, once in four billion searches).
+    fn begin(&mut self, n_nodes: usize, n_out: usize) {
+        if self.reached.len() < n_nodes {
+            self.reached.resize(n_nodes, 0);
+            self.distance.resize(n_nodes, 0.0);
+            self.predecessor.resize(n_nodes, NONE);
+            self.goal.resize(n_nodes, 0);
+        }
+        if self.left_out.len() < n_out {
+            self.left_out.resize(n_out, 0);
+        }
+        self.epoch = match self.epoch.checked_add(1) {
+            Some(next) => next,
+            None => {
+                self.reached.fill(0);
+                self.goal.fill(0);
+                self.left_out.fill(0);
+                1
+            }
+        };
+        self.heap.clear();
+    }
+
+    fn distance(&self, n: u32) -> Option<f64> {
+        (self.reached[n as usize] == self.epoch).then(|| self.distance[n as usize])
+    }
+
+    fn reach(&mut self, n: u32, distance: f64, predecessor: u32) {
+        self.reached[n as usize] = self.epoch;
+        self.distance[n as usize] = distance;
+        self.predecessor[n as usize] = predecessor;
+    }
+}
+
+/// A node in the queue, ordered by distance alone, least first: petgraph's `MinScored`
+/// order (NaN last), which the tie-breaking depends on (see the module's documentation).
+#[derive(Clone, Copy, Debug)]
+struct Queued {
+    distance: f64,
+    node: u32,
+}
+
+impl PartialEq for Queued {
+    fn eq(&self, other: &Self) -> bool {
+        self.cmp(other) == std::cmp::Ordering::Equal
+    }
+}
+
+impl Eq for Queued {}
+
+impl PartialOrd for Queued {
+    fn partial_cmp(&self, other: &Self) -> Option<std::cmp::Ordering> {
+        Some(self.cmp(other))
+    }
+}
+
+impl Ord for Queued {
+    fn cmp(&self, other: &Self) -> std::cmp::Ordering {
+        use std::cmp::Ordering::{Equal, Greater, Less};
+        let (a, b) = (self.distance, other.distance);
+        if a == b {
+            Equal
+        } else if a < b {
+            Greater
+        } else if a > b {
+            Less
+        } else if a.is_nan() && b.is_nan() {
+            Equal
+        } else if a.is_nan() {
+            Less
+        } else {
+            Greater
+        }
+    }
+}
+
 impl SearchGraph {
     /// The search graphs of every object of an artifact, in object order.
     pub fn for_artifact(artifact: &cellc_schema::Artifact) -> Vec<SearchGraph> {
@@ -43,107 +191,198 @@ impl SearchGraph {
             .collect()
     }
 
-    /// Indexes the artifact's graph of one object.
+    /// Indexes the artifact's graph of one object. An arc whose ends are not nodes of the
+    /// graph (which a validated artifact never has) is never searched.
     pub fn new(graph: &Graph) -> SearchGraph {
-        let mut g = DiGraph::with_capacity(graph.nodes.len(), graph.arcs.len());
-        for _ in &graph.nodes {
-            g.add_node(());
+        let n = graph.nodes.len();
+        let valid = |a: &cellc_schema::Arc| (a.from as usize) < n && (a.to as usize) < n;
+        let mut offsets = vec![0u32; n + 1];
+        for arc in graph.arcs.iter().filter(|a| valid(a)) {
+            offsets[arc.from as usize + 1] += 1;
         }
-        for (i, arc) in graph.arcs.iter().enumerate() {
-            g.add_edge(
-                NodeIndex::new(arc.from as usize),
-                NodeIndex::new(arc.to as usize),
-                (arc.weight, i),
-            );
+        for i in 0..n {
+            offsets[i + 1] += offsets[i];
+        }
+        let mut next: Vec<u32> = offsets[..n].to_vec();
+        let placeholder = OutArc {
+            to: 0,
+            weight: 0.0,
+            arc: 0,
+        };
+        let mut out = vec![placeholder; offsets[n] as usize];
+        for (i, arc) in graph.arcs.iter().enumerate().rev() {
+            if !valid(arc) {
+                continue;
+            }
+            let slot = &mut next[arc.from as usize];
+            out[*slot as usize] = OutArc {
+                to: arc.to,
+                weight: arc.weight,
+                arc: i as u32,
+            };
+            *slot += 1;
         }
         SearchGraph {
-            graph: g,
+            offsets,
+            out,
+            weights: graph.arcs.iter().map(|a| a.weight).collect(),
             is_move: graph.arcs.iter().map(|a| a.kind == ArcKind::Move).collect(),
-            reweight: None,
         }
     }
 
     /// The same graph with every move costing `weights.0` and every transition
     /// `weights.1`.
     pub fn reweighted(&self, weights: (f64, f64)) -> SearchGraph {
-        SearchGraph {
-            graph: self.graph.clone(),
-            is_move: self.is_move.clone(),
-            reweight: Some(weights),
+        let by_kind = |arc: usize| {
+            if self.is_move[arc] {
+                weights.0
+            } else {
+                weights.1
+            }
+        };
+        let mut graph = self.clone();
+        for out in &mut graph.out {
+            out.weight = by_kind(out.arc as usize);
         }
+        for (arc, weight) in graph.weights.iter_mut().enumerate() {
+            *weight = by_kind(arc);
+        }
+        graph
     }
 
-    fn weight(&self, w: &(f64, usize)) -> f64 {
-        match self.reweight {
-            Some((moves, _)) if self.is_move[w.1] => moves,
-            Some((_, transitions)) => transitions,
-            None => w.0,
-        }
+    /// Number of nodes.
+    pub fn n_nodes(&self) -> usize {
+        self.offsets.len() - 1
     }
 
-    /// The cheapest path from `start` to any of `goals`, not using `removed` arcs. Ties are
-    /// broken by petgraph's deterministic order (arc order of the artifact).
+    /// The stored arcs leaving `n`, with their indices into the rows.
+    fn leaving(&self, n: u32) -> impl Iterator<Item = (usize, &OutArc)> {
+        let (lo, hi) = (self.offsets[n as usize], self.offsets[n as usize + 1]);
+        (lo as usize..hi as usize).zip(&self.out[lo as usize..hi as usize])
+    }
+
+    /// The cheapest path from `start` to any of `goals`, not using `removed` arcs, in
+    /// `scratch` (which any earlier search may have used). `None` when no goal can be
+    /// reached, or `start` is not a node; goals that are not nodes are never reached.
+    pub fn search<'s>(
+        &self,
+        scratch: &'s mut Scratch,
+        start: NodeId,
+        goals: &[NodeId],
+        removed: &HashSet<ArcRef>,
+    ) -> Option<Route<'s>> {
+        let n = self.n_nodes();
+        if start.index() >= n {
+            return None;
+        }
+        scratch.begin(n, self.out.len());
+        let epoch = scratch.epoch;
+        for goal in goals.iter().filter(|g| g.index() < n) {
+            scratch.goal[goal.index()] = epoch;
+        }
+        for r in removed.iter().filter(|r| r.from.index() < n) {
+            for (slot, out) in self.leaving(r.from.0) {
+                if out.to == r.to.0 {
+                    scratch.left_out[slot] = epoch;
+                }
+            }
+        }
+        scratch.reach(start.0, 0.0, NONE);
+        scratch.heap.push(Queued {
+            distance: 0.0,
+            node: start.0,
+        });
+        let mut found = None;
+        while let Some(Queued { distance, node }) = scratch.heap.pop() {
+            if scratch.goal[node as usize] == epoch {
+                found = Some(node);
+                break;
+            }
+            if scratch.distance(node).is_some_and(|best| best < distance) {
+                continue;
+            }
+            for (slot, out) in self.leaving(node) {
+                if scratch.left_out[slot] == epoch {
+                    continue;
+                }
+                let through = distance + out.weight;
+                if scratch.distance(out.to).is_some_and(|d| through >= d) {
+                    continue;
+                }
+                scratch.reach(out.to, through, node);
+                scratch.heap.push(Queued {
+                    distance: through,
+                    node: out.to,
+                });
+            }
+        }
+        let goal = found?;
+        scratch.nodes.clear();
+        let mut at = goal;
+        while at != NONE {
+            scratch.nodes.push(NodeId(at));
+            at = scratch.predecessor[at as usize];
+        }
+        scratch.nodes.reverse();
+        scratch.arcs.clear();
+        for i in 1..scratch.nodes.len() {
+            let (from, to) = (scratch.nodes[i - 1], scratch.nodes[i]);
+            let arc = self.cheapest_arc(scratch, from.0, to.0)?;
+            scratch.arcs.push(arc);
+        }
+        let cost = self
+            .path_cost(&scratch.arcs)
+            .unwrap_or(scratch.distance[goal as usize]);
+        Some(Route {
+            nodes: &scratch.nodes,
+            arcs: &scratch.arcs,
+            cost,
+        })
+    }
+
+    /// [`SearchGraph::search`], the path owned.
     pub fn shortest(
         &self,
+        scratch: &mut Scratch,
         start: NodeId,
         goals: &[NodeId],
         removed: &HashSet<ArcRef>,
     ) -> Option<Path> {
-        let goal_set: HashSet<NodeId> = goals.iter().copied().collect();
-        let filtered = EdgeFiltered::from_fn(
-            &self.graph,
-            |e: petgraph::graph::EdgeReference<'_, (f64, usize)>| {
-                use petgraph::visit::EdgeRef;
-                !removed.contains(&ArcRef {
-                    from: node_id(e.source()),
-                    to: node_id(e.target()),
-                })
-            },
-        );
-        let (cost, nodes) = petgraph::algo::astar(
-            &filtered,
-            NodeIndex::new(start.index()),
-            |n| goal_set.contains(&node_id(n)),
-            |e| self.weight(e.weight()),
-            |_| 0.0,
-        )?;
-        let nodes: Vec<NodeId> = nodes.into_iter().map(node_id).collect();
-        let arcs = nodes
-            .windows(2)
-            .map(|w| self.cheapest_arc(w[0], w[1], removed))
-            .collect::<Option<Vec<usize>>>()?;
-        let cost = self.path_cost(&arcs).unwrap_or(cost);
-        Some(Path { nodes, arcs, cost })
+        self.search(scratch, start, goals, removed)
+            .map(|r| r.to_path())
     }
 
     /// The cheapest path of at least one arc from `start` to a goal (the start may be a
-    /// goal: the object must leave it and come back).
+    /// goal: the object must leave it and come back). One search per arc leaving the
+    /// start, taken in the order searches relax them; a later one wins only if cheaper.
     pub fn shortest_leaving(
         &self,
+        scratch: &mut Scratch,
         start: NodeId,
         goals: &[NodeId],
         removed: &HashSet<ArcRef>,
     ) -> Option<Path> {
-        use petgraph::visit::EdgeRef;
+        if start.index() >= self.n_nodes() {
+            return None;
+        }
         let mut best: Option<Path> = None;
-        for e in self.graph.edges(NodeIndex::new(start.index())) {
-            let next = node_id(e.target());
-            let (weight, arc) = (self.weight(e.weight()), e.weight().1);
+        for (_, out) in self.leaving(start.0) {
+            let next = NodeId(out.to);
             if removed.contains(&ArcRef {
                 from: start,
                 to: next,
             }) {
                 continue;
             }
-            let Some(rest) = self.shortest(next, goals, removed) else {
+            let Some(rest) = self.search(scratch, next, goals, removed) else {
                 continue;
             };
-            let cost = weight + rest.cost;
+            let cost = out.weight + rest.cost;
             if best.as_ref().is_none_or(|b| cost < b.cost) {
                 let mut nodes = vec![start];
-                nodes.extend(rest.nodes);
-                let mut arcs = vec![arc];
-                arcs.extend(rest.arcs);
+                nodes.extend_from_slice(rest.nodes);
+                let mut arcs = vec![out.arc as usize];
+                arcs.extend_from_slice(rest.arcs);
                 let cost = self.path_cost(&arcs).unwrap_or(cost);
                 best = Some(Path { nodes, arcs, cost });
             }
@@ -159,8 +398,7 @@ impl SearchGraph {
     fn path_cost(&self, arcs: &[usize]) -> Option<f64> {
         let mut total: i128 = 0;
         for &arc in arcs {
-            let w = self.weight(self.graph.edge_weight(EdgeIndex::new(arc))?);
-            let scaled = w * BILLION;
+            let scaled = self.weights.get(arc)? * BILLION;
             let whole = scaled.round();
             if !whole.is_finite() || whole.abs() >= 1e18 || (scaled - whole).abs() > 1e-3 {
                 return None;
@@ -170,20 +408,19 @@ impl SearchGraph {
         Some(total as f64 / BILLION)
     }
 
-    fn cheapest_arc(&self, from: NodeId, to: NodeId, removed: &HashSet<ArcRef>) -> Option<usize> {
-        if removed.contains(&ArcRef { from, to }) {
-            return None;
-        }
-        self.graph
-            .edges_connecting(NodeIndex::new(from.index()), NodeIndex::new(to.index()))
-            .map(|e| (self.weight(e.weight()), e.weight().1))
+    /// The cheapest arc from `from` to `to` not left out in this search, the first
+    /// declared among equals.
+    fn cheapest_arc(&self, scratch: &Scratch, from: u32, to: u32) -> Option<usize> {
+        self.leaving(from)
+            .filter(|(slot, out)| out.to == to && scratch.left_out[*slot] != scratch.epoch)
+            .map(|(_, out)| (out.weight, out.arc))
             .min_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)))
-            .map(|(_, i)| i)
+            .map(|(_, arc)| arc as usize)
     }
 
     /// Every node reachable from `start` without `removed` arcs (for explanations).
     pub fn reachable(&self, start: NodeId, removed: &HashSet<ArcRef>) -> Vec<NodeId> {
-        let mut seen = vec![false; self.graph.node_count()];
+        let mut seen = vec![false; self.n_nodes()];
         let mut stack = vec![start];
         let mut out = Vec::new();
         while let Some(n) = stack.pop() {
@@ -194,9 +431,8 @@ impl SearchGraph {
                 continue;
             }
             out.push(n);
-            for e in self.graph.edges(NodeIndex::new(n.index())) {
-                use petgraph::visit::EdgeRef;
-                let to = node_id(e.target());
+            for (_, arc) in self.leaving(n.0) {
+                let to = NodeId(arc.to);
                 if !removed.contains(&ArcRef { from: n, to }) && !seen[to.index()] {
                     stack.push(to);
                 }
@@ -205,17 +441,6 @@ impl SearchGraph {
         out.sort_unstable();
         out
     }
-
-    /// The arc index of an edge (test helper).
-    pub fn arc_of(&self, e: EdgeIndex) -> Option<usize> {
-        self.graph.edge_weight(e).map(|w| w.1)
-    }
-}
-
-/// A petgraph node as the artifact's node id (the graph is built with one petgraph node
-/// per artifact node, in order).
-fn node_id(n: NodeIndex) -> NodeId {
-    NodeId(n.index() as u32)
 }
 
 /// The paper's simplification: a run of consecutive moves of one end-effector becomes one
@@ -335,3 +560,6 @@ where
     labels.reverse();
     Some((cost, labels))
 }
+
+#[cfg(test)]
+mod tests;

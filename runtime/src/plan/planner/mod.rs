@@ -16,7 +16,7 @@ use std::collections::HashSet;
 use cellc_schema::{Artifact, EndEffectorId, Infeasibility, Node, NodeId, ObjectId};
 
 use super::locate::{goal_states, locate, locate_abstract};
-use super::search::{simplify, SearchGraph};
+use super::search::{simplify, Scratch, SearchGraph};
 use super::strategy::classify;
 use super::{
     ArcRef, ArmConfigurations, Plan, PlanError, PlanGoal, PlanOptions, Request, Step, Surroundings,
@@ -304,6 +304,8 @@ impl<'a> Planner<'a> {
         let reweighted = options
             .weights
             .map(|w| self.search[object.index()].reweighted(w));
+        // One search's working memory for every search of this request.
+        let mut scratch = Scratch::default();
         loop {
             if stop.should_stop() {
                 return Err(PlanError::TimeBudget {
@@ -312,9 +314,9 @@ impl<'a> Planner<'a> {
             }
             let search = reweighted.as_ref().unwrap_or(&self.search[object.index()]);
             let found = if must_move && goal_indices.contains(&start_index) {
-                search.shortest_leaving(start_index, &goal_indices, &removed)
+                search.shortest_leaving(&mut scratch, start_index, &goal_indices, &removed)
             } else {
-                search.shortest(start_index, &goal_indices, &removed)
+                search.shortest(&mut scratch, start_index, &goal_indices, &removed)
             };
             let Some(path) = found else {
                 return Err(unreachable(&removed, failed));
