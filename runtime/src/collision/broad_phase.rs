@@ -114,10 +114,11 @@ impl CollisionWorld {
                 None => return Ok(None),
             },
         };
-        let aabb = match (b.fixed_aabb, b.cylinder) {
-            (Some(a), _) => a,
-            (None, Some((h, r))) => cylinder_aabb(&pose, h, r),
-            (None, None) => b.shape.compute_aabb(&pose),
+        let aabb = match (b.fixed_aabb, b.cylinder, b.hull_aabb) {
+            (Some(a), _, _) => a,
+            (None, Some((h, r)), _) => cylinder_aabb(&pose, h, r),
+            (None, None, Some(local)) => local.transform_by(&pose),
+            (None, None, None) => b.shape.compute_aabb(&pose),
         };
         if !aabb_finite(&aabb) {
             return Err(CollisionError::NonFinite {

@@ -72,6 +72,7 @@ mod broad_phase;
 mod build;
 mod error;
 mod frozen;
+mod hull;
 mod swept;
 mod tip;
 mod world;

@@ -261,7 +261,7 @@ impl CollisionWorld {
                 .map(|d| (d <= threshold).then_some(d))
                 .map_err(|_| self.unsupported(i, j))
         };
-        let (Some(gi), Some(gj)) = (si.as_support_map(), sj.as_support_map()) else {
+        let (Some(gi), Some(gj)) = (self.support_map(i), self.support_map(j)) else {
             return exact();
         };
         let pos12 = pi.inv_mul(pj);

@@ -3,6 +3,7 @@
 
 use parry3d_f64::bounding_volume::Aabb;
 use parry3d_f64::query;
+use parry3d_f64::shape::SupportMap;
 
 use super::build::{BitMatrix, Body, RobotInfo};
 use super::{BodyId, Collision, CollisionError, Configuration, Proximity};
@@ -229,12 +230,32 @@ impl CollisionWorld {
         j: usize,
         scratch: &CollisionScratch,
     ) -> Result<bool, CollisionError> {
+        let (pi, pj) = (&scratch.poses[i], &scratch.poses[j]);
+        if self.bodies[i].hull.is_some() || self.bodies[j].hull.is_some() {
+            if let (Some(gi), Some(gj)) = (self.support_map(i), self.support_map(j)) {
+                return Ok(query::details::intersection_test_support_map_support_map(
+                    &pi.inv_mul(pj),
+                    gi,
+                    gj,
+                ));
+            }
+        }
         query::intersection_test(
-            &scratch.poses[i],
+            pi,
             self.bodies[i].shape.as_ref(),
-            &scratch.poses[j],
+            pj,
             self.bodies[j].shape.as_ref(),
         )
         .map_err(|_| self.unsupported(i, j))
+    }
+
+    /// Body `i`'s shape as GJK sees it: a hull's vertex graph when it has one (support
+    /// points by hill climbing, `hull.rs`), else parry's own support map, if any.
+    pub(super) fn support_map(&self, i: usize) -> Option<&dyn SupportMap> {
+        let b = &self.bodies[i];
+        match &b.hull {
+            Some(h) => Some(h.as_ref()),
+            None => b.shape.as_support_map(),
+        }
     }
 }
