@@ -73,13 +73,7 @@ fn cell() -> Cell {
 /// VAMP's motion, then the motions of the request's plan with seed 0.
 fn cases(cell: &Cell) -> Vec<Case> {
     let scene = cell.scene().expect("geometric");
-    let arm = EndEffectorId(
-        cell.artifact()
-            .end_effectors
-            .iter()
-            .position(|e| e.name == "franka")
-            .expect("the arm") as u32,
-    );
+    let arm = cell.end_effector("franka").expect("the arm");
     let Holder::Arm { home, .. } = &scene.holders[arm.index()] else {
         panic!("`franka` is an arm");
     };

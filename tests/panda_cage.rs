@@ -18,7 +18,7 @@ use cellc_runtime::scene::{Holder, ObjectPlacement, SceneScratch};
 use cellc_runtime::termination::Termination;
 use cellc_runtime::validity::SceneValidity;
 use cellc_runtime::verify::VerifyOptions;
-use cellc_runtime::{Cell, EndEffectorId};
+use cellc_runtime::Cell;
 use rand::SeedableRng;
 
 const CELL: &str = "cells/panda_cage.cell";
@@ -155,13 +155,7 @@ fn the_plans_motions_go_round_the_cage_collision_free() {
 fn vamps_motion_plans_certified_in_the_cage() {
     let cell = cell();
     let scene = cell.scene().expect("geometric");
-    let arm = EndEffectorId(
-        cell.artifact()
-            .end_effectors
-            .iter()
-            .position(|e| e.name == "franka")
-            .expect("the arm") as u32,
-    );
+    let arm = cell.end_effector("franka").expect("the arm");
     let Holder::Arm { home, .. } = &scene.holders[arm.index()] else {
         panic!("an arm");
     };
