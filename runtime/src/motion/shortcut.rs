@@ -3,6 +3,7 @@
 
 use rand::Rng;
 use rand_chacha::ChaCha8Rng;
+use rustc_hash::FxHashSet;
 
 use super::{MotionError, MotionValidity};
 use crate::scene::SceneScratch;
@@ -33,6 +34,12 @@ pub(super) fn dedup_waypoints(path: &mut Vec<f64>, dim: usize) {
 /// waypoints only (never points inside segments), which also keeps the cuts of a sampled
 /// validity those of [`check_trajectory`](super::check_trajectory); RRT waypoints are at
 /// most `step` apart, so little is lost. `stop` is checked before every attempt.
+///
+/// Checks are reused: an edge between two waypoints that was refused once is never
+/// checked again (random draws repeat pairs often on a short path, and the final pass
+/// asks again about neighbours the random phase already tried). Edge checks are
+/// deterministic in their ends, so skipping a known refusal changes no result, and the
+/// random draws are the same as without the memory.
 pub(super) fn shortcut(
     motion: &mut dyn MotionValidity,
     path: &mut Vec<f64>,
@@ -46,6 +53,9 @@ pub(super) fn shortcut(
         return Ok(());
     }
     let stopped = || MotionError::Terminated { iterations: 0 };
+    // Waypoints keep their original index as identity while others are dropped.
+    let mut ids: Vec<u32> = (0..(path.len() / dim) as u32).collect();
+    let mut refused: FxHashSet<(u32, u32)> = FxHashSet::default();
     for _ in 0..iterations {
         if stop.should_stop() {
             return Err(stopped());
@@ -56,12 +66,15 @@ pub(super) fn shortcut(
         }
         let (i, j) = (rng.random_range(0..m), rng.random_range(0..m));
         let (i, j) = (i.min(j), i.max(j));
-        if j < i + 2 {
+        if j < i + 2 || refused.contains(&(ids[i], ids[j])) {
             continue;
         }
         let (head, tail) = path.split_at(j * dim);
         if motion.check_motion(&head[i * dim..(i + 1) * dim], &tail[..dim], scratch)? {
             path.drain((i + 1) * dim..j * dim);
+            ids.drain(i + 1..j);
+        } else {
+            refused.insert((ids[i], ids[j]));
         }
     }
     let mut i = 1;
@@ -69,13 +82,102 @@ pub(super) fn shortcut(
         if stop.should_stop() {
             return Err(stopped());
         }
+        if refused.contains(&(ids[i - 1], ids[i + 1])) {
+            i += 1;
+            continue;
+        }
         let (head, tail) = path.split_at(i * dim);
         let (before, after) = (&head[(i - 1) * dim..], &tail[dim..2 * dim]);
         if motion.check_motion(before, after, scratch)? {
             path.drain(i * dim..(i + 1) * dim);
+            ids.remove(i);
         } else {
             i += 1;
         }
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::QueryError;
+    use rand::SeedableRng;
+    use std::collections::HashMap;
+
+    /// A plane with a wall on x = 0 for y < 1: an edge is free when it does not cross the
+    /// wall below its top. Counts how often each edge is asked about.
+    #[derive(Default)]
+    struct Wall {
+        asked: HashMap<(u64, u64, u64, u64), usize>,
+    }
+
+    impl MotionValidity for Wall {
+        fn check_motion(
+            &mut self,
+            a: &[f64],
+            b: &[f64],
+            _: &mut SceneScratch,
+        ) -> Result<bool, QueryError> {
+            let key = (
+                a[0].to_bits(),
+                a[1].to_bits(),
+                b[0].to_bits(),
+                b[1].to_bits(),
+            );
+            *self.asked.entry(key).or_default() += 1;
+            if (a[0] < 0.0) == (b[0] < 0.0) {
+                return Ok(true);
+            }
+            let t = a[0] / (a[0] - b[0]);
+            Ok(a[1] + t * (b[1] - a[1]) >= 1.0)
+        }
+    }
+
+    /// A path that goes round the wall in many small steps.
+    fn detour() -> Vec<f64> {
+        let mut path = Vec::new();
+        for k in 0..=20 {
+            path.extend([-1.0, f64::from(k) * 0.1]);
+        }
+        for k in 1..=20 {
+            path.extend([-1.0 + f64::from(k) * 0.1, 2.0]);
+        }
+        for k in 1..=20 {
+            path.extend([1.0, 2.0 - f64::from(k) * 0.1]);
+        }
+        path
+    }
+
+    #[test]
+    fn no_edge_is_checked_twice_and_every_kept_edge_is_free() {
+        for seed in 0..8 {
+            let mut wall = Wall::default();
+            let mut path = detour();
+            let mut rng = ChaCha8Rng::seed_from_u64(seed);
+            let mut scratch = SceneScratch::default();
+            shortcut(
+                &mut wall,
+                &mut path,
+                2,
+                200,
+                &mut rng,
+                &Termination::never(),
+                &mut scratch,
+            )
+            .unwrap();
+            let repeated = wall.asked.values().filter(|&&n| n > 1).count();
+            assert_eq!(repeated, 0, "seed {seed}: an edge was checked again");
+            assert!(
+                path.len() < detour().len(),
+                "seed {seed}: nothing was shortened"
+            );
+            assert_eq!(&path[..2], &[-1.0, 0.0]);
+            assert_eq!(&path[path.len() - 2..], &[1.0, 0.0]);
+            let mut check = Wall::default();
+            for w in path.chunks(2).collect::<Vec<_>>().windows(2) {
+                assert!(check.check_motion(w[0], w[1], &mut scratch).unwrap());
+            }
+        }
+    }
 }
