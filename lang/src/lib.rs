@@ -24,7 +24,6 @@ pub use span::{FileId, SourceFile, SourceMap, Span};
 /// must not see is refused first (see [`screen`]): blocks nested too deep, and control
 /// characters, each reported at its place.
 pub fn parse(file: FileId, text: &str) -> Parsed {
-    pest::set_error_detail(true);
     if let Some(offset) = screen::too_deep_at(text) {
         return Parsed {
             file: None,

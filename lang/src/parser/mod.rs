@@ -6,6 +6,8 @@
 //! again alone with a probe rule, and pest's report of what it expected there is turned
 //! into words by [`crate::phrases`].
 
+use std::sync::{Mutex, PoisonError};
+
 use pest::iterators::Pair;
 use pest::Parser as _;
 
@@ -29,10 +31,30 @@ pub struct Parsed {
     pub diagnostics: Vec<Diagnostic>,
 }
 
+/// Serialises the parses that need pest's error detail (see [`detailed`]).
+static DETAIL: Mutex<()> = Mutex::new(());
+
+/// Runs `parse` with pest's error detail on: the rules attempted at the farthest position,
+/// which [`phrases`] words an error with. Recording them costs about a quarter of a parse,
+/// and only a parse that fails needs them, so a file is parsed without them first and a
+/// failing parse is run again with them. The switch is global to the process (threads of
+/// `cellc lsp` and `cellc serve` parse at once), so it is only ever turned on and off
+/// under [`DETAIL`]; a parse on another thread meanwhile is the same parse, only slower:
+/// the detail changes what an error records, never whether a text parses.
+fn detailed<T>(parse: impl FnOnce() -> T) -> T {
+    let _only_one = DETAIL.lock().unwrap_or_else(PoisonError::into_inner);
+    pest::set_error_detail(true);
+    let out = parse();
+    pest::set_error_detail(false);
+    out
+}
+
 /// Parses one file's text.
 pub fn parse(file_id: FileId, text: &str) -> Parsed {
     let mut diagnostics = Vec::new();
-    let pairs = match CellParser::parse(Rule::file, text) {
+    let parsed = CellParser::parse(Rule::file, text)
+        .or_else(|_| detailed(|| CellParser::parse(Rule::file, text)));
+    let pairs = match parsed {
         Ok(pairs) => pairs,
         Err(error) => {
             diagnostics.push(phrases::syntax_error(file_id, text, 0, &error));
@@ -58,8 +80,7 @@ pub fn parse(file_id: FileId, text: &str) -> Parsed {
 /// Parses a placement on its own (`table.g1 in w1`, `table at (0.5, 0, 0.8) rpy (0, 0,
 /// 90)`), as given on the command line.
 pub fn parse_placement(file_id: FileId, text: &str) -> Result<RequestPlacement, Diagnostic> {
-    pest::set_error_detail(true);
-    let pairs = CellParser::parse(Rule::placement_arg, text)
+    let pairs = detailed(|| CellParser::parse(Rule::placement_arg, text))
         .map_err(|error| phrases::syntax_error(file_id, text, 0, &error))?;
     let mut diagnostics = Vec::new();
     let mut builder = Builder {
@@ -182,7 +203,7 @@ impl Builder<'_, '_> {
             let between = &self.text[previous.end as usize..start];
             if !between.contains('\n') {
                 let from = previous.start as usize;
-                if let Err(error) = CellParser::parse(line_probe, &self.text[from..]) {
+                if let Err(error) = detailed(|| CellParser::parse(line_probe, &self.text[from..])) {
                     let diagnostic = phrases::syntax_error(self.file_id, self.text, from, &error);
                     if diagnostic
                         .primary_label()
@@ -195,7 +216,7 @@ impl Builder<'_, '_> {
             }
         }
         let rest = &self.text[start..];
-        match CellParser::parse(probe, rest) {
+        match detailed(|| CellParser::parse(probe, rest)) {
             Err(error) => self.diagnostics.push(phrases::syntax_error(
                 self.file_id,
                 self.text,
