@@ -1,6 +1,8 @@
 //! The queries of a built collision world: names, counts, the first collision, all
 //! collisions, and the clearance of a state.
 
+use std::sync::atomic::{AtomicU64, Ordering};
+
 use parry3d_f64::bounding_volume::Aabb;
 use parry3d_f64::query;
 use parry3d_f64::shape::SupportMap;
@@ -27,20 +29,33 @@ pub struct CollisionScratch {
     /// buffers hold (0: none; a plain query overwrites them).
     pub(super) frozen: u64,
     /// Exact queries (GJK or parry) run through these buffers, for tests and profiles of
-    /// the cheap rejections; a `Cell` because the sweep hands its visitors the scratch
-    /// shared.
-    pub(super) exact_queries: std::cell::Cell<u64>,
+    /// the cheap rejections.
+    pub(super) exact_queries: QueryCount,
 }
 
 impl CollisionScratch {
     /// How many exact queries (intersection tests and distances of pairs the cheap
     /// bounds did not settle) the queries through this scratch have run.
     pub fn exact_queries(&self) -> u64 {
-        self.exact_queries.get()
+        self.exact_queries.0.load(Ordering::Relaxed)
     }
 
     pub(super) fn count_exact(&self) {
-        self.exact_queries.set(self.exact_queries.get() + 1);
+        // A load and a store, not an atomic add: one thread uses a scratch at a time (the
+        // sweep hands its visitors the scratch shared, hence the atomic), and a plain
+        // store costs nothing next to the query it counts.
+        let n = self.exact_queries.0.load(Ordering::Relaxed);
+        self.exact_queries.0.store(n + 1, Ordering::Relaxed);
+    }
+}
+
+/// A count that a shared scratch can advance and that keeps the scratch `Sync`.
+#[derive(Debug, Default)]
+pub(super) struct QueryCount(AtomicU64);
+
+impl Clone for QueryCount {
+    fn clone(&self) -> Self {
+        QueryCount(AtomicU64::new(self.0.load(Ordering::Relaxed)))
     }
 }
 
