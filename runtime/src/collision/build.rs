@@ -51,6 +51,12 @@ pub(super) struct Body {
     pub(super) hull_aabb: Option<Aabb>,
     /// The same hull's vertex graph, for support points by hill climbing (`hull.rs`).
     pub(super) hull: Option<std::sync::Arc<super::hull::HullSupport>>,
+    /// A capsule containing the shape, in the body's frame (`capsule.rs`): the distance
+    /// lower bound that rejects most pairs before an exact query.
+    pub(super) capsule: Option<super::capsule::Capsule>,
+    /// Half extents when the shape is a cuboid, whose distance to a capsule's segment is
+    /// computed exactly.
+    pub(super) half_extents: Option<Vec3>,
 }
 
 #[derive(Clone, Debug)]
@@ -248,6 +254,8 @@ impl CollisionWorldBuilder {
                     cylinder: None,
                     hull_aabb: None,
                     hull: None,
+                    capsule: None,
+                    half_extents: None,
                 });
                 on_frame.push(Some((r, ls.frame)));
             }
@@ -270,6 +278,8 @@ impl CollisionWorldBuilder {
                         cylinder: None,
                         hull_aabb: None,
                         hull: None,
+                        capsule: None,
+                        half_extents: None,
                     });
                     on_frame.push(Some((r, tip)));
                 }
@@ -301,6 +311,8 @@ impl CollisionWorldBuilder {
                 cylinder: None,
                 hull_aabb: None,
                 hull: None,
+                capsule: None,
+                half_extents: None,
             });
             on_frame.push(None);
         }
@@ -323,6 +335,8 @@ impl CollisionWorldBuilder {
                     cylinder: None,
                     hull_aabb: None,
                     hull: None,
+                    capsule: None,
+                    half_extents: None,
                 });
                 on_frame.push(None);
             }
@@ -340,6 +354,8 @@ impl CollisionWorldBuilder {
                 .as_convex_polyhedron()
                 .and_then(super::hull::HullSupport::new)
                 .map(std::sync::Arc::new);
+            b.capsule = super::capsule::Capsule::of_shape(b.shape.as_ref());
+            b.half_extents = b.shape.as_cuboid().map(|c| c.half_extents);
         }
 
         let n = bodies.len();

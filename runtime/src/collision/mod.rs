@@ -70,6 +70,7 @@
 
 mod broad_phase;
 mod build;
+mod capsule;
 mod error;
 mod frozen;
 mod hull;

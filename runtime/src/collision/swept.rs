@@ -20,12 +20,12 @@
 use parry3d_f64::query;
 use parry3d_f64::query::details::closest_points_support_map_support_map_with_params;
 use parry3d_f64::query::gjk::{CSOPoint, GJKResult, VoronoiSimplex};
-use parry3d_f64::shape::{SegmentPointLocation, SharedShape};
+use parry3d_f64::shape::SharedShape;
 
 use super::build::Mount;
 use super::world::{CollisionScratch, CollisionWorld, Visit};
 use super::{CollisionError, Configuration};
-use crate::math::{Iso, Point, Vec3};
+use crate::math::{Iso, Point};
 
 /// Distances up to this (metres, a micrometre) count as contact in a swept query: a
 /// certified configuration keeps every pair that may not touch at least this far apart,
@@ -254,6 +254,7 @@ impl CollisionWorld {
         j: usize,
         threshold: f64,
     ) -> Result<Option<f64>, CollisionError> {
+        scratch.count_exact();
         let (pi, pj) = (&scratch.poses[i], &scratch.poses[j]);
         let (si, sj) = (self.bodies[i].shape.as_ref(), self.bodies[j].shape.as_ref());
         let exact = || {
@@ -293,8 +294,8 @@ impl CollisionWorld {
 
 /// A lower bound on the distance between placed bodies `i` and `j`: the largest of the
 /// gaps between their bounding spheres, between their AABBs (as placed, without the
-/// margins the broad phase grew them by), and, for two cylinders (every link of the
-/// LWR), between the capsules that contain them (the distance between two segments).
+/// margins the broad phase grew them by), and between the capsules that contain them
+/// (`capsule.rs`; a capsule hugs a long link far closer than its sphere or box).
 pub(super) fn lower_bound(
     world: &CollisionWorld,
     scratch: &CollisionScratch,
@@ -313,26 +314,10 @@ pub(super) fn lower_bound(
             boxes += apart * apart;
         }
     }
-    let mut bound = spheres.max(boxes.sqrt());
-    if let (Some((hi, ri)), Some((hj, rj))) = (bi.cylinder, bj.cylinder) {
-        let axis = |pose: &Iso, h: f64| {
-            let half = pose.rotation * Vec3::y() * h;
-            let c = Point::from(pose.translation.vector);
-            (c - half, c + half)
-        };
-        let (si, sj) = (axis(&scratch.poses[i], hi), axis(&scratch.poses[j], hj));
-        let (li, lj) = query::details::closest_points_segment_segment_with_locations_nD(
-            (&si.0, &si.1),
-            (&sj.0, &sj.1),
-        );
-        let at = |(a, b): (Point, Point), l: SegmentPointLocation| match l {
-            SegmentPointLocation::OnVertex(0) => a,
-            SegmentPointLocation::OnVertex(_) => b,
-            SegmentPointLocation::OnEdge([wa, wb]) => Point::from(a.coords * wa + b.coords * wb),
-        };
-        bound = bound.max((at(si, li) - at(sj, lj)).norm() - ri - rj);
-    }
-    bound
+    let bound = spheres.max(boxes.sqrt());
+    world
+        .capsule_gap(scratch, i, j)
+        .map_or(bound, |gap| bound.max(gap))
 }
 
 #[cfg(test)]
@@ -344,6 +329,7 @@ mod tests {
 
     use super::super::{CollisionWorldBuilder, ObjectState};
     use super::*;
+    use crate::math::Vec3;
     use crate::robot::LinkShape;
 
     /// A two-frame "robot" whose second frame turns about z, with a box half a metre

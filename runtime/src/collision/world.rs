@@ -1,11 +1,14 @@
 //! The queries of a built collision world: names, counts, the first collision, all
 //! collisions, and the clearance of a state.
 
+use std::sync::atomic::{AtomicU64, Ordering};
+
 use parry3d_f64::bounding_volume::Aabb;
 use parry3d_f64::query;
 use parry3d_f64::shape::SupportMap;
 
 use super::build::{BitMatrix, Body, RobotInfo};
+use super::capsule::capsule_bound;
 use super::{BodyId, Collision, CollisionError, Configuration, Proximity};
 use crate::math::{Iso, Point};
 
@@ -25,6 +28,35 @@ pub struct CollisionScratch {
     /// The tag of the [`Frozen`](super::frozen::Frozen) set whose standing bodies the
     /// buffers hold (0: none; a plain query overwrites them).
     pub(super) frozen: u64,
+    /// Exact queries (GJK or parry) run through these buffers, for tests and profiles of
+    /// the cheap rejections.
+    pub(super) exact_queries: QueryCount,
+}
+
+impl CollisionScratch {
+    /// How many exact queries (intersection tests and distances of pairs the cheap
+    /// bounds did not settle) the queries through this scratch have run.
+    pub fn exact_queries(&self) -> u64 {
+        self.exact_queries.0.load(Ordering::Relaxed)
+    }
+
+    pub(super) fn count_exact(&self) {
+        // A load and a store, not an atomic add: one thread uses a scratch at a time (the
+        // sweep hands its visitors the scratch shared, hence the atomic), and a plain
+        // store costs nothing next to the query it counts.
+        let n = self.exact_queries.0.load(Ordering::Relaxed);
+        self.exact_queries.0.store(n + 1, Ordering::Relaxed);
+    }
+}
+
+/// A count that a shared scratch can advance and that keeps the scratch `Sync`.
+#[derive(Debug, Default)]
+pub(super) struct QueryCount(AtomicU64);
+
+impl Clone for QueryCount {
+    fn clone(&self) -> Self {
+        QueryCount(AtomicU64::new(self.0.load(Ordering::Relaxed)))
+    }
 }
 
 /// The collision world of a cell. Immutable after [`CollisionWorldBuilder::build`](super::CollisionWorldBuilder::build);
@@ -188,6 +220,13 @@ impl CollisionWorld {
         self.place(state, scratch, |_| cutoff / 2.0)?;
         let mut best: Option<(f64, Collision)> = None;
         self.sweep(state, scratch, |i, j, scratch| {
+            if self
+                .capsule_gap(scratch, i, j)
+                .is_some_and(|gap| gap > cutoff)
+            {
+                return Ok(Visit::Continue);
+            }
+            scratch.count_exact();
             let (bi, bj) = (&self.bodies[i], &self.bodies[j]);
             let d = query::distance(
                 &scratch.poses[i],
@@ -230,6 +269,11 @@ impl CollisionWorld {
         j: usize,
         scratch: &CollisionScratch,
     ) -> Result<bool, CollisionError> {
+        // Capsules apart: the bodies inside them are too.
+        if self.capsule_gap(scratch, i, j).is_some_and(|gap| gap > 0.0) {
+            return Ok(false);
+        }
+        scratch.count_exact();
         let (pi, pj) = (&scratch.poses[i], &scratch.poses[j]);
         if self.bodies[i].hull.is_some() || self.bodies[j].hull.is_some() {
             if let (Some(gi), Some(gj)) = (self.support_map(i), self.support_map(j)) {
@@ -247,6 +291,23 @@ impl CollisionWorld {
             self.bodies[j].shape.as_ref(),
         )
         .map_err(|_| self.unsupported(i, j))
+    }
+
+    /// A lower bound on the distance between placed bodies `i` and `j` from their
+    /// capsules (`capsule.rs`), `None` when one has no capsule.
+    #[inline]
+    pub(super) fn capsule_gap(
+        &self,
+        scratch: &CollisionScratch,
+        i: usize,
+        j: usize,
+    ) -> Option<f64> {
+        let (bi, bj) = (&self.bodies[i], &self.bodies[j]);
+        let (ci, cj) = (bi.capsule.as_ref()?, bj.capsule.as_ref()?);
+        Some(capsule_bound(
+            (ci, &scratch.poses[i], bi.half_extents.as_ref()),
+            (cj, &scratch.poses[j], bj.half_extents.as_ref()),
+        ))
     }
 
     /// Body `i`'s shape as GJK sees it: a hull's vertex graph when it has one (support
