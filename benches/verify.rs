@@ -65,11 +65,19 @@ fn benches(c: &mut Criterion) {
             std::fs::read_to_string("cells/assembly_line.cell").unwrap(),
         ),
     );
-    case(
-        &mut c,
-        "verify/line_5_arms",
-        artifact("cells/line5.cell", line::line_cell(5, 8, 2)),
-    );
+    // The same line at 5 to 50 arms, 8 hand grasps and 2 resting poses: arcs per arm
+    // stay about equal, so time per arc (criterion's time over the printed arcs checked)
+    // should not grow with the arms (issue 17).
+    for arms in [5, 10, 20, 50] {
+        case(
+            &mut c,
+            &format!("verify/line_{arms}_arms"),
+            artifact(
+                &format!("cells/line{arms}.cell"),
+                line::line_cell(arms, 8, 2),
+            ),
+        );
+    }
 }
 
 criterion_group!(verify_benches, benches);
