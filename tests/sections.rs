@@ -5,8 +5,8 @@
 use cellc::fs_files::FsFiles;
 use cellc_schema::sections::{SectionKind, Sections};
 use cellc_schema::{
-    ArmConfiguration, Artifact, EndEffectorId, Encoding, Infeasibility, Pose, PrunedArc,
-    ReadError, Witness,
+    ArmConfiguration, Artifact, Encoding, EndEffectorId, Infeasibility, Pose, PrunedArc, ReadError,
+    Witness,
 };
 
 fn build(path: &str) -> Artifact {
@@ -51,7 +51,13 @@ fn every_shipped_cell_round_trips_through_the_sections() {
     cells.sort();
     assert!(cells.len() >= 8, "{cells:?}");
     for cell in cells {
-        let artifact = build(&cell.to_string_lossy());
+        // As `cellc build` compiles it (`reach auto` cells need the compile options).
+        let (artifact, _) = cellc::artifact_io::compiled_cell(
+            &cell.to_string_lossy(),
+            cellc::artifact_io::Report::Human,
+            &cellc_compiler::CompileOptions::default(),
+        )
+        .expect("compiles");
         let bytes = artifact.to_bytes(Encoding::Binary);
         let (back, encoding) = Artifact::from_bytes(&bytes).expect("decodes");
         assert_eq!(encoding, Encoding::Binary);
@@ -93,7 +99,11 @@ fn a_flipped_byte_is_found_when_and_only_when_its_section_is_read() {
                 if other == row {
                     assert_eq!(result, Err(ReadError::Damaged), "{damaged:?} at {at}");
                 } else {
-                    assert_eq!(result, Ok(()), "{section:?} read after damage to {damaged:?}");
+                    assert_eq!(
+                        result,
+                        Ok(()),
+                        "{section:?} read after damage to {damaged:?}"
+                    );
                 }
             }
             assert!(Artifact::from_bytes(&flipped).is_err());

@@ -287,13 +287,19 @@ impl<'a> Sections<'a> {
             .checked_mul(ENTRY_BYTES)
             .and_then(|t| t.checked_add(FIXED_HEADER))
             .filter(|&end| end <= bytes.len())
-            .ok_or_else(|| corrupt(format!("a table of {count} sections does not fit in the file")))?;
+            .ok_or_else(|| {
+                corrupt(format!(
+                    "a table of {count} sections does not fit in the file"
+                ))
+            })?;
         let table_bytes = &bytes[FIXED_HEADER..table_end];
         if xxhash_rust::xxh3::xxh3_64(table_bytes) != table_checksum {
             return Err(ReadError::Damaged);
         }
         if count == 0 || (count - 1) % SectionKind::PER_OBJECT.len() != 0 {
-            return Err(corrupt(format!("{count} sections: not a core and four per object")));
+            return Err(corrupt(format!(
+                "{count} sections: not a core and four per object"
+            )));
         }
         let n_objects = (count - 1) / SectionKind::PER_OBJECT.len();
         let mut table = Vec::with_capacity(count);
@@ -303,7 +309,10 @@ impl<'a> Sections<'a> {
                 (SectionKind::Core, 0)
             } else {
                 let per = SectionKind::PER_OBJECT.len();
-                (SectionKind::PER_OBJECT[(row - 1) % per], ((row - 1) / per) as u32)
+                (
+                    SectionKind::PER_OBJECT[(row - 1) % per],
+                    ((row - 1) / per) as u32,
+                )
             };
             if u32_at(entry, 0) != kind.code() || u32_at(entry, 4) != object {
                 return Err(corrupt(format!(
@@ -322,7 +331,9 @@ impl<'a> Sections<'a> {
                 .checked_add(length)
                 .filter(|&e| e <= bytes.len() as u64)
                 .ok_or_else(|| {
-                    corrupt(format!("section {row} ({length} bytes at {offset}) ends after the file"))
+                    corrupt(format!(
+                        "section {row} ({length} bytes at {offset}) ends after the file"
+                    ))
                 })?;
             let width = match kind {
                 SectionKind::Nodes => NODE_BYTES as u64,
