@@ -136,7 +136,7 @@ fn core_of(a: &Artifact) -> Artifact {
         compiler_version: a.compiler_version.clone(),
         cell: a.cell.clone(),
         sources: a.sources.clone(),
-        weights: a.weights.clone(),
+        weights: a.weights,
         robots: a.robots.clone(),
         holder_kinds: a.holder_kinds.clone(),
         workspaces: a.workspaces.clone(),
@@ -296,7 +296,7 @@ impl<'a> Sections<'a> {
         if xxhash_rust::xxh3::xxh3_64(table_bytes) != table_checksum {
             return Err(ReadError::Damaged);
         }
-        if count == 0 || (count - 1) % SectionKind::PER_OBJECT.len() != 0 {
+        if count == 0 || !(count - 1).is_multiple_of(SectionKind::PER_OBJECT.len()) {
             return Err(corrupt(format!(
                 "{count} sections: not a core and four per object"
             )));
@@ -340,7 +340,7 @@ impl<'a> Sections<'a> {
                 SectionKind::Arcs => ARC_BYTES as u64,
                 _ => 1,
             };
-            if length % width != 0 {
+            if !length.is_multiple_of(width) {
                 return Err(corrupt(format!(
                     "section {row} ({}) is {length} bytes, not a whole number of records",
                     kind.name()
