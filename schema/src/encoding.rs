@@ -12,7 +12,7 @@ use crate::{validate, Artifact, FORMAT, FORMAT_VERSION, MAGIC};
 pub enum Encoding {
     /// Compact JSON.
     Json,
-    /// `MAGIC`, version, postcard.
+    /// `MAGIC`, version, a table of checksummed sections ([`crate::sections`]).
     Binary,
 }
 
@@ -71,11 +71,11 @@ const JSON_CHECKSUM: &[u8] = b"{\"checksum\":\"";
 const HEX_LEN: usize = 64;
 
 impl Artifact {
-    /// Encodes the artifact, with a SHA-256 of the content so damage is detected.
+    /// Encodes the artifact, with checksums of the content so damage is detected.
     ///
     /// JSON: `{"checksum":"HEX",` followed by the artifact's fields; the checksum is over
-    /// the artifact's own JSON (`{` and the rest). Binary: `MAGIC`, the version, the 32
-    /// bytes of the checksum, then postcard.
+    /// the artifact's own JSON (`{` and the rest). Binary: the sectioned layout of
+    /// [`crate::sections`], each section with its own XXH3-64.
     pub fn to_bytes(&self, encoding: Encoding) -> Vec<u8> {
         match encoding {
             Encoding::Json => {
@@ -97,17 +97,7 @@ impl Artifact {
                 bytes[content_at] = b',';
                 bytes
             }
-            Encoding::Binary => {
-                let content = postcard::to_stdvec(self).unwrap_or_default();
-                let mut bytes = MAGIC.to_vec();
-                bytes.extend_from_slice(&FORMAT_VERSION.to_le_bytes());
-                {
-                    use sha2::Digest;
-                    bytes.extend_from_slice(&sha2::Sha256::digest(&content));
-                }
-                bytes.extend(content);
-                bytes
-            }
+            Encoding::Binary => crate::sections::write(self),
         }
     }
 
@@ -125,35 +115,8 @@ impl Artifact {
         let corrupt = |detail: &str| ReadError::Corrupt {
             detail: detail.to_string(),
         };
-        if let Some(rest) = bytes.strip_prefix(MAGIC.as_slice()) {
-            let version = rest
-                .get(..4)
-                .and_then(|v| v.try_into().ok())
-                .map(u32::from_le_bytes)
-                .ok_or_else(|| corrupt("the file ends inside its header"))?;
-            if version != FORMAT_VERSION {
-                return Err(ReadError::WrongVersion {
-                    found: version,
-                    expected: FORMAT_VERSION,
-                });
-            }
-            let checksum = rest
-                .get(4..36)
-                .ok_or_else(|| corrupt("the file ends inside its header"))?;
-            let content = &rest[36..];
-            {
-                use sha2::Digest;
-                if sha2::Sha256::digest(content).as_slice() != checksum {
-                    return Err(ReadError::Damaged);
-                }
-            }
-            let (artifact, left) = postcard::take_from_bytes::<Artifact>(content)
-                .map_err(|e| corrupt(&e.to_string()))?;
-            if !left.is_empty() {
-                return Err(ReadError::Corrupt {
-                    detail: format!("{} bytes after the end of the artifact", left.len()),
-                });
-            }
+        if bytes.starts_with(MAGIC.as_slice()) {
+            let artifact = crate::sections::Sections::open(bytes)?.artifact()?;
             return Ok((artifact, Encoding::Binary));
         }
         #[derive(Deserialize)]

@@ -5,8 +5,8 @@
 //! plain indices into the artifact's own lists (`end_effectors[i]`, ...), so the file is
 //! self-describing and language-neutral.
 //!
-//! Two encodings carry the same value: JSON (the default, readable) and a compact binary
-//! form (`MAGIC`, the format version as little-endian `u32`, then postcard). Both are
+//! Two encodings carry the same value: JSON (the default, readable) and a binary form
+//! in checksummed sections that a reader decodes one at a time ([`sections`]). Both are
 //! deterministic: the same artifact value always gives the same bytes.
 //!
 //! Beside the artifact, this crate holds the small vocabulary both sides of it share, so
@@ -29,6 +29,7 @@ pub mod math;
 pub use files::{FileError, Files, MemoryFiles};
 pub use hash::sha256_hex;
 pub mod rules;
+pub mod sections;
 /// Object symmetries: which rotations leave an object looking the same.
 pub mod symmetry;
 pub mod world;

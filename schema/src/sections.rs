@@ -1,0 +1,499 @@
+//! The sectioned binary encoding: a header with a table of sections, each checksummed on
+//! its own, so a reader decodes (and checks) only the sections it asks for.
+//!
+//! Layout, all numbers little-endian:
+//!
+//! ```text
+//! MAGIC (8) | BINARY_VERSION u32 | section count u32 | xxh3 of the table u64
+//! table: count x (kind u32, object u32, offset u64, length u64, xxh3 of the section u64)
+//! sections, in table order, without gaps or overlaps
+//! ```
+//!
+//! The sections are the core (postcard of the artifact with every object's graph
+//! emptied: names, geometry, requests, spans; small), and per object its nodes and its
+//! arcs in fixed-width records that need no general decoder ([`NODE_BYTES`],
+//! [`ARC_BYTES`]), its pruned arcs and its witnesses (postcard; only verification reports
+//! and arm motions need them). A 10^6-arc artifact is mostly its arcs section.
+//!
+//! The checksum is XXH3-64, not SHA-256: it detects damage (a cut, a flipped bit) as well
+//! for that purpose and costs a small fraction of SHA-256 even with the CPU's SHA
+//! instructions (see docs/performance.md). Nothing uses the binary checksum as the
+//! artifact's identity: world documents and the service identify an artifact by its
+//! cell's name and content, and the JSON encoding keeps its SHA-256 as before.
+
+use crate::encoding::ReadError;
+use crate::{Arc, ArcKind, Artifact, Graph, Node, Object, PrunedArc, Witness, MAGIC};
+use crate::{EndEffectorId, GraspId, WorkspaceId};
+
+/// Version of the binary encoding (the JSON encoding and the artifact's own
+/// `format_version` stay at [`crate::FORMAT_VERSION`]). Version 4 is the first
+/// sectioned one; version 3 was one postcard body behind one SHA-256.
+pub const BINARY_VERSION: u32 = 4;
+
+/// Bytes of one node record: end-effector, grasp, workspace (`u32` each).
+pub const NODE_BYTES: usize = 12;
+/// Bytes of one arc record: from, to, source, via, witness (`u32` each), flags (`u32`:
+/// bit 0 transition, bit 1 `via` present, bit 2 `witness` present), weight (`f64`).
+pub const ARC_BYTES: usize = 32;
+
+const FIXED_HEADER: usize = 8 + 4 + 4 + 8;
+const ENTRY_BYTES: usize = 32;
+const FLAG_TRANSITION: u32 = 1;
+const FLAG_VIA: u32 = 2;
+const FLAG_WITNESS: u32 = 4;
+
+/// What a section holds.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SectionKind {
+    /// The artifact without its objects' graphs.
+    Core,
+    /// One object's nodes.
+    Nodes,
+    /// One object's arcs.
+    Arcs,
+    /// One object's pruned arcs.
+    Pruned,
+    /// One object's witnesses.
+    Witnesses,
+}
+
+impl SectionKind {
+    const PER_OBJECT: [SectionKind; 4] = [
+        SectionKind::Nodes,
+        SectionKind::Arcs,
+        SectionKind::Pruned,
+        SectionKind::Witnesses,
+    ];
+
+    fn code(self) -> u32 {
+        match self {
+            SectionKind::Core => 0,
+            SectionKind::Nodes => 1,
+            SectionKind::Arcs => 2,
+            SectionKind::Pruned => 3,
+            SectionKind::Witnesses => 4,
+        }
+    }
+
+    fn name(self) -> &'static str {
+        match self {
+            SectionKind::Core => "core",
+            SectionKind::Nodes => "nodes",
+            SectionKind::Arcs => "arcs",
+            SectionKind::Pruned => "pruned arcs",
+            SectionKind::Witnesses => "witnesses",
+        }
+    }
+}
+
+/// One row of the section table.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Section {
+    /// What it holds.
+    pub kind: SectionKind,
+    /// The object it belongs to (0 for the core).
+    pub object: u32,
+    /// Where it starts in the file.
+    pub offset: usize,
+    /// Its length in bytes.
+    pub length: usize,
+    /// XXH3-64 of its bytes.
+    pub checksum: u64,
+}
+
+fn corrupt(detail: impl Into<String>) -> ReadError {
+    ReadError::Corrupt {
+        detail: detail.into(),
+    }
+}
+
+fn put_u32(out: &mut Vec<u8>, v: u32) {
+    out.extend_from_slice(&v.to_le_bytes());
+}
+
+fn put_u64(out: &mut Vec<u8>, v: u64) {
+    out.extend_from_slice(&v.to_le_bytes());
+}
+
+fn u32_at(b: &[u8], at: usize) -> u32 {
+    let mut x = [0; 4];
+    x.copy_from_slice(&b[at..at + 4]);
+    u32::from_le_bytes(x)
+}
+
+fn u64_at(b: &[u8], at: usize) -> u64 {
+    let mut x = [0; 8];
+    x.copy_from_slice(&b[at..at + 8]);
+    u64::from_le_bytes(x)
+}
+
+/// The artifact without its objects' graphs, field by field so that a new field of
+/// [`Artifact`] or [`Object`] cannot be forgotten here.
+fn core_of(a: &Artifact) -> Artifact {
+    Artifact {
+        format: a.format.clone(),
+        format_version: a.format_version,
+        compiler_version: a.compiler_version.clone(),
+        cell: a.cell.clone(),
+        sources: a.sources.clone(),
+        weights: a.weights,
+        robots: a.robots.clone(),
+        holder_kinds: a.holder_kinds.clone(),
+        workspaces: a.workspaces.clone(),
+        end_effectors: a.end_effectors.clone(),
+        objects: a
+            .objects
+            .iter()
+            .map(|o| Object {
+                name: o.name.clone(),
+                shape: o.shape.clone(),
+                symmetries: o.symmetries.clone(),
+                grasps: o.grasps.clone(),
+                transitions: o.transitions.clone(),
+                graph: Graph::default(),
+                span: o.span,
+            })
+            .collect(),
+        spans: a.spans.clone(),
+        adjacency: a.adjacency.clone(),
+        obstacles: a.obstacles.clone(),
+        requests: a.requests.clone(),
+        world: a.world.clone(),
+        tasks: a.tasks.clone(),
+        allowed_contacts: a.allowed_contacts.clone(),
+        verification: a.verification.clone(),
+    }
+}
+
+fn nodes_bytes(nodes: &[Node]) -> Vec<u8> {
+    let mut out = Vec::with_capacity(nodes.len() * NODE_BYTES);
+    for n in nodes {
+        put_u32(&mut out, n.end_effector.0);
+        put_u32(&mut out, n.grasp.0);
+        put_u32(&mut out, n.workspace.0);
+    }
+    out
+}
+
+fn arcs_bytes(arcs: &[Arc]) -> Vec<u8> {
+    let mut out = Vec::with_capacity(arcs.len() * ARC_BYTES);
+    for a in arcs {
+        let mut flags = 0;
+        if a.kind == ArcKind::Transition {
+            flags |= FLAG_TRANSITION;
+        }
+        if a.via.is_some() {
+            flags |= FLAG_VIA;
+        }
+        if a.witness.is_some() {
+            flags |= FLAG_WITNESS;
+        }
+        put_u32(&mut out, a.from);
+        put_u32(&mut out, a.to);
+        put_u32(&mut out, a.source);
+        put_u32(&mut out, a.via.unwrap_or(0));
+        put_u32(&mut out, a.witness.unwrap_or(0));
+        put_u32(&mut out, flags);
+        put_u64(&mut out, a.weight.to_bits());
+    }
+    out
+}
+
+/// Encodes `a` in the sectioned binary layout. Deterministic: the same artifact gives the
+/// same bytes.
+pub fn write(a: &Artifact) -> Vec<u8> {
+    // Serialising plain data cannot fail; if it did the section would be empty and the
+    // reader would report it as corrupt, never panic.
+    let mut bodies: Vec<(SectionKind, u32, Vec<u8>)> = vec![(
+        SectionKind::Core,
+        0,
+        postcard::to_stdvec(&core_of(a)).unwrap_or_default(),
+    )];
+    for (i, o) in a.objects.iter().enumerate() {
+        let i = i as u32;
+        let g = &o.graph;
+        bodies.push((SectionKind::Nodes, i, nodes_bytes(&g.nodes)));
+        bodies.push((SectionKind::Arcs, i, arcs_bytes(&g.arcs)));
+        bodies.push((
+            SectionKind::Pruned,
+            i,
+            postcard::to_stdvec(&g.pruned).unwrap_or_default(),
+        ));
+        bodies.push((
+            SectionKind::Witnesses,
+            i,
+            postcard::to_stdvec(&g.witnesses).unwrap_or_default(),
+        ));
+    }
+    let data_at = FIXED_HEADER + bodies.len() * ENTRY_BYTES;
+    let total = data_at + bodies.iter().map(|b| b.2.len()).sum::<usize>();
+    let mut table = Vec::with_capacity(bodies.len() * ENTRY_BYTES);
+    let mut offset = data_at;
+    for (kind, object, body) in &bodies {
+        put_u32(&mut table, kind.code());
+        put_u32(&mut table, *object);
+        put_u64(&mut table, offset as u64);
+        put_u64(&mut table, body.len() as u64);
+        put_u64(&mut table, xxhash_rust::xxh3::xxh3_64(body));
+        offset += body.len();
+    }
+    let mut out = Vec::with_capacity(total);
+    out.extend_from_slice(MAGIC);
+    put_u32(&mut out, BINARY_VERSION);
+    put_u32(&mut out, bodies.len() as u32);
+    put_u64(&mut out, xxhash_rust::xxh3::xxh3_64(&table));
+    out.extend(table);
+    for (_, _, body) in bodies {
+        out.extend(body);
+    }
+    out
+}
+
+/// A binary artifact whose header and section table have been checked, and whose
+/// sections are decoded (and their checksums checked) only when asked for.
+#[derive(Debug)]
+pub struct Sections<'a> {
+    bytes: &'a [u8],
+    table: Vec<Section>,
+    n_objects: usize,
+}
+
+impl<'a> Sections<'a> {
+    /// Reads the header and the section table of `bytes` (which start with `MAGIC`).
+    /// Every row is checked before anything is decoded: the table's checksum, every
+    /// section inside the file, in order without overlap, of a known kind, the core first
+    /// and then the four sections of each object in turn. Nothing is allocated in
+    /// proportion to a number of the file that the file's length does not bound.
+    pub fn open(bytes: &'a [u8]) -> Result<Sections<'a>, ReadError> {
+        let rest = bytes
+            .strip_prefix(MAGIC.as_slice())
+            .ok_or(ReadError::NotAnArtifact)?;
+        if rest.len() < 4 {
+            return Err(corrupt("the file ends inside its header"));
+        }
+        let version = u32_at(rest, 0);
+        if version != BINARY_VERSION {
+            return Err(ReadError::WrongVersion {
+                found: version,
+                expected: BINARY_VERSION,
+            });
+        }
+        if bytes.len() < FIXED_HEADER {
+            return Err(corrupt("the file ends inside its header"));
+        }
+        let count = u32_at(bytes, 12) as usize;
+        let table_checksum = u64_at(bytes, 16);
+        let table_end = count
+            .checked_mul(ENTRY_BYTES)
+            .and_then(|t| t.checked_add(FIXED_HEADER))
+            .filter(|&end| end <= bytes.len())
+            .ok_or_else(|| {
+                corrupt(format!(
+                    "a table of {count} sections does not fit in the file"
+                ))
+            })?;
+        let table_bytes = &bytes[FIXED_HEADER..table_end];
+        if xxhash_rust::xxh3::xxh3_64(table_bytes) != table_checksum {
+            return Err(ReadError::Damaged);
+        }
+        if count == 0 || !(count - 1).is_multiple_of(SectionKind::PER_OBJECT.len()) {
+            return Err(corrupt(format!(
+                "{count} sections: not a core and four per object"
+            )));
+        }
+        let n_objects = (count - 1) / SectionKind::PER_OBJECT.len();
+        let mut table = Vec::with_capacity(count);
+        let mut next = table_end;
+        for (row, entry) in table_bytes.chunks_exact(ENTRY_BYTES).enumerate() {
+            let (kind, object) = if row == 0 {
+                (SectionKind::Core, 0)
+            } else {
+                let per = SectionKind::PER_OBJECT.len();
+                (
+                    SectionKind::PER_OBJECT[(row - 1) % per],
+                    ((row - 1) / per) as u32,
+                )
+            };
+            if u32_at(entry, 0) != kind.code() || u32_at(entry, 4) != object {
+                return Err(corrupt(format!(
+                    "section {row} should be the {} of object {object}",
+                    kind.name()
+                )));
+            }
+            let offset = u64_at(entry, 8);
+            let length = u64_at(entry, 16);
+            if offset != next as u64 {
+                return Err(corrupt(format!(
+                    "section {row} starts at {offset}, not where the one before it ends ({next})"
+                )));
+            }
+            let end = offset
+                .checked_add(length)
+                .filter(|&e| e <= bytes.len() as u64)
+                .ok_or_else(|| {
+                    corrupt(format!(
+                        "section {row} ({length} bytes at {offset}) ends after the file"
+                    ))
+                })?;
+            let width = match kind {
+                SectionKind::Nodes => NODE_BYTES as u64,
+                SectionKind::Arcs => ARC_BYTES as u64,
+                _ => 1,
+            };
+            if !length.is_multiple_of(width) {
+                return Err(corrupt(format!(
+                    "section {row} ({}) is {length} bytes, not a whole number of records",
+                    kind.name()
+                )));
+            }
+            table.push(Section {
+                kind,
+                object,
+                offset: offset as usize,
+                length: length as usize,
+                checksum: u64_at(entry, 24),
+            });
+            next = end as usize;
+        }
+        if next != bytes.len() {
+            return Err(corrupt(format!(
+                "{} bytes after the last section",
+                bytes.len() - next
+            )));
+        }
+        Ok(Sections {
+            bytes,
+            table,
+            n_objects,
+        })
+    }
+
+    /// The section table, in file order.
+    pub fn table(&self) -> &[Section] {
+        &self.table
+    }
+
+    /// How many objects the file has graphs for.
+    pub fn n_objects(&self) -> usize {
+        self.n_objects
+    }
+
+    /// The bytes of one section after its checksum is checked.
+    fn body(&self, kind: SectionKind, object: usize) -> Result<&'a [u8], ReadError> {
+        let row = match kind {
+            SectionKind::Core => 0,
+            _ if object >= self.n_objects => {
+                return Err(corrupt(format!("no object {object} in the file")))
+            }
+            _ => {
+                1 + object * SectionKind::PER_OBJECT.len()
+                    + SectionKind::PER_OBJECT
+                        .iter()
+                        .position(|&k| k == kind)
+                        .unwrap_or(0)
+            }
+        };
+        let s = self.table[row];
+        let body = &self.bytes[s.offset..s.offset + s.length];
+        if xxhash_rust::xxh3::xxh3_64(body) != s.checksum {
+            return Err(ReadError::Damaged);
+        }
+        Ok(body)
+    }
+
+    fn postcard<T: serde::de::DeserializeOwned>(
+        &self,
+        kind: SectionKind,
+        object: usize,
+    ) -> Result<T, ReadError> {
+        let body = self.body(kind, object)?;
+        let (value, left) = postcard::take_from_bytes::<T>(body)
+            .map_err(|e| corrupt(format!("{}: {e}", kind.name())))?;
+        if !left.is_empty() {
+            return Err(corrupt(format!(
+                "{} bytes after the end of the {} section",
+                left.len(),
+                kind.name()
+            )));
+        }
+        Ok(value)
+    }
+
+    /// The artifact without its objects' graphs. Its object count must be the table's.
+    pub fn core(&self) -> Result<Artifact, ReadError> {
+        let core: Artifact = self.postcard(SectionKind::Core, 0)?;
+        if core.objects.len() != self.n_objects {
+            return Err(corrupt(format!(
+                "the core has {} objects, the section table {}",
+                core.objects.len(),
+                self.n_objects
+            )));
+        }
+        Ok(core)
+    }
+
+    /// The nodes of object `o`.
+    pub fn nodes(&self, o: usize) -> Result<Vec<Node>, ReadError> {
+        let body = self.body(SectionKind::Nodes, o)?;
+        Ok(body
+            .chunks_exact(NODE_BYTES)
+            .map(|r| Node {
+                end_effector: EndEffectorId(u32_at(r, 0)),
+                grasp: GraspId(u32_at(r, 4)),
+                workspace: WorkspaceId(u32_at(r, 8)),
+            })
+            .collect())
+    }
+
+    /// The arcs of object `o`.
+    pub fn arcs(&self, o: usize) -> Result<Vec<Arc>, ReadError> {
+        let body = self.body(SectionKind::Arcs, o)?;
+        body.chunks_exact(ARC_BYTES)
+            .enumerate()
+            .map(|(i, r)| {
+                let flags = u32_at(r, 20);
+                if flags & !(FLAG_TRANSITION | FLAG_VIA | FLAG_WITNESS) != 0 {
+                    return Err(corrupt(format!("arc {i} of object {o} has unknown flags")));
+                }
+                let some = |flag: u32, v: u32| (flags & flag != 0).then_some(v);
+                Ok(Arc {
+                    from: u32_at(r, 0),
+                    to: u32_at(r, 4),
+                    source: u32_at(r, 8),
+                    via: some(FLAG_VIA, u32_at(r, 12)),
+                    witness: some(FLAG_WITNESS, u32_at(r, 16)),
+                    kind: if flags & FLAG_TRANSITION != 0 {
+                        ArcKind::Transition
+                    } else {
+                        ArcKind::Move
+                    },
+                    weight: f64::from_bits(u64_at(r, 24)),
+                })
+            })
+            .collect()
+    }
+
+    /// The pruned arcs of object `o`.
+    pub fn pruned(&self, o: usize) -> Result<Vec<PrunedArc>, ReadError> {
+        self.postcard(SectionKind::Pruned, o)
+    }
+
+    /// The witnesses of object `o`.
+    pub fn witnesses(&self, o: usize) -> Result<Vec<Witness>, ReadError> {
+        self.postcard(SectionKind::Witnesses, o)
+    }
+
+    /// Every section, assembled into the artifact (not yet validated).
+    pub fn artifact(&self) -> Result<Artifact, ReadError> {
+        let mut a = self.core()?;
+        for (i, o) in a.objects.iter_mut().enumerate() {
+            o.graph = Graph {
+                nodes: self.nodes(i)?,
+                arcs: self.arcs(i)?,
+                pruned: self.pruned(i)?,
+                witnesses: self.witnesses(i)?,
+            };
+        }
+        Ok(a)
+    }
+}
