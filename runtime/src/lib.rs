@@ -1,6 +1,10 @@
 #![doc = include_str!("../README.md")]
 #![warn(missing_docs)]
 
+// The shared test fixtures name the crate by its name, as the integration tests do.
+#[cfg(test)]
+extern crate self as cellc_runtime;
+
 pub mod cell;
 
 #[doc(hidden)]

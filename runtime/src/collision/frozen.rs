@@ -1,51 +1,77 @@
-//! The bodies that stand still during one motion, placed once.
+//! Queries that place only what is not standing: the cell at home ([`Home`], once per
+//! scene), less the robots away from home, plus what stands still elsewhere during one
+//! motion ([`Frozen`], once per motion).
 //!
 //! A motion moves one or two arms (and the object a moving hand holds); everything else
-//! (the idle arms, the furniture, the world's other objects, an object resting on a
-//! surface) keeps its pose for the whole motion. The plain queries place every body and
-//! sort them all on every call, so each check of a motion paid for every body of the
-//! cell, and a line of 50 arms checked 50 arms to move one. A [`Frozen`] places the
-//! standing bodies once, keeps their AABBs in a bounding-volume hierarchy (parry's
-//! [`Bvh`]), and learns once whether two of them already intersect (then every state of
-//! the motion collides). A query then places only the moving bodies, sweeps them against
-//! each other as the plain broad phase does, and asks the hierarchy for the standing
-//! bodies near each of them: its cost follows the moving bodies and what is near them,
-//! not the size of the cell.
+//! keeps its pose for the whole motion: the arms at home and the furniture (the
+//! [`Home`]), and, away from home, an arm that stands by holding something, the world's
+//! other objects, an object resting on a surface. A [`Frozen`] places those once and
+//! keeps their boxes in a small hierarchy of its own. A query ([`Standing`] says what
+//! stands) then places only the *live* bodies (the moving robots' and the objects not
+//! standing), sweeps them against each other as the plain broad phase does, and asks
+//! both hierarchies for the standing bodies near each of them: its cost follows the
+//! moving bodies and what is near them, not the size of the cell. A plain question about
+//! one state (`Scene::is_free`) is the same query with the arms it names live and no
+//! [`Frozen`].
 //!
 //! The answers are the plain queries' answers: the same pairs pass the same filters
 //! (grown AABBs compared on every axis, the allowed pairs, an object's holders, the
-//! bounding spheres) before the same exact tests, and pairs of two standing bodies are
-//! the ones a swept query skips anyway (their distance does not change).
-
-use std::sync::atomic::{AtomicU64, Ordering};
+//! bounding spheres) before the same exact tests; pairs of two standing bodies, which a
+//! swept query skips anyway (their distance does not change), are tested once, when the
+//! home or the motion's standing set is built (`Home::hits`, [`Frozen::blocked`]).
+//!
+//! A scratch keeps the resting bodies in its buffers, tagged with the home they came
+//! from; a query first puts back the entries the previous one overwrote (its live bodies,
+//! and another motion's standing set), so switching between motions, or from motions to
+//! plain questions, costs what changed.
 
 use parry3d_f64::bounding_volume::Aabb;
 use parry3d_f64::partitioning::{Bvh, BvhBuildStrategy};
 
 use super::broad_phase::{grow, PlacedBody};
-use super::build::Mount;
+use super::home::{next_tag, Home};
 use super::swept::CONTACT;
 use super::world::{CollisionScratch, CollisionWorld, Visit};
 use super::{CollisionError, Configuration, SweepBounds};
 
-/// Tags a [`Frozen`] so a scratch knows whether it already holds its standing bodies.
-static NEXT_TAG: AtomicU64 = AtomicU64::new(1);
+/// What stands during a query: the home less the robots away from home, and a motion's
+/// standing set.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Standing<'a> {
+    /// The cell at home.
+    pub(crate) home: &'a Home,
+    /// Per robot: placed by the query (its frames are the query's).
+    pub(crate) live: &'a [bool],
+    /// The motion's bodies standing away from home, when the query is one of a motion's.
+    pub(crate) frozen: Option<&'a Frozen>,
+}
 
-/// The standing part of a motion's states (see [the module](self) documentation).
-/// Built by [`CollisionWorld::freeze`] for one world; queries with another world's
-/// states are refused by the state check.
+impl Standing<'_> {
+    /// Per robot: whether its resting bodies are skipped (it is live, or stands away from
+    /// home in the motion's set).
+    fn away(&self) -> &[bool] {
+        self.frozen.map_or(self.live, |f| &f.away)
+    }
+}
+
+/// The bodies that stand still during one motion away from home (see [the
+/// module](self) documentation). Built by [`CollisionWorld::freeze`].
 #[derive(Clone, Debug)]
 pub(crate) struct Frozen {
     tag: u64,
-    /// Per body: whether it moves during the motion.
+    /// The tag of the home it was built over.
+    home: u64,
+    /// Per robot: moving during the motion.
     moving: Vec<bool>,
-    /// Per body: where a standing body is (`None` for moving and absent bodies).
-    standing: Vec<Option<PlacedBody>>,
-    /// The standing bodies' AABBs; leaf data is the index into `leaves`.
+    /// Per robot: moving, or standing away from home (its bodies are in `extra`).
+    away: Vec<bool>,
+    /// Per object: placed per query (it rides a moving hand); a present object that does
+    /// not is in `extra`.
+    moving_object: Vec<bool>,
+    /// The standing bodies away from home, in body order.
+    extra: Vec<(u32, PlacedBody)>,
+    /// Their boxes; leaf data is the index into `extra`.
     bvh: Bvh,
-    /// Body index of each leaf. Leaves are numbered densely from 0 rather than by body
-    /// index: parry's builder assumes leaf 0 (and 1) exist when a tree has one or two.
-    leaves: Vec<u32>,
     /// Whether two standing bodies that may not touch intersect (every state collides).
     blocked: bool,
 }
@@ -56,87 +82,161 @@ impl Frozen {
     pub(crate) fn blocked(&self) -> bool {
         self.blocked
     }
+
+    /// Per robot: the robots that move (the live ones of the motion's queries).
+    pub(crate) fn moving(&self) -> &[bool] {
+        &self.moving
+    }
 }
 
 impl CollisionWorld {
-    /// Freezes the bodies of `state` that do not ride on a robot `moving_robot` marks
-    /// nor on an object `moving_object` marks (indices as in the state). The moving
-    /// bodies' entries in `state` are ignored here and given per query. `known_free`
-    /// says that a state of this motion was already found free, which proves that no
-    /// two standing bodies intersect (they are the same in every state) and spares
-    /// checking it.
+    /// Freezes, over `home`, the bodies of `state` that stand away from home: those of
+    /// the robots `away` marks and `moving_robot` does not, and of the present objects
+    /// `moving_object` does not mark. The moving bodies' entries in `state` are ignored
+    /// here and given per query. `known_free` says that a state of this motion was
+    /// already found free, which proves that no two standing bodies intersect (they are
+    /// the same in every state) and spares checking it.
+    #[allow(clippy::too_many_arguments)]
     pub(crate) fn freeze(
         &self,
+        home: &Home,
         state: &Configuration<'_>,
         moving_robot: &[bool],
+        away: &[bool],
         moving_object: &[bool],
         known_free: bool,
         scratch: &mut CollisionScratch,
     ) -> Result<Frozen, CollisionError> {
         self.check_state(state)?;
-        let n = self.bodies.len();
-        let moving: Vec<bool> = self
-            .bodies
-            .iter()
-            .map(|b| match b.mount {
-                Mount::Frame { robot, .. } => moving_robot.get(robot).copied().unwrap_or(false),
-                Mount::Object { object } => moving_object.get(object).copied().unwrap_or(false),
-                Mount::Fixed => false,
-            })
-            .collect();
-        let mut standing = vec![None; n];
-        for i in 0..n {
-            if !moving[i] {
-                standing[i] = self.place_body(state, i, 0.0)?;
+        self.check_standing(home, moving_robot)?;
+        self.check_standing(home, away)?;
+        let mut extra = Vec::new();
+        for (r, bodies) in home.robot_bodies.iter().enumerate() {
+            if away[r] && !moving_robot[r] {
+                for &i in bodies {
+                    if let Some(p) = self.place_body(state, i as usize, 0.0)? {
+                        extra.push((i, p));
+                    }
+                }
             }
         }
-        let leaves: Vec<u32> = (0..n as u32)
-            .filter(|&i| standing[i as usize].is_some())
+        let moving_object: Vec<bool> = (0..self.objects.len())
+            .map(|o| moving_object.get(o).copied().unwrap_or(false))
             .collect();
+        for (o, bodies) in home.object_bodies.iter().enumerate() {
+            if moving_object[o] || state.objects[o].pose.is_none() {
+                continue;
+            }
+            for &i in bodies {
+                if let Some(p) = self.place_body(state, i as usize, 0.0)? {
+                    extra.push((i, p));
+                }
+            }
+        }
+        extra.sort_unstable_by_key(|&(i, _)| i);
         let bvh = Bvh::from_iter(
             BvhBuildStrategy::Binned,
-            leaves
+            extra
                 .iter()
                 .enumerate()
-                .filter_map(|(leaf, &i)| standing[i as usize].map(|p| (leaf, p.aabb))),
+                .map(|(leaf, (_, p))| (leaf, p.aabb)),
         );
-        // Two standing bodies that intersect do so in every state of the motion: found
-        // once with the plain broad phase, restricted to those pairs.
-        let mut blocked = false;
-        if !known_free {
-            self.place(state, scratch, |_| 0.0)?;
-            self.sweep(state, scratch, |i, j, scratch| {
-                if !moving[i] && !moving[j] && self.intersect(i, j, scratch)? {
-                    blocked = true;
-                    return Ok(Visit::Stop);
-                }
-                Ok(Visit::Continue)
-            })?;
-        }
-        Ok(Frozen {
-            tag: NEXT_TAG.fetch_add(1, Ordering::Relaxed),
-            moving,
-            standing,
+        let mut frozen = Frozen {
+            tag: next_tag(),
+            home: home.tag,
+            moving: moving_robot.to_vec(),
+            away: away
+                .iter()
+                .zip(moving_robot)
+                .map(|(&a, &m)| a || m)
+                .collect(),
+            moving_object,
+            extra,
             bvh,
-            leaves,
-            blocked,
-        })
+            blocked: false,
+        };
+        if !known_free {
+            frozen.blocked = self.standing_collide(home, &frozen, state, scratch)?;
+        }
+        Ok(frozen)
     }
 
-    /// Whether `state` is free, its standing bodies being `frozen`'s (only the moving
-    /// bodies of `state` are read, and the holders of every object).
-    pub(crate) fn is_free_frozen(
+    /// Whether two standing bodies of a motion that may not touch intersect: a resting
+    /// pair with neither robot away, or a standing body away from home against a resting
+    /// one or another such body.
+    fn standing_collide(
         &self,
+        home: &Home,
         frozen: &Frozen,
         state: &Configuration<'_>,
         scratch: &mut CollisionScratch,
     ) -> Result<bool, CollisionError> {
-        if frozen.blocked {
+        if home.hit(self, &frozen.away).is_some() {
+            return Ok(true);
+        }
+        let standing = Standing {
+            home,
+            live: &frozen.moving,
+            frozen: Some(frozen),
+        };
+        // The scratch holds the home and the standing set; the live bodies it places are
+        // not looked at.
+        self.place_live(&standing, state, scratch, |_| 0.0)?;
+        let scratch = &*scratch;
+        for (k, (i, pi)) in frozen.extra.iter().enumerate() {
+            let i = *i as usize;
+            let mut hit = false;
+            self.near_standing(&standing, state, i, pi, 0.0, |j| {
+                // Each pair of the standing set once, from its first member.
+                if frozen.extra[..=k].iter().any(|&(e, _)| e as usize == j) {
+                    return Ok(Visit::Continue);
+                }
+                if self.intersect(i.min(j), i.max(j), scratch)? {
+                    hit = true;
+                    return Ok(Visit::Stop);
+                }
+                Ok(Visit::Continue)
+            })?;
+            if hit {
+                return Ok(true);
+            }
+        }
+        Ok(false)
+    }
+
+    /// Refuses a per-robot mask of the wrong length, or a home of another world.
+    fn check_standing(&self, home: &Home, mask: &[bool]) -> Result<(), CollisionError> {
+        if mask.len() != self.robots.len()
+            || home.robot_bodies.len() != self.robots.len()
+            || home.placed.len() != self.bodies.len()
+        {
+            return Err(CollisionError::RobotCount {
+                expected: self.robots.len(),
+                found: mask.len(),
+            });
+        }
+        Ok(())
+    }
+
+    /// Whether `state` is free, what stands being `standing`'s (only the live bodies of
+    /// `state` are read, and the holders of every object). Resting pairs that touch
+    /// count only when neither robot is away; a motion's standing set counts when it is
+    /// [blocked](Frozen::blocked).
+    pub(crate) fn is_free_standing(
+        &self,
+        standing: &Standing<'_>,
+        state: &Configuration<'_>,
+        scratch: &mut CollisionScratch,
+    ) -> Result<bool, CollisionError> {
+        if standing.frozen.is_some_and(Frozen::blocked) {
             return Ok(false);
         }
-        self.place_moving(frozen, state, scratch, |_| 0.0)?;
+        if standing.frozen.is_none() && standing.home.hit(self, standing.live).is_some() {
+            return Ok(false);
+        }
+        self.place_live(standing, state, scratch, |_| 0.0)?;
         let mut free = true;
-        self.visit_frozen(frozen, state, scratch, 0.0, |i, j, scratch| {
+        self.visit_live(standing, state, scratch, 0.0, |i, j, scratch| {
             if self.intersect(i, j, scratch)? {
                 free = false;
                 return Ok(Visit::Stop);
@@ -146,22 +246,22 @@ impl CollisionWorld {
         Ok(free)
     }
 
-    /// [`free_radius`](CollisionWorld::free_radius) with the standing bodies frozen:
-    /// `bounds` must leave every standing body static.
-    pub(crate) fn free_radius_frozen(
+    /// [`free_radius`](CollisionWorld::free_radius) with `standing` standing: `bounds`
+    /// must leave every standing body static.
+    pub(crate) fn free_radius_standing(
         &self,
-        frozen: &Frozen,
+        standing: &Standing<'_>,
         state: &Configuration<'_>,
         bounds: &SweepBounds,
         horizon: f64,
         scratch: &mut CollisionScratch,
     ) -> Result<f64, CollisionError> {
-        self.place_moving(frozen, state, scratch, |i| {
+        self.place_live(standing, state, scratch, |i| {
             bounds.own(i) * horizon + CONTACT / 2.0
         })?;
         let mut candidates = std::mem::take(&mut scratch.candidates);
         candidates.clear();
-        let found = self.visit_frozen(frozen, state, scratch, CONTACT / 2.0, |i, j, scratch| {
+        let found = self.visit_live(standing, state, scratch, CONTACT / 2.0, |i, j, scratch| {
             let p = bounds.pair(i, j);
             if p > 0.0 {
                 let gap = super::swept::lower_bound(self, scratch, i, j);
@@ -175,72 +275,119 @@ impl CollisionWorld {
         result
     }
 
-    /// Writes the moving bodies of `state` into the scratch (pose, AABB grown by
-    /// `margin`, sphere centre) and lists the present ones in its sweep order; copies
-    /// the standing bodies in too, grown as a swept query grows static bodies, when the
-    /// scratch last served another frozen set or a plain query.
-    fn place_moving(
+    /// Brings the scratch to `standing`'s home and standing set (copying the home once
+    /// per scratch, then putting back only what the previous query changed), and writes
+    /// the live bodies of `state` (pose, AABB grown by `margin`, sphere centre), listed in
+    /// its sweep order. Standing bodies are written grown by half of [`CONTACT`], as a
+    /// swept query grows static bodies.
+    fn place_live(
         &self,
-        frozen: &Frozen,
+        standing: &Standing<'_>,
         state: &Configuration<'_>,
         scratch: &mut CollisionScratch,
         margin: impl Fn(usize) -> f64,
     ) -> Result<(), CollisionError> {
         self.check_state(state)?;
-        let n = self.bodies.len();
-        if frozen.moving.len() != n {
+        let home = standing.home;
+        self.check_standing(home, standing.live)?;
+        if standing
+            .frozen
+            .is_some_and(|f| f.home != home.tag || f.away.len() != self.robots.len())
+        {
             return Err(CollisionError::RobotCount {
                 expected: self.robots.len(),
-                found: state.robots.len(),
+                found: standing.live.len(),
             });
         }
-        if scratch.frozen != frozen.tag || scratch.poses.len() != n {
+        let n = self.bodies.len();
+        if scratch.frozen != home.tag || scratch.poses.len() != n {
             scratch.poses.clear();
             scratch.aabbs.clear();
             scratch.centres.clear();
             scratch.margins.clear();
-            for (i, s) in frozen.standing.iter().enumerate() {
-                match s {
-                    Some(p) => {
-                        let grown = grow(&p.aabb, CONTACT / 2.0);
-                        scratch.poses.push(p.pose);
-                        scratch.aabbs.push(grown);
-                        scratch.centres.push(p.centre);
-                        scratch.margins.push(CONTACT / 2.0);
-                    }
-                    None => {
-                        scratch.poses.push(self.bodies[i].local);
-                        scratch.aabbs.push(Aabb::new_invalid());
-                        scratch.centres.push(crate::math::Point::origin());
-                        scratch.margins.push(0.0);
-                    }
-                }
+            scratch.poses.resize(n, crate::math::Iso::identity());
+            scratch.aabbs.resize(n, Aabb::new_invalid());
+            scratch.centres.resize(n, crate::math::Point::origin());
+            scratch.margins.resize(n, 0.0);
+            for i in 0..n {
+                self.write_home(home, i, scratch);
             }
-            scratch.frozen = frozen.tag;
+            scratch.frozen = home.tag;
+            scratch.extra = 0;
+            scratch.overlay.clear();
+        } else {
+            // Put back what the previous query's live bodies overwrote.
+            for k in 0..scratch.order.len() {
+                let i = scratch.order[k] as usize;
+                self.write_home(home, i, scratch);
+            }
         }
         scratch.order.clear();
-        for i in 0..n {
-            if !frozen.moving[i] {
+        let extra = standing.frozen.map_or(0, |f| f.tag);
+        if scratch.extra != extra {
+            let mut overlay = std::mem::take(&mut scratch.overlay);
+            for &i in &overlay {
+                self.write_home(home, i as usize, scratch);
+            }
+            overlay.clear();
+            if let Some(f) = standing.frozen {
+                for (i, p) in &f.extra {
+                    write_standing(scratch, *i as usize, p);
+                    overlay.push(*i);
+                }
+            }
+            scratch.overlay = overlay;
+            scratch.extra = extra;
+        }
+        for (r, bodies) in home.robot_bodies.iter().enumerate() {
+            if !standing.live[r] {
                 continue;
             }
-            if let Some(p) = self.place_body(state, i, margin(i))? {
-                scratch.poses[i] = p.pose;
-                scratch.aabbs[i] = p.aabb;
-                scratch.centres[i] = p.centre;
-                scratch.margins[i] = p.margin;
-                scratch.order.push(i as u32);
+            for &i in bodies {
+                let i = i as usize;
+                if let Some(p) = self.place_body(state, i, margin(i))? {
+                    write_placed(scratch, i, &p);
+                    scratch.order.push(i as u32);
+                }
+            }
+        }
+        for (o, bodies) in home.object_bodies.iter().enumerate() {
+            let live = state.objects[o].pose.is_some()
+                && standing.frozen.is_none_or(|f| f.moving_object[o]);
+            if !live {
+                continue;
+            }
+            for &i in bodies {
+                let i = i as usize;
+                if let Some(p) = self.place_body(state, i, margin(i))? {
+                    write_placed(scratch, i, &p);
+                    scratch.order.push(i as u32);
+                }
             }
         }
         Ok(())
     }
 
-    /// Calls `visit` for every pair with a moving body that the plain broad phase would
-    /// hand the exact test: the moving bodies among themselves by the plain sweep, then
-    /// each against the standing bodies the hierarchy finds near it, standing bodies
+    /// Writes body `i`'s resting entry into the scratch (an absent body's for objects).
+    fn write_home(&self, home: &Home, i: usize, scratch: &mut CollisionScratch) {
+        match &home.placed[i] {
+            Some(p) => write_standing(scratch, i, p),
+            None => {
+                scratch.poses[i] = self.bodies[i].local;
+                scratch.aabbs[i] = Aabb::new_invalid();
+                scratch.centres[i] = crate::math::Point::origin();
+                scratch.margins[i] = 0.0;
+            }
+        }
+    }
+
+    /// Calls `visit` for every pair with a live body that the plain broad phase would
+    /// hand the exact test: the live bodies among themselves by the plain sweep, then
+    /// each against the standing bodies the hierarchies find near it, standing bodies
     /// grown by `standing_margin` (what the plain placement would have grown them by).
-    fn visit_frozen(
+    fn visit_live(
         &self,
-        frozen: &Frozen,
+        standing: &Standing<'_>,
         state: &Configuration<'_>,
         scratch: &mut CollisionScratch,
         standing_margin: f64,
@@ -258,37 +405,118 @@ impl CollisionWorld {
         let scratch = &*scratch;
         for &i in &scratch.order {
             let i = i as usize;
-            let ai = &scratch.aabbs[i];
-            // A hair wider than the exact filter below, so that rounding in the
-            // hierarchy's own boxes never drops a pair the filter would keep.
-            let query = grow(ai, standing_margin + 1e-9);
-            for leaf in frozen.bvh.intersect_aabb(&query) {
-                let Some(&j) = frozen.leaves.get(leaf as usize) else {
-                    continue;
-                };
-                let j = j as usize;
-                let Some(sj) = &frozen.standing[j] else {
-                    continue;
-                };
-                let aj = grow(&sj.aabb, standing_margin);
-                if (0..3).any(|k| aj.mins[k] > ai.maxs[k] || ai.mins[k] > aj.maxs[k]) {
-                    continue;
-                }
-                if self.allowed.get(i, j) || self.held_pair(state, i, j) {
-                    continue;
-                }
-                let reach = self.bodies[i].sphere_radius
-                    + self.bodies[j].sphere_radius
-                    + scratch.margins[i]
-                    + standing_margin;
-                if (scratch.centres[i] - sj.centre).norm_squared() > reach * reach {
-                    continue;
-                }
+            let live = PlacedBody {
+                pose: scratch.poses[i],
+                aabb: scratch.aabbs[i],
+                centre: scratch.centres[i],
+                margin: scratch.margins[i],
+            };
+            self.near_standing(standing, state, i, &live, standing_margin, |j| {
                 if let Visit::Stop = visit(i.min(j), i.max(j), scratch)? {
+                    stopped = true;
+                    return Ok(Visit::Stop);
+                }
+                Ok(Visit::Continue)
+            })?;
+            if stopped {
+                return Ok(());
+            }
+        }
+        Ok(())
+    }
+
+    /// Calls `visit` with every standing body `j` (resting, its robot not away, or in the
+    /// motion's standing set) that passes the plain sweep's filters against body `i`
+    /// placed as `pi` (its box already grown by its own margin): boxes overlapping on
+    /// every axis with `j`'s grown by `standing_margin`, not an allowed pair nor an object
+    /// and its holder, bounding spheres within reach. Stops when `visit` says so.
+    #[allow(clippy::too_many_arguments)]
+    fn near_standing(
+        &self,
+        standing: &Standing<'_>,
+        state: &Configuration<'_>,
+        i: usize,
+        pi: &PlacedBody,
+        standing_margin: f64,
+        mut visit: impl FnMut(usize) -> Result<Visit, CollisionError>,
+    ) -> Result<(), CollisionError> {
+        // A hair wider than the exact filter below, so that rounding in the hierarchy's
+        // own boxes never drops a pair the filter would keep.
+        let query = grow(&pi.aabb, standing_margin + 1e-9);
+        let away = standing.away();
+        let home = standing.home;
+        for leaf in home.bvh.intersect_aabb(&query) {
+            let Some(&j) = home.leaves.get(leaf as usize) else {
+                continue;
+            };
+            let j = j as usize;
+            if j == i || self.on_away_robot(j, away) {
+                continue;
+            }
+            let Some(sj) = &home.placed[j] else {
+                continue;
+            };
+            if self.standing_pair(state, i, pi, j, sj, standing_margin) {
+                if let Visit::Stop = visit(j)? {
                     return Ok(());
+                }
+            }
+        }
+        if let Some(f) = standing.frozen {
+            for leaf in f.bvh.intersect_aabb(&query) {
+                let Some((j, sj)) = f.extra.get(leaf as usize) else {
+                    continue;
+                };
+                let j = *j as usize;
+                if j != i && self.standing_pair(state, i, pi, j, sj, standing_margin) {
+                    if let Visit::Stop = visit(j)? {
+                        return Ok(());
+                    }
                 }
             }
         }
         Ok(())
     }
+
+    /// The plain sweep's filters for body `i` placed as `pi` and standing body `j`
+    /// placed as `sj`, grown by `margin`.
+    #[inline]
+    fn standing_pair(
+        &self,
+        state: &Configuration<'_>,
+        i: usize,
+        pi: &PlacedBody,
+        j: usize,
+        sj: &PlacedBody,
+        margin: f64,
+    ) -> bool {
+        let ai = &pi.aabb;
+        let aj = grow(&sj.aabb, margin);
+        if (0..3).any(|k| aj.mins[k] > ai.maxs[k] || ai.mins[k] > aj.maxs[k]) {
+            return false;
+        }
+        if self.allowed.get(i, j) || self.held_pair(state, i, j) {
+            return false;
+        }
+        let reach =
+            self.bodies[i].sphere_radius + self.bodies[j].sphere_radius + pi.margin + margin;
+        (pi.centre - sj.centre).norm_squared() <= reach * reach
+    }
+}
+
+/// Writes a standing body's entry, grown by half of [`CONTACT`] as a swept query grows
+/// static bodies.
+fn write_standing(scratch: &mut CollisionScratch, i: usize, p: &PlacedBody) {
+    scratch.poses[i] = p.pose;
+    scratch.aabbs[i] = grow(&p.aabb, CONTACT / 2.0);
+    scratch.centres[i] = p.centre;
+    scratch.margins[i] = CONTACT / 2.0;
+}
+
+/// Writes a live body's entry as placed.
+fn write_placed(scratch: &mut CollisionScratch, i: usize, p: &PlacedBody) {
+    scratch.poses[i] = p.pose;
+    scratch.aabbs[i] = p.aabb;
+    scratch.centres[i] = p.centre;
+    scratch.margins[i] = p.margin;
 }

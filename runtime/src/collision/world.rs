@@ -25,9 +25,13 @@ pub struct CollisionScratch {
     pub(super) margins: Vec<f64>,
     /// Pairs a swept query has yet to measure, with the radius a cheap bound proves.
     pub(super) candidates: Vec<(f64, u32, u32)>,
-    /// The tag of the [`Frozen`](super::frozen::Frozen) set whose standing bodies the
-    /// buffers hold (0: none; a plain query overwrites them).
+    /// The tag of the [`Home`](super::Home) whose resting bodies the buffers hold (0:
+    /// none; a plain query overwrites them).
     pub(super) frozen: u64,
+    /// The tag of the motion's standing set ([`Frozen`](super::Frozen)) written over the
+    /// rest (0: none), and the bodies it wrote.
+    pub(super) extra: u64,
+    pub(super) overlay: Vec<u32>,
     /// Exact queries (GJK or parry) run through these buffers, for tests and profiles of
     /// the cheap rejections.
     pub(super) exact_queries: QueryCount,

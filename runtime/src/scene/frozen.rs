@@ -1,25 +1,27 @@
-//! The scene's side of [`Frozen`]: the arms that stand still during a motion are put
-//! through forward kinematics once, the objects that do not ride a moving hand are placed
-//! once, and a query computes only the moving arms' frames and the object they carry.
+//! The scene's side of [`Frozen`]: the arms that stand still away from home during a
+//! motion are put through forward kinematics once and, with the objects that do not ride
+//! a moving hand, placed once over the scene's home; a query computes only the moving
+//! arms' frames and the object they carry.
 
 use cellc_schema::EndEffectorId;
 
 use super::query::INLINE_ROBOTS;
 use super::{Holder, Placed, QueryError, Scene, SceneScratch};
-use crate::collision::{Configuration, Frozen, ObjectState, SweepBounds};
+use crate::collision::{Configuration, Frozen, ObjectState, Standing, SweepBounds};
 use crate::math::Iso;
 use crate::scene::ObjectPlacement;
 
 /// A motion's standing part, for [`Scene::is_free_frozen`] and
-/// [`Scene::free_radius_frozen`]: which arms move, every other arm's frames, every
-/// object's state but the one a moving hand carries.
+/// [`Scene::free_radius_frozen`]: which arms move, the frames of the arms that stand
+/// still away from home, every object's state but the one a moving hand carries.
 #[derive(Clone)]
 pub(crate) struct FrozenScene {
     frozen: Frozen,
-    /// Per world robot: its frames, for the robots that stand still.
+    /// Per world robot: its frames, for the robots that stand still away from home
+    /// (empty for the others).
     frames: Vec<Vec<Iso>>,
-    /// Per world robot: whether it moves.
-    moving: Vec<bool>,
+    /// Per world robot: whether it stands still away from home.
+    away: Vec<bool>,
     /// Per object: its state; the carried object's is recomputed per query.
     objects: Vec<ObjectState>,
     /// The object a moving hand carries, and how.
@@ -27,9 +29,11 @@ pub(crate) struct FrozenScene {
 }
 
 impl Scene {
-    /// Freezes every arm but `moving` at the joints `arms` gives (others at home) and
-    /// every object placed as `at` says, except one that follows a moving hand;
-    /// `known_free` as in [`CollisionWorld::freeze`](crate::collision::CollisionWorld).
+    /// Freezes every arm but `moving` at the joints `arms` gives (others at home, where
+    /// the scene's home already has them) and every object placed as `at` says, except
+    /// one that follows a moving hand; `known_free` as in
+    /// [`CollisionWorld::freeze`](crate::collision::CollisionWorld). `None`-like failure
+    /// when the scene has no home (the plain queries answer then).
     pub(crate) fn freeze(
         &self,
         arms: &[(EndEffectorId, &[f64])],
@@ -38,19 +42,27 @@ impl Scene {
         known_free: bool,
         scratch: &mut SceneScratch,
     ) -> Result<FrozenScene, QueryError> {
+        let home = self.at_home().ok_or(QueryError::Collision(
+            crate::collision::CollisionError::RobotCount {
+                expected: self.robot_holder.len(),
+                found: 0,
+            },
+        ))?;
         let n = self.robot_holder.len();
         let mut frames = vec![Vec::new(); n];
         let mut moving_robot = vec![false; n];
+        let mut away = vec![false; n];
         for (r, &e) in self.robot_holder.iter().enumerate() {
-            let Holder::Arm { robot, base, home } = &self.holders[e] else {
+            let Holder::Arm { robot, base, .. } = &self.holders[e] else {
                 continue;
             };
             moving_robot[r] = moving.iter().any(|m| m.index() == e);
-            let q = arms
-                .iter()
-                .find(|(arm, _)| arm.index() == e)
-                .map_or(home.as_slice(), |(_, q)| *q);
-            self.robots[*robot].fk_frames(base, q, &mut frames[r]);
+            if let Some((_, q)) = arms.iter().find(|(arm, _)| arm.index() == e) {
+                if !moving_robot[r] {
+                    away[r] = true;
+                    self.robots[*robot].fk_frames(base, q, &mut frames[r]);
+                }
+            }
         }
         let mut objects = vec![ObjectState::absent(); self.object_shapes.len()];
         let mut carried = None;
@@ -65,38 +77,53 @@ impl Scene {
         let mut moving_object = vec![false; objects.len()];
         let placements = std::iter::once((at.object, at.placement))
             .chain(at.obstacles.iter().map(|o| (o.object, o.placement)));
-        for (object, placement) in placements {
-            let state = self.object_state(placement, &frames)?;
-            if let Some(slot) = objects.get_mut(object.index()) {
-                *slot = state;
-                if rides(&placement) {
-                    moving_object[object.index()] = true;
-                    carried = Some((object.index(), placement));
+        {
+            // Every robot's frames as the state needs them: home for those at home
+            // (moving ones too: their entries are not read here).
+            let robots: Vec<&[Iso]> = (0..n)
+                .map(|r| {
+                    if away[r] {
+                        frames[r].as_slice()
+                    } else {
+                        self.home_frames[r].as_slice()
+                    }
+                })
+                .collect();
+            for (object, placement) in placements {
+                let state = self.object_state(placement, &robots)?;
+                if let Some(slot) = objects.get_mut(object.index()) {
+                    *slot = state;
+                    if rides(&placement) {
+                        moving_object[object.index()] = true;
+                        carried = Some((object.index(), placement));
+                    }
                 }
             }
+            let state = Configuration {
+                robots: robots.as_slice(),
+                objects: &objects,
+            };
+            let frozen = self
+                .world
+                .freeze(
+                    home,
+                    &state,
+                    &moving_robot,
+                    &away,
+                    &moving_object,
+                    known_free,
+                    &mut scratch.collision,
+                )
+                .map_err(QueryError::Collision)?;
+            drop(robots);
+            Ok(FrozenScene {
+                frozen,
+                frames,
+                away,
+                objects,
+                carried,
+            })
         }
-        let robots: Vec<&[Iso]> = frames.iter().map(Vec::as_slice).collect();
-        let state = Configuration {
-            robots: &robots,
-            objects: &objects,
-        };
-        let frozen = self
-            .world
-            .freeze(
-                &state,
-                &moving_robot,
-                &moving_object,
-                known_free,
-                &mut scratch.collision,
-            )
-            .map_err(QueryError::Collision)?;
-        Ok(FrozenScene {
-            frozen,
-            frames,
-            moving: moving_robot,
-            objects,
-            carried,
-        })
     }
 
     /// Whether the state with the moving arms at `arms` (every moving arm listed) is
@@ -110,8 +137,8 @@ impl Scene {
         if frozen.frozen.blocked() {
             return Ok(false);
         }
-        self.with_moving(frozen, arms, scratch, |state, scratch| {
-            self.world.is_free_frozen(&frozen.frozen, state, scratch)
+        self.with_moving(frozen, arms, scratch, |state, standing, scratch| {
+            self.world.is_free_standing(standing, state, scratch)
         })
     }
 
@@ -124,15 +151,15 @@ impl Scene {
         horizon: f64,
         scratch: &mut SceneScratch,
     ) -> Result<f64, QueryError> {
-        self.with_moving(frozen, arms, scratch, |state, scratch| {
+        self.with_moving(frozen, arms, scratch, |state, standing, scratch| {
             self.world
-                .free_radius_frozen(&frozen.frozen, state, bounds, horizon, scratch)
+                .free_radius_standing(standing, state, bounds, horizon, scratch)
         })
     }
 
     /// The state with the moving arms at `arms`: their frames computed into the
-    /// scratch, the standing robots' frames and the objects taken from `frozen`, the
-    /// carried object placed on its hand.
+    /// scratch, the standing robots' frames taken from `frozen` (away from home) or the
+    /// scene (at home), the objects from `frozen`, the carried object placed on its hand.
     fn with_moving<T>(
         &self,
         frozen: &FrozenScene,
@@ -140,16 +167,24 @@ impl Scene {
         scratch: &mut SceneScratch,
         query: impl FnOnce(
             &Configuration<'_>,
+            &Standing<'_>,
             &mut crate::collision::CollisionScratch,
         ) -> Result<T, crate::collision::CollisionError>,
     ) -> Result<T, QueryError> {
+        let home = self.at_home().ok_or(QueryError::Collision(
+            crate::collision::CollisionError::RobotCount {
+                expected: self.robot_holder.len(),
+                found: 0,
+            },
+        ))?;
         let n = self.robot_holder.len();
+        let moving = frozen.frozen.moving();
         scratch.frames.resize_with(n, Vec::new);
         for &(e, q) in arms {
             let Some(r) = self.world_robot(e) else {
                 return Err(QueryError::NotAnArm(e));
             };
-            if !frozen.moving.get(r).copied().unwrap_or(false) {
+            if !moving.get(r).copied().unwrap_or(false) {
                 continue;
             }
             let Holder::Arm { robot, base, .. } = &self.holders[e.index()] else {
@@ -160,18 +195,17 @@ impl Scene {
         }
         scratch.objects.clear();
         scratch.objects.extend_from_slice(&frozen.objects);
-        if let Some((object, placement)) = frozen.carried {
-            scratch.objects[object] = self.object_state(placement, &scratch.frames)?;
-        }
-        let mut inline: [&[Iso]; INLINE_ROBOTS] = [&[]; INLINE_ROBOTS];
-        let heap: Vec<&[Iso]>;
         let pick = |r: usize| -> &[Iso] {
-            if frozen.moving[r] {
+            if moving.get(r).copied().unwrap_or(false) {
                 &scratch.frames[r]
-            } else {
+            } else if frozen.away.get(r).copied().unwrap_or(false) {
                 &frozen.frames[r]
+            } else {
+                &self.home_frames[r]
             }
         };
+        let mut inline: [&[Iso]; INLINE_ROBOTS] = [&[]; INLINE_ROBOTS];
+        let heap: Vec<&[Iso]>;
         let frames: &[&[Iso]] = if n <= INLINE_ROBOTS {
             for (r, slot) in inline.iter_mut().enumerate().take(n) {
                 *slot = pick(r);
@@ -181,10 +215,19 @@ impl Scene {
             heap = (0..n).map(pick).collect();
             &heap
         };
+        if let Some((object, placement)) = frozen.carried {
+            let state = self.object_state(placement, frames)?;
+            scratch.objects[object] = state;
+        }
         let configuration = Configuration {
             robots: frames,
             objects: &scratch.objects,
         };
-        query(&configuration, &mut scratch.collision).map_err(QueryError::Collision)
+        let standing = Standing {
+            home,
+            live: moving,
+            frozen: Some(&frozen.frozen),
+        };
+        query(&configuration, &standing, &mut scratch.collision).map_err(QueryError::Collision)
     }
 }

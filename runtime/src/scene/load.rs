@@ -277,6 +277,7 @@ impl Scene {
         Ok(Scene {
             id: super::next_scene_id(),
             home_frames,
+            at_home: std::sync::OnceLock::new(),
             robots,
             holders,
             kind_solids,

@@ -18,6 +18,8 @@ use crate::robot::Robot;
 mod frozen;
 mod load;
 mod query;
+#[cfg(test)]
+mod tests;
 mod tip;
 
 pub(crate) use frozen::FrozenScene;
@@ -39,7 +41,7 @@ pub enum Holder {
         /// Home configuration.
         home: Vec<f64>,
     },
-    /// A fixed slab; objects rest on its top face.
+    /// A fixed slab; objects home on its top face.
     Surface {
         /// The slab.
         slab: Aabb,
@@ -90,6 +92,10 @@ pub struct Scene {
     robot_holder: Vec<usize>,
     /// Per `world` robot: its frames at its home configuration.
     home_frames: Vec<Vec<crate::math::Iso>>,
+    /// The cell at home (every arm at home, the furniture), placed once, on the first
+    /// query that needs it: what every collision query stands on (`collision::home`).
+    /// `None` when the resting state cannot be placed (the plain queries then answer).
+    at_home: std::sync::OnceLock<Option<crate::collision::Home>>,
     /// Tells scratches apart which scene their cached frames belong to.
     id: u64,
 }
@@ -116,6 +122,23 @@ impl Scene {
     /// The world robot of end-effector `e`, for an arm.
     pub(crate) fn world_robot(&self, e: EndEffectorId) -> Option<usize> {
         self.world_robot.get(e.index()).copied().flatten()
+    }
+
+    /// The cell at home, built on first use (see [`Scene::home`](Self)'s field).
+    pub(crate) fn at_home(&self) -> Option<&crate::collision::Home> {
+        self.at_home
+            .get_or_init(|| {
+                let robots: Vec<&[crate::math::Iso]> =
+                    self.home_frames.iter().map(Vec::as_slice).collect();
+                let objects =
+                    vec![crate::collision::ObjectState::absent(); self.object_shapes.len()];
+                let home = crate::collision::Configuration {
+                    robots: &robots,
+                    objects: &objects,
+                };
+                self.world.at_home(&home).ok()
+            })
+            .as_ref()
     }
 
     /// True when the artifact has any arm, i.e. anything to verify kinematically.

@@ -8,7 +8,7 @@ use cellc_schema::{EndEffectorId, ObjectId};
 use super::{Holder, Scene};
 use crate::collision::{
     Collision, CollisionError, CollisionScratch, Configuration, Holder as CollisionHolder,
-    ObjectState, SweepBounds,
+    ObjectState, Standing, SweepBounds,
 };
 use crate::math::Iso;
 
@@ -98,7 +98,7 @@ pub enum QueryError {
 }
 
 /// Robots whose frames one query lists without allocating (more fall back to a vector).
-pub(super) const INLINE_ROBOTS: usize = 16;
+pub(super) const INLINE_ROBOTS: usize = 64;
 
 /// Buffers for [`Scene::collision`], one per thread.
 #[derive(Default)]
@@ -110,6 +110,9 @@ pub struct SceneScratch {
     /// costs nothing), for the scene `scene`.
     at_home: Vec<bool>,
     scene: u64,
+    /// Per world robot: whether the query gives its joints (its bodies are placed; the
+    /// others stand at home, `collision::home`).
+    pub(super) live: Vec<bool>,
     /// How far the bodies travel along the segment a sound motion check is certifying
     /// (`crate::swept`), kept here so that no query allocates.
     pub(crate) sweep: SweepBounds,
@@ -159,13 +162,15 @@ impl Scene {
             placement,
             obstacles: &[],
         };
-        self.with_configuration(arms, at, scratch, |state, scratch| {
+        self.with_configuration(arms, at, scratch, |state, scratch, _| {
             self.world.all_collisions(state, scratch, out)
         })
     }
 
     /// Whether the state [`Scene::collision`] describes is free, without naming anything
-    /// (the inner loops of motion planning ask this millions of times).
+    /// (the inner loops of motion planning ask this millions of times). Only the arms
+    /// given and the objects are placed; every other arm and the furniture stand at home
+    /// (`collision::home`), so the cost does not grow with the cell.
     pub fn is_free(
         &self,
         arms: &[(EndEffectorId, &[f64])],
@@ -174,9 +179,24 @@ impl Scene {
         obstacles: &[Obstacle],
         scratch: &mut SceneScratch,
     ) -> Result<bool, QueryError> {
-        Ok(self
-            .first_collision(arms, object, placement, obstacles, scratch)?
-            .is_none())
+        let at = Placed {
+            object,
+            placement,
+            obstacles,
+        };
+        let Some(home) = self.at_home() else {
+            return self.with_configuration(arms, at, scratch, |state, scratch, _| {
+                self.world.is_free(state, scratch)
+            });
+        };
+        self.with_configuration(arms, at, scratch, |state, scratch, live| {
+            let standing = Standing {
+                home,
+                live,
+                frozen: None,
+            };
+            self.world.is_free_standing(&standing, state, scratch)
+        })
     }
 
     /// The first colliding pair of the state [`Scene::collision`] describes, as body ids
@@ -190,12 +210,18 @@ impl Scene {
         obstacles: &[Obstacle],
         scratch: &mut SceneScratch,
     ) -> Result<Option<Collision>, QueryError> {
+        // Most states asked about are free, and a free one is proved so by the query
+        // that stands on the home; a colliding one is asked again of the plain broad
+        // phase, so that which pair it names does not depend on the query's order.
+        if self.is_free(arms, object, placement, obstacles, scratch)? {
+            return Ok(None);
+        }
         let at = Placed {
             object,
             placement,
             obstacles,
         };
-        self.with_configuration(arms, at, scratch, |state, scratch| {
+        self.with_configuration(arms, at, scratch, |state, scratch, _| {
             self.world.first_collision(state, scratch)
         })
     }
@@ -212,22 +238,40 @@ impl Scene {
         horizon: f64,
         scratch: &mut SceneScratch,
     ) -> Result<f64, QueryError> {
-        self.with_configuration(arms, at, scratch, |state, scratch| {
-            self.world.free_radius(state, bounds, horizon, scratch)
+        let Some(home) = self.at_home() else {
+            return self.with_configuration(arms, at, scratch, |state, scratch, _| {
+                self.world.free_radius(state, bounds, horizon, scratch)
+            });
+        };
+        self.with_configuration(arms, at, scratch, |state, scratch, live| {
+            let standing = Standing {
+                home,
+                live,
+                frozen: None,
+            };
+            self.world
+                .free_radius_standing(&standing, state, bounds, horizon, scratch)
         })
     }
 
     /// Builds the collision state the queries above describe (every arm's frames, the
-    /// object placed) in `scratch` and asks `query` about it.
-    fn with_configuration<T>(
+    /// object placed) in `scratch` and asks `query` about it, with the world robots whose
+    /// joints `arms` gives marked.
+    pub(super) fn with_configuration<T>(
         &self,
         arms: &[(EndEffectorId, &[f64])],
         at: Placed<'_>,
         scratch: &mut SceneScratch,
-        query: impl FnOnce(&Configuration<'_>, &mut CollisionScratch) -> Result<T, CollisionError>,
+        query: impl FnOnce(
+            &Configuration<'_>,
+            &mut CollisionScratch,
+            &[bool],
+        ) -> Result<T, CollisionError>,
     ) -> Result<T, QueryError> {
         let n = self.robot_holder.len();
         scratch.frames.resize_with(n, Vec::new);
+        scratch.live.clear();
+        scratch.live.resize(n, false);
         if scratch.scene != self.id || scratch.at_home.len() != n {
             scratch.at_home.clear();
             scratch.at_home.resize(n, false);
@@ -241,6 +285,7 @@ impl Scene {
                 Some((_, q)) => {
                     self.robots[*robot].fk_frames(base, q, &mut scratch.frames[r]);
                     scratch.at_home[r] = false;
+                    scratch.live[r] = true;
                 }
                 None if scratch.at_home[r] => {}
                 None => {
@@ -279,15 +324,15 @@ impl Scene {
             robots: frames,
             objects: &scratch.objects,
         };
-        query(&configuration, &mut scratch.collision).map_err(QueryError::Collision)
+        query(&configuration, &mut scratch.collision, &scratch.live).map_err(QueryError::Collision)
     }
 
     /// The collision state of an object placed as `placement`, the robots' frames being
     /// `frames` (a held object rides its arm's tip frame).
-    pub(super) fn object_state(
+    pub(super) fn object_state<F: AsRef<[Iso]>>(
         &self,
         placement: ObjectPlacement,
-        frames: &[Vec<Iso>],
+        frames: &[F],
     ) -> Result<ObjectState, QueryError> {
         let robot_of = |e: EndEffectorId| self.world_robot(e);
         let state = match placement {
@@ -295,7 +340,7 @@ impl Scene {
                 let r = robot_of(by).ok_or(QueryError::NotAnArm(by))?;
                 let tip = self
                     .world
-                    .tip(r, &frames[r])
+                    .tip(r, frames[r].as_ref())
                     .ok_or(QueryError::NotAnArm(by))?;
                 ObjectState::held(r, &tip, &grasp)
             }
@@ -309,7 +354,7 @@ impl Scene {
                 let r = robot_of(by).ok_or(QueryError::NotAnArm(by))?;
                 let tip = self
                     .world
-                    .tip(r, &frames[r])
+                    .tip(r, frames[r].as_ref())
                     .ok_or(QueryError::NotAnArm(by))?;
                 let surface = self
                     .world_fixed
@@ -339,7 +384,7 @@ impl Scene {
                 let rb = robot_of(b).ok_or(QueryError::NotAnArm(b))?;
                 let tip = self
                     .world
-                    .tip(ra, &frames[ra])
+                    .tip(ra, frames[ra].as_ref())
                     .ok_or(QueryError::NotAnArm(a))?;
                 ObjectState::held(ra, &tip, &grasp_a).also_held_by(CollisionHolder::Robot(rb))
             }
