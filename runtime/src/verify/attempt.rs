@@ -14,7 +14,7 @@ use crate::math::{iso_to_schema, Iso, Point};
 use crate::robot::Robot;
 use crate::scene::{Holder, ObjectPlacement, Scene, SceneScratch};
 use crate::termination::Termination;
-use crate::validity::{SceneValidity, StateFault, StateValidity};
+use crate::validity::{SceneValidity, StateValidity};
 
 /// A point drawn uniformly from a union of boxes (volume-weighted).
 pub(super) fn sample_point(boxes: &[Aabb], rng: &mut ChaCha8Rng) -> Option<Point> {
@@ -74,19 +74,20 @@ pub(super) struct Outcome {
 }
 
 /// A failed state check as it was found. The pair a pruned arc names is worked out only
-/// for the last one, when the check's reason is asked for: naming it can mean listing
-/// every collision of the state ([`blamed`]), and a check that fails all its placements
-/// (a nest handoff of the assembly line closes its chain 16 times) used to pay that for
-/// each of them, though only the last is reported.
+/// for the last one, when the check's reason is asked for: naming it means asking the
+/// plain broad phase, which places every body of the cell (a free state is proved so
+/// by a query that places only what is away from home, `collision::home`), and can mean
+/// listing every collision of the state ([`blamed`]); a check that fails all its
+/// placements (a nest handoff of the assembly line closes its chain 16 times) used to
+/// pay that for each of them, though only the last is reported.
 pub(super) enum Fault {
     /// Named already: a hand in a fixed body, a query that failed, a joint limit.
     Named(String, String),
-    /// The first colliding pair found in the state of `arms` at `q`.
+    /// A collision in the state of `arms` at `q`, not named yet.
     Collision {
         arms: Vec<EndEffectorId>,
         q: Vec<f64>,
         placement: ObjectPlacement,
-        found: (String, String),
     },
 }
 
@@ -109,12 +110,9 @@ impl Outcome {
         if let Some(fault) = &self.last_collision {
             let (a, b) = match fault {
                 Fault::Named(a, b) => (a.clone(), b.clone()),
-                Fault::Collision {
-                    arms,
-                    q,
-                    placement,
-                    found,
-                } => blamed(scene, (arms, q), object, *placement, scratch, found.clone()),
+                Fault::Collision { arms, q, placement } => {
+                    blamed(scene, (arms, q), object, *placement, scratch)
+                }
             };
             return Infeasibility::Collision { a, b };
         }
@@ -226,15 +224,16 @@ pub(super) fn invalidity(
         Ok(validity) => validity,
         Err(error) => return Some(Fault::Named("state".to_string(), format!("{error:?}"))),
     };
-    match validity.check(q, scratch) {
-        Ok(None) => None,
-        Ok(Some(StateFault::Collision { a, b })) => Some(Fault::Collision {
+    if let Some(fault) = validity.limits_fault(q) {
+        return Some(Fault::Named("joint limits".to_string(), fault.to_string()));
+    }
+    match validity.is_valid(q, scratch) {
+        Ok(true) => None,
+        Ok(false) => Some(Fault::Collision {
             arms: arms.to_vec(),
             q: q.to_vec(),
             placement,
-            found: (a, b),
         }),
-        Ok(Some(fault)) => Some(Fault::Named("joint limits".to_string(), fault.to_string())),
         Err(error) => Some(Fault::Named(
             "collision query".to_string(),
             format!("{error:?}"),
@@ -242,8 +241,8 @@ pub(super) fn invalidity(
     }
 }
 
-/// The colliding pair a failed check reports: the first pair found (`found`) when it
-/// involves an arm of the check or its object, else the first pair, in body order, that
+/// The colliding pair a failed check reports: the first pair the plain broad phase finds
+/// in the state when it involves an arm of the check or its object, else the first pair, in body order, that
 /// does (the first one found may be an arm standing by at its home touching a fixed
 /// body), so a reason names the bodies of the arc in question. When nothing of the check
 /// collides, the first pair found stays: a standing arm's own collision, which `cellc
@@ -254,7 +253,6 @@ fn blamed(
     object: ObjectId,
     placement: ObjectPlacement,
     scratch: &mut SceneScratch,
-    found: (String, String),
 ) -> (String, String) {
     let involves = |body: BodyId| {
         body == BodyId::Object(object.index())
@@ -273,12 +271,23 @@ fn blamed(
                 })
                 .collect()
         });
-    let listed = moving.is_some_and(|moving| {
-        scene
-            .all_collisions(&moving, object, placement, scratch, &mut all)
-            .is_ok()
-    });
-    if !listed {
+    let Some(moving) = moving else {
+        return ("state".to_string(), "not a layout of arms".to_string());
+    };
+    let found = match scene.collision(&moving, object, placement, &[], scratch) {
+        Ok(Some(found)) => found,
+        Ok(None) => {
+            return (
+                "collision query".to_string(),
+                "the state is free when asked again".to_string(),
+            )
+        }
+        Err(error) => return ("collision query".to_string(), format!("{error:?}")),
+    };
+    if scene
+        .all_collisions(&moving, object, placement, scratch, &mut all)
+        .is_err()
+    {
         return found;
     }
     let ours = || all.iter().filter(|c| involves(c.a) || involves(c.b));
