@@ -5,7 +5,7 @@
 
 use cellc_schema::EndEffectorId;
 
-use super::query::INLINE_ROBOTS;
+use super::query::{same_joints, INLINE_ROBOTS};
 use super::{Holder, Placed, QueryError, Scene, SceneScratch};
 use crate::collision::{Configuration, Frozen, ObjectState, Standing, SweepBounds};
 use crate::math::Iso;
@@ -53,12 +53,13 @@ impl Scene {
         let mut moving_robot = vec![false; n];
         let mut away = vec![false; n];
         for (r, &e) in self.robot_holder.iter().enumerate() {
-            let Holder::Arm { robot, base, .. } = &self.holders[e] else {
+            let Holder::Arm { robot, base, home } = &self.holders[e] else {
                 continue;
             };
             moving_robot[r] = moving.iter().any(|m| m.index() == e);
             if let Some((_, q)) = arms.iter().find(|(arm, _)| arm.index() == e) {
-                if !moving_robot[r] {
+                // An arm standing at its home joints stands in the scene's home.
+                if !moving_robot[r] && !same_joints(q, home) {
                     away[r] = true;
                     self.robots[*robot].fk_frames(base, q, &mut frames[r]);
                 }

@@ -97,6 +97,11 @@ pub enum QueryError {
     },
 }
 
+/// Whether `q` is `home`, bit for bit (so its frames are the home frames exactly).
+pub(super) fn same_joints(q: &[f64], home: &[f64]) -> bool {
+    q.len() == home.len() && q.iter().zip(home).all(|(a, b)| a.to_bits() == b.to_bits())
+}
+
 /// Robots whose frames one query lists without allocating (more fall back to a vector).
 pub(super) const INLINE_ROBOTS: usize = 64;
 
@@ -278,10 +283,16 @@ impl Scene {
             scratch.scene = self.id;
         }
         for (r, &e) in self.robot_holder.iter().enumerate() {
-            let Holder::Arm { robot, base, .. } = &self.holders[e] else {
+            let Holder::Arm { robot, base, home } = &self.holders[e] else {
                 continue;
             };
-            match arms.iter().find(|(arm, _)| arm.index() == e) {
+            // An arm given at its home joints is at home: the planner lists every arm
+            // where it stands, and most stand at home.
+            let given = arms
+                .iter()
+                .find(|(arm, _)| arm.index() == e)
+                .filter(|(_, q)| !same_joints(q, home));
+            match given {
                 Some((_, q)) => {
                     self.robots[*robot].fk_frames(base, q, &mut scratch.frames[r]);
                     scratch.at_home[r] = false;

@@ -71,7 +71,9 @@ fn plain_radius(
 
 const B: EndEffectorId = EndEffectorId(1);
 const C: EndEffectorId = EndEffectorId(2);
+const D: EndEffectorId = EndEffectorId(3);
 const TABLE: EndEffectorId = EndEffectorId(4);
+const HOME: [f64; 7] = [0.0; 7];
 
 #[test]
 fn standing_answers_are_the_plain_answers() {
@@ -137,7 +139,8 @@ fn standing_answers_are_the_plain_answers() {
                 let mut frozen = None;
                 for _ in 0..120 {
                     robot.sample_configuration(&mut rng, &mut q);
-                    let mut arms: Vec<(EndEffectorId, &[f64])> = vec![(B, &q)];
+                    // Arm d is listed at its home joints, as the planner lists every arm.
+                    let mut arms: Vec<(EndEffectorId, &[f64])> = vec![(B, &q), (D, &HOME)];
                     if stand_by {
                         arms.push((C, &qc));
                     }
