@@ -78,53 +78,50 @@ impl Scene {
         let mut moving_object = vec![false; objects.len()];
         let placements = std::iter::once((at.object, at.placement))
             .chain(at.obstacles.iter().map(|o| (o.object, o.placement)));
-        {
-            // Every robot's frames as the state needs them: home for those at home
-            // (moving ones too: their entries are not read here).
-            let robots: Vec<&[Iso]> = (0..n)
-                .map(|r| {
-                    if away[r] {
-                        frames[r].as_slice()
-                    } else {
-                        self.home_frames[r].as_slice()
-                    }
-                })
-                .collect();
-            for (object, placement) in placements {
-                let state = self.object_state(placement, &robots)?;
-                if let Some(slot) = objects.get_mut(object.index()) {
-                    *slot = state;
-                    if rides(&placement) {
-                        moving_object[object.index()] = true;
-                        carried = Some((object.index(), placement));
-                    }
+        // Every robot's frames as the state needs them: home for those at home
+        // (moving ones too: their entries are not read here).
+        let robots: Vec<&[Iso]> = (0..n)
+            .map(|r| {
+                if away[r] {
+                    frames[r].as_slice()
+                } else {
+                    self.home_frames[r].as_slice()
+                }
+            })
+            .collect();
+        for (object, placement) in placements {
+            let state = self.object_state(placement, &robots)?;
+            if let Some(slot) = objects.get_mut(object.index()) {
+                *slot = state;
+                if rides(&placement) {
+                    moving_object[object.index()] = true;
+                    carried = Some((object.index(), placement));
                 }
             }
-            let state = Configuration {
-                robots: robots.as_slice(),
-                objects: &objects,
-            };
-            let frozen = self
-                .world
-                .freeze(
-                    home,
-                    &state,
-                    &moving_robot,
-                    &away,
-                    &moving_object,
-                    known_free,
-                    &mut scratch.collision,
-                )
-                .map_err(QueryError::Collision)?;
-            drop(robots);
-            Ok(FrozenScene {
-                frozen,
-                frames,
-                away,
-                objects,
-                carried,
-            })
         }
+        let state = Configuration {
+            robots: robots.as_slice(),
+            objects: &objects,
+        };
+        let frozen = self
+            .world
+            .freeze(
+                home,
+                &state,
+                &moving_robot,
+                &away,
+                &moving_object,
+                known_free,
+                &mut scratch.collision,
+            )
+            .map_err(QueryError::Collision)?;
+        Ok(FrozenScene {
+            frozen,
+            frames,
+            away,
+            objects,
+            carried,
+        })
     }
 
     /// Whether the state with the moving arms at `arms` (every moving arm listed) is
