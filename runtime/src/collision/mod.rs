@@ -66,8 +66,10 @@
 //! The types of a state and of a report are here; `error.rs` has the two error types,
 //! `build.rs` the builder (bodies, names, the static allowed pairs), `world.rs` the
 //! queries, `broad_phase.rs` the placing of bodies and the sweep, and `swept.rs` the
-//! free radius of a state along a segment, for sound motion checks.
+//! free radius of a state along a segment, for sound motion checks, with the bodies'
+//! travel bounds in `bounds.rs`.
 
+mod bounds;
 mod broad_phase;
 mod build;
 mod capsule;
@@ -82,11 +84,11 @@ use parry3d_f64::shape::SharedShape;
 
 use crate::math::Iso;
 
+pub(crate) use bounds::{AxisRef, JointReach, SweepBounds};
 pub use build::CollisionWorldBuilder;
 pub(crate) use build::Mount;
 pub use error::{BuildError, CollisionError};
 pub(crate) use frozen::Frozen;
-pub(crate) use swept::SweepBounds;
 pub use world::{CollisionScratch, CollisionWorld};
 
 /// One solid of the collision world.
