@@ -79,13 +79,31 @@ struct Ride {
     above: f64,
 }
 
-/// Where one body is in a state, for [`SweepBounds::pair_here`].
-#[derive(Clone, Copy)]
-pub(crate) struct Placed<'s> {
-    /// Every body's pose (a body an axis refers to must be placed).
-    pub(crate) poses: &'s [Iso],
-    /// The centre of every body's bounding sphere.
-    pub(crate) centres: &'s [Point],
+/// Where a body is in the state being certified, for [`SweepBounds::pair_here`]: its
+/// bounding sphere, and the capsule that contains it when it has one (`capsule.rs`; a
+/// long link's is far thinner than its sphere).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Extent {
+    /// The sphere's centre, in the world.
+    pub(crate) centre: Point,
+    /// Its radius.
+    pub(crate) radius: f64,
+    /// The capsule's segment ends, in the world, and its radius.
+    pub(crate) capsule: Option<(Point, Point, f64)>,
+}
+
+impl Extent {
+    /// How far the body's farthest point can be from the line through `point` along
+    /// unit `dir`: from the sphere, or from the capsule (the distance from a line is
+    /// convex along a segment, so one of its ends is the farthest), whichever is less.
+    fn from_line(&self, point: &Point, dir: &Vec3) -> f64 {
+        let from = |p: &Point| (p - point).cross(dir).norm();
+        let sphere = from(&self.centre) + self.radius;
+        match &self.capsule {
+            Some((a, b, r)) => sphere.min(from(a).max(from(b)) + r),
+            None => sphere,
+        }
+    }
 }
 
 impl SweepBounds {
@@ -173,21 +191,20 @@ impl SweepBounds {
         )
     }
 
-    /// [`pair`](Self::pair) tightened at the state `at`, for a certificate of at most
-    /// `horizon` either way (see [the module](self) documentation): never more than
-    /// `pair`. `radii` are the bodies' bounding-sphere radii.
+    /// [`pair`](Self::pair) tightened at the state where every body's pose is `poses`
+    /// and bodies `i` and `j` are `extents`, for a certificate of at most `horizon` either
+    /// way (see [the module](self) documentation): never more than `pair`.
     pub(super) fn pair_here(
         &self,
-        i: usize,
-        j: usize,
-        at: Placed<'_>,
-        radii: (f64, f64),
+        (i, j): (usize, usize),
+        extents: (&Extent, &Extent),
+        poses: &[Iso],
         horizon: f64,
     ) -> f64 {
         let (mut ti, mut tj) = ([0.0; MAX_FRAMES + 1], [0.0; MAX_FRAMES + 1]);
         let (Some(()), Some(())) = (
-            self.travel_here(i, at, radii.0, horizon, &mut ti),
-            self.travel_here(j, at, radii.1, horizon, &mut tj),
+            self.travel_here(i, extents.0, poses, horizon, &mut ti),
+            self.travel_here(j, extents.1, poses, horizon, &mut tj),
         ) else {
             return self.pair(i, j);
         };
@@ -200,8 +217,8 @@ impl SweepBounds {
     fn travel_here(
         &self,
         i: usize,
-        at: Placed<'_>,
-        radius: f64,
+        extent: &Extent,
+        poses: &[Iso],
         horizon: f64,
         out: &mut [f64; MAX_FRAMES + 1],
     ) -> Option<()> {
@@ -211,19 +228,17 @@ impl SweepBounds {
         if ride.frame > MAX_FRAMES {
             return None;
         }
-        let centre = at.centres.get(i)?;
         let mut sum = 0.0;
         for g in (0..ride.frame).rev() {
             let joint = &self.joints[ride.start + g];
             let mut reach = joint.reach;
             if let Some(axis) = &joint.axis {
-                if let Some(pose) = at.poses.get(axis.body as usize) {
+                if let Some(pose) = poses.get(axis.body as usize) {
                     let (point, dir) = (pose * axis.point, pose * axis.dir);
-                    // Where the sphere is from the axis now, plus how far the joints
+                    // How far the body is from the axis now, plus how far the joints
                     // above the axis can carry it within the window (`sum`, this
                     // body's travel from joint g + 1 up, already tightened).
-                    let measured =
-                        (centre - point).cross(&dir).norm() + radius + horizon * sum + PAD;
+                    let measured = extent.from_line(&point, &dir) + horizon * sum + PAD;
                     // `min` keeps the fixed radius should the measure not be a number.
                     reach = reach.min(measured);
                 }
@@ -271,7 +286,8 @@ fn pair_of(
 #[cfg(test)]
 mod tests {
     //! The tightened reach radii against forward kinematics: over the whole window, every
-    //! body's bounding sphere stays within the tightened radius of each joint's axis.
+    //! corner of every body (a box) stays within the tightened radius of each joint's
+    //! axis.
 
     use parry3d_f64::shape::SharedShape;
     use rand::{Rng, SeedableRng};
@@ -289,6 +305,22 @@ mod tests {
     const OFFSETS: [[f64; 3]; 3] = [[0.0, 0.0, 0.1], [0.0, 0.0, 0.3], [0.4, 0.1, 0.0]];
     /// A box on each moving frame, at this offset in it.
     const LINKS: [[f64; 3]; 3] = [[0.0, 0.05, 0.1], [0.2, 0.0, 0.0], [0.15, -0.05, 0.1]];
+
+    /// The boxes' half extents, and their corners.
+    const HALF: [f64; 3] = [0.08, 0.03, 0.02];
+    const CORNERS: [Vec3; 8] = {
+        let [x, y, z] = HALF;
+        [
+            Vec3::new(-x, -y, -z),
+            Vec3::new(x, -y, -z),
+            Vec3::new(-x, y, -z),
+            Vec3::new(x, y, -z),
+            Vec3::new(-x, -y, z),
+            Vec3::new(x, -y, z),
+            Vec3::new(-x, y, z),
+            Vec3::new(x, y, z),
+        ]
+    };
 
     fn frames(q: &[f64]) -> Vec<Iso> {
         let mut frames = vec![Iso::identity()];
@@ -309,7 +341,7 @@ mod tests {
                 link: format!("link{}", k + 1),
                 frame: k + 1,
                 local: Iso::translation(LINKS[k][0], LINKS[k][1], LINKS[k][2]),
-                shape: SharedShape::cuboid(0.08, 0.03, 0.02),
+                shape: SharedShape::cuboid(HALF[0], HALF[1], HALF[2]),
             })
             .collect();
         b.add_chain(
@@ -364,17 +396,23 @@ mod tests {
                 });
                 bounds.set(body.body, 0, frame, f64::INFINITY, reaches);
             }
-            let at = Placed {
-                poses: &scratch.poses,
-                centres: &scratch.centres,
-            };
             for body in &geometry {
                 let Mount::Frame { frame, .. } = body.mount else {
                     continue;
                 };
+                let placed = &world.bodies[body.body];
+                let extent = Extent {
+                    centre: scratch.centres[body.body],
+                    radius: body.radius,
+                    capsule: placed.capsule.map(|c| {
+                        let (a, b) = c.placed(&scratch.poses[body.body]);
+                        (a, b, c.radius)
+                    }),
+                };
+                assert!(extent.capsule.is_some());
                 let mut out = [0.0; MAX_FRAMES + 1];
                 bounds
-                    .travel_here(body.body, at, body.radius, horizon, &mut out)
+                    .travel_here(body.body, &extent, &scratch.poses, horizon, &mut out)
                     .expect("a short chain");
                 assert!(out[0] <= bounds.own(body.body));
                 for g in 0..frame {
@@ -384,12 +422,17 @@ mod tests {
                         let s = horizon * k as f64 / 50.0;
                         let q: Vec<f64> = q0.iter().zip(&delta).map(|(a, d)| a + s * d).collect();
                         let f = frames(&q);
-                        let centre = f[frame] * body.centre;
                         let (point, dir) = (
                             f[g + 1] * Point::origin(),
                             f[g + 1] * Vec3::from(AXES[g]).normalize(),
                         );
-                        let far = (centre - point).cross(&dir).norm() + body.radius;
+                        let far = CORNERS
+                            .iter()
+                            .map(|c| {
+                                let corner = f[frame] * body.local * Point::from(*c);
+                                (corner - point).cross(&dir).norm()
+                            })
+                            .fold(0.0, f64::max);
                         assert!(
                             far <= reach * (1.0 + 1e-12),
                             "body {} joint {g} at {s} of {horizon}: {far} > {reach}",

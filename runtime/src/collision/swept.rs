@@ -22,7 +22,7 @@ use parry3d_f64::query::details::closest_points_support_map_support_map_with_par
 use parry3d_f64::query::gjk::{CSOPoint, GJKResult, VoronoiSimplex};
 use parry3d_f64::shape::SharedShape;
 
-use super::bounds::Placed;
+use super::bounds::Extent;
 use super::build::Mount;
 use super::world::{CollisionScratch, CollisionWorld, Visit};
 use super::{CollisionError, Configuration, SweepBounds};
@@ -122,9 +122,16 @@ impl CollisionWorld {
     ) -> Result<f64, CollisionError> {
         candidates.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then((a.1, a.2).cmp(&(b.1, b.2))));
         let mut radius = horizon;
-        let at = Placed {
-            poses: &scratch.poses,
-            centres: &scratch.centres,
+        let extent = |k: usize| {
+            let body = &self.bodies[k];
+            Extent {
+                centre: scratch.centres[k],
+                radius: body.sphere_radius,
+                capsule: body.capsule.map(|c| {
+                    let (a, b) = c.placed(&scratch.poses[k]);
+                    (a, b, c.radius)
+                }),
+            }
         };
         for &(cheap, i, j) in candidates.iter() {
             if cheap >= radius {
@@ -134,8 +141,7 @@ impl CollisionWorld {
             // The cheap bound was divided by the pair's fixed bound; the bound tightened
             // at this state is never larger, so it proves at least as much.
             let fixed = bounds.pair(i, j);
-            let radii = (self.bodies[i].sphere_radius, self.bodies[j].sphere_radius);
-            let p = bounds.pair_here(i, j, at, radii, horizon);
+            let p = bounds.pair_here((i, j), (&extent(i), &extent(j)), &scratch.poses, horizon);
             if p <= 0.0 {
                 continue;
             }
