@@ -96,7 +96,7 @@ impl Extent {
     /// How far the body's farthest point can be from the line through `point` along
     /// unit `dir`: from the sphere, or from the capsule (the distance from a line is
     /// convex along a segment, so one of its ends is the farthest), whichever is less.
-    fn from_line(&self, point: &Point, dir: &Vec3) -> f64 {
+    fn farthest_from_line(&self, point: &Point, dir: &Vec3) -> f64 {
         let from = |p: &Point| (p - point).cross(dir).norm();
         let sphere = from(&self.centre) + self.radius;
         match &self.capsule {
@@ -238,7 +238,7 @@ impl SweepBounds {
                     // How far the body is from the axis now, plus how far the joints
                     // above the axis can carry it within the window (`sum`, this
                     // body's travel from joint g + 1 up, already tightened).
-                    let measured = extent.from_line(&point, &dir) + horizon * sum + PAD;
+                    let measured = extent.farthest_from_line(&point, &dir) + horizon * sum + PAD;
                     // `min` keeps the fixed radius should the measure not be a number.
                     reach = reach.min(measured);
                 }
