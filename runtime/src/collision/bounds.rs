@@ -152,12 +152,8 @@ impl SweepBounds {
             reach: 0.0,
             axis: None,
         };
-        self.joints.extend(
-            joints
-                .into_iter()
-                .chain(std::iter::repeat(still))
-                .take(frame),
-        );
+        self.joints.extend(joints.into_iter().take(frame));
+        self.joints.resize(start + frame, still);
         self.suffix.resize(start + frame, 0.0);
         let mut sum = 0.0;
         for g in (0..frame).rev() {
