@@ -113,6 +113,11 @@ impl CollisionWorld {
     /// only while a pair's cheap bound is below the radius found so far, and only as far
     /// as that radius needs (most pairs never need one, and GJK stops as soon as it
     /// proves a pair far enough apart). Sorts `candidates`.
+    ///
+    /// A pair it measures is bounded by [`SweepBounds::pair_here`], the fixed bounds
+    /// tightened at this state for a window of `horizon` (`bounds.rs`); the cheap radii
+    /// the candidates carry were computed with the fixed bounds, so they stay below what
+    /// the tightened ones prove and still order and cut the loop soundly.
     pub(super) fn nearest_radius(
         &self,
         scratch: &CollisionScratch,
