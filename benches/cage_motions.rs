@@ -114,14 +114,15 @@ fn cases(cell: &Cell) -> Vec<Case> {
     cases
 }
 
-/// Plans `case` with `seed`: whether it succeeded.
+/// Plans `case` with `seed`: the joint-space length of the motion found (radians, the
+/// Euclidean length of the polyline through its points), `None` when it failed.
 fn solve(
     scene: &Scene,
     object: ObjectId,
     case: &Case,
     seed: u64,
     scratch: &mut SceneScratch,
-) -> bool {
+) -> Option<f64> {
     let validity = SceneValidity::new(
         scene,
         &case.arms,
@@ -139,9 +140,23 @@ fn solve(
         validity: &validity,
     };
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
-    RrtConnect::default()
+    let t = RrtConnect::default()
         .solve(&problem, &mut rng, &Termination::never(), scratch)
-        .is_ok()
+        .ok()?;
+    let length = t
+        .points
+        .windows(2)
+        .map(|w| {
+            let d2: f64 = w[0]
+                .1
+                .iter()
+                .zip(&w[1].1)
+                .map(|(a, b)| (b - a) * (b - a))
+                .sum();
+            d2.sqrt()
+        })
+        .sum();
+    Some(length)
 }
 
 /// Median and success count over every seed; prints one line.
@@ -149,15 +164,24 @@ fn summarise(scene: &Scene, object: ObjectId, case: &Case) -> (Vec<f64>, u64) {
     let mut scratch = SceneScratch::default();
     let mut times = Vec::new();
     let mut successes = 0;
+    let mut lengths = Vec::new();
     for seed in 0..SEEDS {
         let start = Instant::now();
-        successes += u64::from(solve(scene, object, case, seed, &mut scratch));
+        let length = solve(scene, object, case, seed, &mut scratch);
         times.push(start.elapsed().as_secs_f64() * 1e3);
+        successes += u64::from(length.is_some());
+        lengths.extend(length);
     }
     let mut sorted = times.clone();
     sorted.sort_by(f64::total_cmp);
+    lengths.sort_by(f64::total_cmp);
+    let path = if lengths.is_empty() {
+        "no path".to_string()
+    } else {
+        format!("median path {:.3} rad", median(&lengths))
+    };
     println!(
-        "cage/{}: {SEEDS} seeds, median {:.2} ms, worst {:.2} ms, success {successes}/{SEEDS}",
+        "cage/{}: {SEEDS} seeds, median {:.2} ms, worst {:.2} ms, success {successes}/{SEEDS}, {path}",
         case.name,
         median(&sorted),
         sorted[sorted.len() - 1],

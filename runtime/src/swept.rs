@@ -39,7 +39,7 @@ use parry3d_f64::shape::SharedShape;
 
 use cellc_schema::ObjectId;
 
-use crate::collision::{Mount, SweepBounds};
+use crate::collision::{AxisRef, JointReach, Mount, SweepBounds};
 use crate::math::{Iso, Point, Vec3};
 use crate::robot::Robot;
 use crate::scene::{ObjectPlacement, Scene};
@@ -59,6 +59,10 @@ pub(crate) struct SweptBodies {
     moving: Vec<Moving>,
     /// Per moving body, one radius per joint below its frame, flat.
     radii: Vec<f64>,
+    /// In step with `radii`: each of those joints' axis as a body of the frame above it
+    /// carries it, for tightening the radius at the state being certified
+    /// ([`SweepBounds::set`]).
+    axes: Vec<Option<AxisRef>>,
     /// Whether every radius is finite (no unlimited prismatic stroke).
     finite: bool,
 }
@@ -111,6 +115,26 @@ impl SweptBodies {
             let carried = carrier
                 .filter(|(by, _)| *by == slice.end_effector)
                 .map(|(_, grasp)| robot.tip_offset() * grasp);
+            // Joint g's axis runs through the origin of frame g + 1 along `axes()[g]`
+            // there; any body of that frame carries it.
+            let joint_axes: Vec<Option<AxisRef>> = (0..n)
+                .map(|g| {
+                    if !robot.joint_kinds()[g].is_rotational() {
+                        return None;
+                    }
+                    let dir = robot.axes()[g].try_normalize(1e-12)?;
+                    let body = scene.world.body_geometry().find(|b| {
+                        matches!(b.mount, Mount::Frame { robot, frame }
+                            if robot == world_robot && frame == g + 1)
+                    })?;
+                    let to_body = body.local.inverse();
+                    Some(AxisRef {
+                        body: u32::try_from(body.body).ok()?,
+                        point: to_body * Point::origin(),
+                        dir: to_body * dir,
+                    })
+                })
+                .collect();
             for body in scene.world.body_geometry() {
                 let (frame, local, centre) = match body.mount {
                     Mount::Frame { robot: r, frame } if r == world_robot => {
@@ -124,6 +148,9 @@ impl SweptBodies {
                 };
                 let start = swept.radii.len();
                 reach_radii(robot, frame, &centre, body.radius, &mut swept.radii);
+                swept
+                    .axes
+                    .extend((0..frame).map(|g| joint_axes.get(g).copied().flatten()));
                 // The joint below the body's frame turns it about an axis fixed in that
                 // frame: a body symmetric about it hardly moves as a set.
                 if frame > 0 && robot.joint_kinds()[frame - 1].is_rotational() {
@@ -181,14 +208,13 @@ impl SweptBodies {
                 Some(d) if m.above.is_finite() => d.abs() * m.above,
                 _ => f64::INFINITY,
             };
-            bounds.set(m.body, m.robot, m.frame, above, |suffix| {
-                let mut sum = 0.0;
-                for g in (0..m.frame).rev() {
-                    sum += joints[g].abs() * radii[g];
-                    suffix[g] = sum;
-                }
-                largest = largest.max(sum);
+            let axes = &self.axes[m.start..m.start + m.frame];
+            let reaches = (0..m.frame).map(|g| JointReach {
+                speed: joints[g].abs(),
+                reach: radii[g],
+                axis: axes[g],
             });
+            largest = largest.max(bounds.set(m.body, m.robot, m.frame, above, reaches));
         }
         Some(largest)
     }

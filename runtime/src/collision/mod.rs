@@ -66,11 +66,12 @@
 //! The types of a state and of a report are here; `error.rs` has the two error types,
 //! `build.rs` the builder (bodies, names, the static allowed pairs), `world.rs` the
 //! queries, `broad_phase.rs` the placing of bodies and the sweep, and `swept.rs` the
-//! free radius of a state along a segment, for sound motion checks. `home.rs` places
-//! the cell at rest once per scene (every arm at home, the furniture) and `frozen.rs`
-//! answers queries that place only what is not standing, so a check's cost follows the
-//! moving bodies, not the size of the cell.
+//! free radius of a state along a segment, for sound motion checks, with the bodies'
+//! travel bounds in `bounds.rs`. `home.rs` places the cell at home once per scene (every
+//! arm at home, the furniture) and `frozen.rs` answers queries that place only what is
+//! not standing, so a check's cost follows the moving bodies, not the size of the cell.
 
+mod bounds;
 mod broad_phase;
 mod build;
 mod capsule;
@@ -86,12 +87,12 @@ use parry3d_f64::shape::SharedShape;
 
 use crate::math::Iso;
 
+pub(crate) use bounds::{AxisRef, JointReach, SweepBounds};
 pub use build::CollisionWorldBuilder;
 pub(crate) use build::Mount;
 pub use error::{BuildError, CollisionError};
 pub(crate) use frozen::{Frozen, Standing};
 pub(crate) use home::Home;
-pub(crate) use swept::SweepBounds;
 pub use world::{CollisionScratch, CollisionWorld};
 
 /// One solid of the collision world.

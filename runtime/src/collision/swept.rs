@@ -22,9 +22,10 @@ use parry3d_f64::query::details::closest_points_support_map_support_map_with_par
 use parry3d_f64::query::gjk::{CSOPoint, GJKResult, VoronoiSimplex};
 use parry3d_f64::shape::SharedShape;
 
+use super::bounds::Extent;
 use super::build::Mount;
 use super::world::{CollisionScratch, CollisionWorld, Visit};
-use super::{CollisionError, Configuration};
+use super::{CollisionError, Configuration, SweepBounds};
 use crate::math::{Iso, Point};
 
 /// Distances up to this (metres, a micrometre) count as contact in a swept query: a
@@ -32,112 +33,6 @@ use crate::math::{Iso, Point};
 /// far above the rounding of the distance computation and of the interpolation, so the
 /// exact intersection test finds nothing there however finely it samples.
 pub(crate) const CONTACT: f64 = 1e-6;
-
-/// How far each body of the world may travel along one segment, per unit of the
-/// segment's parameter. Bodies not set are static (bound 0).
-#[derive(Clone, Debug, Default)]
-pub(crate) struct SweepBounds {
-    /// Per body index.
-    rides: Vec<Option<Ride>>,
-    /// The bodies' bounds by joint, flat (see [`SweepBounds::set`]).
-    suffix: Vec<f64>,
-    /// The bodies set since the last reset, so that a reset costs what was set, not the
-    /// size of the world (a motion in a line of fifty arms sets a dozen bodies of six
-    /// hundred, once per certificate).
-    set: Vec<u32>,
-}
-
-/// A body of a moving robot: the frame it rides on, where its bounds are, and how fast
-/// the joint just above its frame can change its distance to the bodies above.
-#[derive(Clone, Copy, Debug)]
-struct Ride {
-    robot: usize,
-    frame: usize,
-    start: usize,
-    above: f64,
-}
-
-impl SweepBounds {
-    /// Every one of `bodies` bodies static.
-    pub(crate) fn reset(&mut self, bodies: usize) {
-        if self.rides.len() == bodies {
-            for &i in &self.set {
-                self.rides[i as usize] = None;
-            }
-        } else {
-            self.rides.clear();
-            self.rides.resize(bodies, None);
-        }
-        self.set.clear();
-        self.suffix.clear();
-    }
-
-    /// Body `body` (an index into the world's bodies) rides on frame `frame` of robot
-    /// `robot`; `fill` writes its `frame` bounds, the `g`-th bounding how far it travels
-    /// through joints `g..frame` of that robot (so non-increasing in `g`). `above` bounds
-    /// how far joint `frame` (the one just above the body) can change the body's
-    /// distance to anything it carries, when less than those bodies' own travel through
-    /// it (a body symmetric about that joint's axis: infinity when there is none).
-    pub(crate) fn set(
-        &mut self,
-        body: usize,
-        robot: usize,
-        frame: usize,
-        above: f64,
-        fill: impl FnOnce(&mut [f64]),
-    ) {
-        let Some(slot) = self.rides.get_mut(body) else {
-            return;
-        };
-        let start = self.suffix.len();
-        self.set.push(body as u32);
-        *slot = Some(Ride {
-            robot,
-            frame,
-            start,
-            above,
-        });
-        self.suffix.resize(start + frame, 0.0);
-        fill(&mut self.suffix[start..]);
-    }
-
-    /// How far body `i` travels through the joints of its robot from joint `g` up.
-    fn travel_from(&self, i: usize, g: usize) -> f64 {
-        match self.rides.get(i).copied().flatten() {
-            Some(r) if g < r.frame => self.suffix[r.start + g],
-            _ => 0.0,
-        }
-    }
-
-    /// How far body `i` travels at most.
-    pub(super) fn own(&self, i: usize) -> f64 {
-        self.travel_from(i, 0)
-    }
-
-    /// How much the distance between bodies `i` and `j` can shrink at most.
-    pub(super) fn pair(&self, i: usize, j: usize) -> f64 {
-        match (self.rides[i], self.rides[j]) {
-            (Some(a), Some(b)) if a.robot == b.robot => {
-                // Seen from the lower body's frame `g`, only joints `g..` move the other;
-                // joint `g` turns it about an axis fixed in that frame, which changes the
-                // distance no faster than it moves the other body, nor than it would
-                // move the lower body turned the opposite way.
-                let (low, high, k) = if a.frame <= b.frame {
-                    (a, b, j)
-                } else {
-                    (b, a, i)
-                };
-                let g = low.frame;
-                if high.frame == g {
-                    return 0.0;
-                }
-                let (through, beyond) = (self.travel_from(k, g), self.travel_from(k, g + 1));
-                beyond + (through - beyond).min(low.above)
-            }
-            _ => self.own(i) + self.own(j),
-        }
-    }
-}
 
 /// A body's shape and bounding sphere where it is mounted, for deriving [`SweepBounds`].
 #[derive(Clone, Copy)]
@@ -218,6 +113,11 @@ impl CollisionWorld {
     /// only while a pair's cheap bound is below the radius found so far, and only as far
     /// as that radius needs (most pairs never need one, and GJK stops as soon as it
     /// proves a pair far enough apart). Sorts `candidates`.
+    ///
+    /// A pair it measures is bounded by [`SweepBounds::pair_here`], the fixed bounds
+    /// tightened at this state for a window of `horizon` (`bounds.rs`); the cheap radii
+    /// the candidates carry were computed with the fixed bounds, so they stay below what
+    /// the tightened ones prove and still order and cut the loop soundly.
     pub(super) fn nearest_radius(
         &self,
         scratch: &CollisionScratch,
@@ -227,12 +127,32 @@ impl CollisionWorld {
     ) -> Result<f64, CollisionError> {
         candidates.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then((a.1, a.2).cmp(&(b.1, b.2))));
         let mut radius = horizon;
+        let extent = |k: usize| {
+            let body = &self.bodies[k];
+            Extent {
+                centre: scratch.centres[k],
+                radius: body.sphere_radius,
+                capsule: body.capsule.map(|c| {
+                    let (a, b) = c.placed(&scratch.poses[k]);
+                    (a, b, c.radius)
+                }),
+            }
+        };
         for &(cheap, i, j) in candidates.iter() {
             if cheap >= radius {
                 break;
             }
             let (i, j) = (i as usize, j as usize);
-            let p = bounds.pair(i, j);
+            // The cheap bound was divided by the pair's fixed bound; the bound tightened
+            // at this state is never larger, so it proves at least as much.
+            let fixed = bounds.pair(i, j);
+            let p = bounds.pair_here((i, j), (&extent(i), &extent(j)), &scratch.poses, horizon);
+            if p <= 0.0 {
+                continue;
+            }
+            if cheap > 0.0 && cheap * (fixed / p) * (1.0 - 1e-12) >= radius {
+                continue;
+            }
             if let Some(d) = self.distance_within(scratch, i, j, CONTACT + p * radius)? {
                 let r = (d - CONTACT) / p;
                 if r <= 0.0 {
@@ -380,7 +300,12 @@ mod tests {
         // The box's farthest point is 0.553 m from the axis: 0.6 m per radian bounds it,
         // for a segment of 2 rad.
         let per_unit = 0.6 * 2.0;
-        bounds.set(0, 0, 1, f64::INFINITY, |s| s[0] = per_unit);
+        let joint = super::super::JointReach {
+            speed: 1.0,
+            reach: per_unit,
+            axis: None,
+        };
+        bounds.set(0, 0, 1, f64::INFINITY, [joint]);
         let mut scratch = CollisionScratch::default();
         let mut certified = 0;
         for k in 0..40 {
