@@ -5,6 +5,8 @@ use std::path::{Path, PathBuf};
 
 use cellc_lang::{Code, Diagnostic, SourceMap};
 use cellc_schema::files::{Files, MAX_ARTIFACT_BYTES};
+use cellc_schema::partial::Partial;
+use cellc_schema::sections::Sections;
 use cellc_schema::{Artifact, ReadError};
 
 use crate::fs_files::FsFiles;
@@ -58,6 +60,38 @@ pub fn read(path: &str) -> Result<Artifact, Diagnostic> {
     let (mut artifact, _) = Artifact::from_bytes(&bytes).map_err(|e| diagnostic(path, &e))?;
     paths_from_input(&mut artifact, Path::new(path));
     Ok(artifact)
+}
+
+/// An artifact file as [`read_in_part`] gives it.
+pub enum InPart {
+    /// A sectioned binary: its bytes (to read more sections from later) and its core,
+    /// validated, with paths resolved against the file's folder; no graph read yet.
+    Sections {
+        /// The file's bytes.
+        bytes: Vec<u8>,
+        /// The core.
+        partial: Partial,
+    },
+    /// Any other artifact, read and validated whole.
+    Whole(Artifact),
+}
+
+/// Reads an artifact file; of a sectioned binary only its table and core, so that a use
+/// can read the sections of the objects it needs ([`Partial::read`]).
+pub fn read_in_part(path: &str) -> Result<InPart, Diagnostic> {
+    let bytes = FsFiles
+        .read_at_most(path, MAX_ARTIFACT_BYTES)
+        .map_err(|e| cellc_compiler::diagnostics::input_unreadable("artifact", path, &e))?;
+    if !bytes.starts_with(cellc_schema::MAGIC.as_slice()) {
+        let (mut artifact, _) = Artifact::from_bytes(&bytes).map_err(|e| diagnostic(path, &e))?;
+        paths_from_input(&mut artifact, Path::new(path));
+        return Ok(InPart::Whole(artifact));
+    }
+    let mut partial = Sections::open(&bytes)
+        .and_then(|s| Partial::open(&s))
+        .map_err(|e| diagnostic(path, &e))?;
+    paths_from_input(partial.artifact_mut(), Path::new(path));
+    Ok(InPart::Sections { bytes, partial })
 }
 
 /// The artifact of a `.cell` file (compiled now) or of an artifact file. On failure the

@@ -6,9 +6,12 @@ use std::process::ExitCode;
 use cellc_lang::ast::{PlaceSpec, RequestPlacement as AstPlacement};
 use cellc_lang::{Diagnostic, FileId, SourceMap};
 use cellc_runtime::plan::{GoalByName, PlacementByName, PlanError, PlanOptions, Request};
-use cellc_runtime::{Cell, Files, LoadError, VerifyOptions};
+use cellc_runtime::{Cell, Files, LoadError, ObjectId, VerifyOptions};
+use cellc_schema::partial::{Partial, Parts};
+use cellc_schema::sections::Sections;
 
 use crate::args::PlanFormat;
+use crate::artifact_io::{self, InPart};
 use crate::fs_files::FsFiles;
 use crate::plan_report::{self, codes};
 use crate::render::{self, Color};
@@ -97,9 +100,42 @@ pub struct Loaded {
     /// How diagnostics are reported: human text on standard error, or (with JSON output)
     /// the JSON report on standard output, so that output stays JSON on every path.
     pub format: PlanFormat,
+    /// The bytes of a sectioned binary artifact read in part, to read more of it later.
+    pub bytes: Option<Vec<u8>>,
 }
 
 impl Loaded {
+    /// Reads the pruned arcs of every object whose graph is read, for an explanation
+    /// (nothing when the cell was read whole).
+    ///
+    /// # Errors
+    /// The diagnostic of a damaged or inconsistent section.
+    pub fn read_pruned(&mut self, input: &str) -> Result<(), Diagnostic> {
+        let Some(bytes) = &self.bytes else {
+            return Ok(());
+        };
+        let n = self.cell.artifact().objects.len();
+        let read: Vec<ObjectId> = (0..n)
+            .map(|i| ObjectId(i as u32))
+            .filter(|&o| self.cell.parts(o).graph)
+            .collect();
+        Sections::open(bytes)
+            .map_err(LoadError::Artifact)
+            .and_then(|s| {
+                read.into_iter().try_for_each(|o| {
+                    let parts = Parts {
+                        pruned: true,
+                        ..Parts::NONE
+                    };
+                    self.cell.read_parts(&s, o, parts)
+                })
+            })
+            .map_err(|e| match e {
+                LoadError::Artifact(e) => artifact_io::diagnostic(input, &e),
+                e => Diagnostic::error(codes::UNREACHABLE, e.to_string()),
+            })
+    }
+
     /// Prints diagnostics against the cell's sources; a label in a file that changed
     /// since the build is replaced by a note saying so.
     pub fn report(&self, diagnostics: &[Diagnostic]) {
@@ -158,11 +194,32 @@ pub fn print(diagnostics: &[Diagnostic], sources: &SourceMap) {
     eprint!("{}", render::human(diagnostics, sources, color));
 }
 
+/// How much of a sectioned binary artifact [`load_in`] reads.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Scope {
+    /// Every object's graph (commands that show or export the whole cell).
+    Whole,
+    /// The graphs of the objects the job of the arguments moves or finds in its world
+    /// ([`super::job::objects`]), and of those their witnesses only when arm motions are
+    /// planned; pruned arcs are read when a failure is explained ([`Loaded::read_pruned`]).
+    Job,
+}
+
 /// Compiles (and verifies) a cell, or reads an artifact, and loads it into the runtime.
 pub fn load(args: &PlanArgs) -> Result<Loaded, ExitCode> {
+    load_in(args, Scope::Whole)
+}
+
+/// [`load`], reading of a sectioned binary what `scope` says.
+pub fn load_in(args: &PlanArgs, scope: Scope) -> Result<Loaded, ExitCode> {
     let (input, seed, format) = (args.input.as_str(), args.seed, args.format);
     let mut stale = Vec::new();
-    let (artifact, sources, fresh) = if input.ends_with(".cell") {
+    let mut bytes = None;
+    let fail = |d: Diagnostic, sources: &SourceMap| {
+        emit(format, &[d], sources);
+        ExitCode::from(1)
+    };
+    let (partial, sources, fresh) = if input.ends_with(".cell") {
         let compilation = crate::reach::compile(&FsFiles, input, &args.compile);
         if compilation.has_errors() || compilation.cell.is_none() {
             emit(format, &compilation.diagnostics, &compilation.sources);
@@ -171,33 +228,62 @@ pub fn load(args: &PlanArgs) -> Result<Loaded, ExitCode> {
         let cell = compilation.cell.as_ref().ok_or(ExitCode::from(1))?;
         let artifact =
             cellc_compiler::artifact::lower(cell, &compilation.graphs, &compilation.sources);
-        (artifact, compilation.sources, true)
+        let partial = Partial::whole(artifact)
+            .map_err(|e| fail(artifact_io::diagnostic(input, &e), &compilation.sources))?;
+        (partial, compilation.sources, true)
     } else {
-        match crate::artifact_io::read(input) {
-            Ok(artifact) => {
-                // Diagnostics point into the cell's sources, read again if still there and
-                // unchanged (the artifact records each one's hash).
-                let mut sources = SourceMap::new();
-                for s in &artifact.sources {
-                    let text = FsFiles.read_text(&s.path).unwrap_or_default();
-                    let same = cellc_schema::sha256_hex(text.as_bytes()) == s.sha256;
-                    let id = sources.add(s.path.clone(), if same { text } else { String::new() });
-                    if !same {
-                        stale.push(id);
-                    }
-                }
-                (artifact, sources, false)
+        let mut partial = match artifact_io::read_in_part(input) {
+            Ok(InPart::Whole(artifact)) => Partial::whole(artifact)
+                .map_err(|e| fail(artifact_io::diagnostic(input, &e), &SourceMap::new()))?,
+            Ok(InPart::Sections { bytes: b, partial }) => {
+                bytes = Some(b);
+                partial
             }
-            Err(d) => {
-                emit(format, &[d], &SourceMap::new());
-                return Err(ExitCode::from(1));
+            Err(d) => return Err(fail(d, &SourceMap::new())),
+        };
+        // Diagnostics point into the cell's sources, read again if still there and
+        // unchanged (the artifact records each one's hash).
+        let mut sources = SourceMap::new();
+        for s in &partial.artifact().sources {
+            let text = FsFiles.read_text(&s.path).unwrap_or_default();
+            let same = cellc_schema::sha256_hex(text.as_bytes()) == s.sha256;
+            let id = sources.add(s.path.clone(), if same { text } else { String::new() });
+            if !same {
+                stale.push(id);
             }
         }
+        if let Some(b) = &bytes {
+            let has_arms = partial
+                .artifact()
+                .end_effectors
+                .iter()
+                .any(|e| matches!(e.body, cellc_schema::Body::Arm { .. }));
+            let (objects, parts) = match scope {
+                Scope::Whole => (None, Parts::ALL),
+                Scope::Job => (
+                    super::job::objects(args, partial.artifact()),
+                    Parts {
+                        witnesses: has_arms && args.motions,
+                        ..Parts::GRAPH
+                    },
+                ),
+            };
+            let objects = objects.unwrap_or_else(|| {
+                (0..partial.artifact().objects.len())
+                    .map(|i| ObjectId(i as u32))
+                    .collect()
+            });
+            Sections::open(b)
+                .and_then(|s| objects.iter().try_for_each(|&o| partial.read(&s, o, parts)))
+                .map_err(|e| fail(artifact_io::diagnostic(input, &e), &sources))?;
+        }
+        (partial, sources, false)
     };
+    let artifact = partial.artifact();
     // Robot spans, to label a model that cannot be loaded.
     let robots = artifact.robots.clone();
     let spans = artifact.spans.clone();
-    let mut cell = match Cell::from_artifact(artifact, &FsFiles) {
+    let mut cell = match Cell::from_partial(partial, &FsFiles) {
         Ok(cell) => cell,
         Err(LoadError::Scene(e)) => {
             emit(
@@ -244,6 +330,7 @@ pub fn load(args: &PlanArgs) -> Result<Loaded, ExitCode> {
         sources,
         stale,
         format,
+        bytes,
     })
 }
 
@@ -357,7 +444,7 @@ pub fn prepare(args: &PlanArgs, loaded: &Loaded) -> Result<Prepared, ExitCode> {
 /// Plans each move of the job `args` ask for, in the world, and prints the plans: the
 /// world after one move (as its plan leaves it) is where the next is planned.
 pub fn run(args: &PlanArgs) -> ExitCode {
-    let loaded = match load(args) {
+    let mut loaded = match load_in(args, Scope::Job) {
         Ok(l) => l,
         Err(code) => return code,
     };
@@ -369,8 +456,6 @@ pub fn run(args: &PlanArgs) -> ExitCode {
         Ok(j) => j,
         Err(code) => return code,
     };
-    let cell = &loaded.cell;
-    let artifact = cell.artifact();
     let human = args.format == PlanFormat::Human;
     let single = moves.len() == 1 && title.starts_with("request");
     let options = cellc_runtime::TaskOptions {
@@ -383,7 +468,16 @@ pub fn run(args: &PlanArgs) -> ExitCode {
         plans: planned,
         world: after,
         failure: stopped,
-    } = cell.plan_task(&world, &list, &options);
+    } = loaded.cell.plan_task(&world, &list, &options);
+    // A failure is explained with the arcs verification pruned, read only now.
+    if stopped.is_some() {
+        if let Err(d) = loaded.read_pruned(&args.input) {
+            loaded.report(&[d]);
+            return ExitCode::from(1);
+        }
+    }
+    let cell = &loaded.cell;
+    let artifact = cell.artifact();
     world = after;
     let mut plans = Vec::new();
     let label = |i: usize| {
