@@ -36,12 +36,10 @@ struct OutArc {
 pub struct SearchGraph {
     /// Node `n`'s leaving arcs are `out[offsets[n]..offsets[n + 1]]`, last declared first.
     offsets: Vec<u32>,
+    /// Every arc's weight is kept here only, in its tail's row (the artifact's, or by kind
+    /// when re-weighted): a copy per arc of the artifact's graph cost a pass over 10^6
+    /// arcs and megabytes to fault in at every load.
     out: Vec<OutArc>,
-    /// Per arc of the artifact's graph: its weight here (the artifact's, or by kind when
-    /// re-weighted), for the path's cost.
-    weights: Vec<f64>,
-    /// Per arc: true for moves (to re-weight by kind).
-    is_move: Vec<bool>,
 }
 
 /// Billionths per unit of cost, for [`SearchGraph::path_cost`].
@@ -222,32 +220,21 @@ impl SearchGraph {
             };
             *slot += 1;
         }
-        SearchGraph {
-            offsets,
-            out,
-            weights: graph.arcs.iter().map(|a| a.weight).collect(),
-            is_move: graph.arcs.iter().map(|a| a.kind == ArcKind::Move).collect(),
-        }
+        SearchGraph { offsets, out }
     }
 
-    /// The same graph with every move costing `weights.0` and every transition
-    /// `weights.1`.
-    pub fn reweighted(&self, weights: (f64, f64)) -> SearchGraph {
-        let by_kind = |arc: usize| {
-            if self.is_move[arc] {
-                weights.0
-            } else {
-                weights.1
-            }
-        };
-        let mut graph = self.clone();
-        for out in &mut graph.out {
-            out.weight = by_kind(out.arc as usize);
+    /// The same graph (indexed from `graph`) with every move costing `weights.0` and
+    /// every transition `weights.1`.
+    pub fn reweighted(&self, graph: &Graph, weights: (f64, f64)) -> SearchGraph {
+        let mut search = self.clone();
+        for out in &mut search.out {
+            let is_move = graph
+                .arcs
+                .get(out.arc as usize)
+                .is_some_and(|a| a.kind == ArcKind::Move);
+            out.weight = if is_move { weights.0 } else { weights.1 };
         }
-        for (arc, weight) in graph.weights.iter_mut().enumerate() {
-            *weight = by_kind(arc);
-        }
-        graph
+        search
     }
 
     /// Number of nodes.
@@ -331,7 +318,7 @@ impl SearchGraph {
             scratch.arcs.push(arc);
         }
         let cost = self
-            .path_cost(&scratch.arcs)
+            .path_cost(&scratch.nodes, &scratch.arcs)
             .unwrap_or(scratch.distance[goal as usize]);
         Some(Route {
             nodes: &scratch.nodes,
@@ -383,7 +370,7 @@ impl SearchGraph {
                 nodes.extend_from_slice(rest.nodes);
                 let mut arcs = vec![out.arc as usize];
                 arcs.extend_from_slice(rest.arcs);
-                let cost = self.path_cost(&arcs).unwrap_or(cost);
+                let cost = self.path_cost(&nodes, &arcs).unwrap_or(cost);
                 best = Some(Path { nodes, arcs, cost });
             }
         }
@@ -394,11 +381,13 @@ impl SearchGraph {
     /// are written in decimal (0.1 per move), and their binary sum drifts
     /// (`8.599999999999998` for 8.6), so they are added as whole billionths and the
     /// total converted once. `None` when a weight is not a whole number of billionths
-    /// within 10^-12 (or is too large for that), which no cell's weights are.
-    fn path_cost(&self, arcs: &[usize]) -> Option<f64> {
+    /// within 10^-12 (or is too large for that), which no cell's weights are, or when an
+    /// arc does not leave the node before it in `nodes`.
+    fn path_cost(&self, nodes: &[NodeId], arcs: &[usize]) -> Option<f64> {
         let mut total: i128 = 0;
-        for &arc in arcs {
-            let scaled = self.weights.get(arc)? * BILLION;
+        for (&from, &arc) in nodes.iter().zip(arcs) {
+            let weight = self.weight(from, arc)?;
+            let scaled = weight * BILLION;
             let whole = scaled.round();
             if !whole.is_finite() || whole.abs() >= 1e18 || (scaled - whole).abs() > 1e-3 {
                 return None;
@@ -406,6 +395,16 @@ impl SearchGraph {
             total += whole as i128;
         }
         Some(total as f64 / BILLION)
+    }
+
+    /// The weight here of arc `arc` (an index into the artifact's graph) leaving `from`.
+    pub fn weight(&self, from: NodeId, arc: usize) -> Option<f64> {
+        if from.index() >= self.n_nodes() {
+            return None;
+        }
+        self.leaving(from.0)
+            .find(|(_, out)| out.arc as usize == arc)
+            .map(|(_, out)| out.weight)
     }
 
     /// The cheapest arc from `from` to `to` not left out in this search, the first

@@ -303,7 +303,7 @@ impl<'a> Planner<'a> {
         }
         let reweighted = options
             .weights
-            .map(|w| self.search[object.index()].reweighted(w));
+            .map(|w| self.search[object.index()].reweighted(graph, w));
         // One search's working memory for every search of this request.
         let mut scratch = Scratch::default();
         loop {
