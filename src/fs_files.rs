@@ -121,3 +121,66 @@ mod tests {
         std::fs::remove_dir_all(&folder).expect("removed");
     }
 }
+
+/// A regular file read a piece at a time, as a sectioned binary artifact is: only the
+/// sections a use decodes are read, through a buffer as small as the piece.
+///
+/// Its length is taken once, when it is opened (and checked against a budget); a file cut
+/// short later is reported as corrupt by the read that misses its bytes, and a file
+/// changed later by the checksum of the section read, so nothing read is trusted for
+/// being where it was.
+pub struct PieceFile {
+    file: std::sync::Mutex<std::fs::File>,
+    length: u64,
+}
+
+impl PieceFile {
+    /// Opens the regular file at `path`, of at most `max_bytes` bytes.
+    pub fn open(path: &str, max_bytes: u64) -> Result<PieceFile, FileError> {
+        let size = regular_file(path)?;
+        if size > max_bytes {
+            return Err(FileError::TooLarge {
+                size,
+                limit: max_bytes,
+            });
+        }
+        let file = std::fs::File::open(path)?;
+        // The path may have been replaced between the look and the open.
+        let metadata = file.metadata()?;
+        check_kind(&metadata)?;
+        if metadata.len() > max_bytes {
+            return Err(FileError::TooLarge {
+                size: metadata.len(),
+                limit: max_bytes,
+            });
+        }
+        Ok(PieceFile {
+            file: std::sync::Mutex::new(file),
+            length: metadata.len(),
+        })
+    }
+}
+
+impl cellc_schema::sections::Source for PieceFile {
+    fn file_length(&self) -> u64 {
+        self.length
+    }
+
+    fn bytes<'s>(
+        &'s self,
+        offset: u64,
+        length: usize,
+        buf: &'s mut Vec<u8>,
+    ) -> Result<&'s [u8], cellc_schema::ReadError> {
+        use std::io::Seek;
+        let cut = |e: std::io::Error| cellc_schema::ReadError::Corrupt {
+            detail: format!("the file cannot be read at byte {offset}: {e}"),
+        };
+        buf.resize(length, 0);
+        // A poisoned lock only means another reader panicked; the file is still a file.
+        let mut file = self.file.lock().unwrap_or_else(|p| p.into_inner());
+        file.seek(std::io::SeekFrom::Start(offset)).map_err(cut)?;
+        file.read_exact(buf).map_err(cut)?;
+        Ok(buf)
+    }
+}

@@ -7,7 +7,7 @@
 //! tools, but nothing here needs them.
 
 use cellc_schema::partial::{Partial, Parts};
-use cellc_schema::sections::Sections;
+use cellc_schema::sections::{Sections, Source};
 use cellc_schema::{
     Artifact, Body, EndEffectorId, GraspId, ObjectId, ReadError, WorkspaceId, WorldDocument,
 };
@@ -84,7 +84,7 @@ impl Cell {
     /// As [`Cell::load`], for the sections read only: damage in a section not read is
     /// not seen.
     pub fn load_objects(
-        sections: &Sections,
+        sections: &Sections<impl Source>,
         objects: &[ObjectId],
         parts: Parts,
         files: &dyn Files,
@@ -127,7 +127,7 @@ impl Cell {
     /// As [`Cell::load_objects`]; on an error the cell is as it was.
     pub fn read_parts(
         &mut self,
-        sections: &Sections,
+        sections: &Sections<impl Source>,
         o: ObjectId,
         parts: Parts,
     ) -> Result<(), LoadError> {

@@ -9,7 +9,7 @@
 //! read has an empty one: no state of it can be located, so nothing plans on it.
 
 use crate::encoding::ReadError;
-use crate::sections::Sections;
+use crate::sections::{Sections, Source};
 use crate::validate::{self, graph};
 use crate::{Artifact, ObjectId};
 
@@ -69,7 +69,7 @@ fn invalid(e: validate::Invalid) -> ReadError {
 
 impl Partial {
     /// Decodes and validates the core of `sections`; no object's graph is read yet.
-    pub fn open(sections: &Sections) -> Result<Partial, ReadError> {
+    pub fn open(sections: &Sections<impl Source>) -> Result<Partial, ReadError> {
         let artifact = sections.core()?;
         validate::core(&artifact).map_err(invalid)?;
         Ok(Partial {
@@ -111,7 +111,7 @@ impl Partial {
     /// arcs, which index its nodes.
     pub fn read(
         &mut self,
-        sections: &Sections,
+        sections: &Sections<impl Source>,
         o: ObjectId,
         parts: Parts,
     ) -> Result<(), ReadError> {
@@ -171,7 +171,7 @@ impl Partial {
     }
 
     /// Every part of every object, as [`Sections::artifact`] and a whole validation give.
-    pub fn read_all(&mut self, sections: &Sections) -> Result<(), ReadError> {
+    pub fn read_all(&mut self, sections: &Sections<impl Source>) -> Result<(), ReadError> {
         for i in 0..self.read.len() {
             self.read(sections, ObjectId(i as u32), Parts::ALL)?;
         }

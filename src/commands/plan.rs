@@ -13,6 +13,7 @@ use cellc_schema::sections::Sections;
 use crate::args::PlanFormat;
 use crate::artifact_io::{self, InPart};
 use crate::fs_files::FsFiles;
+use crate::fs_files::PieceFile;
 use crate::plan_report::{self, codes};
 use crate::render::{self, Color};
 
@@ -100,8 +101,8 @@ pub struct Loaded {
     /// How diagnostics are reported: human text on standard error, or (with JSON output)
     /// the JSON report on standard output, so that output stays JSON on every path.
     pub format: PlanFormat,
-    /// The bytes of a sectioned binary artifact read in part, to read more of it later.
-    pub bytes: Option<Vec<u8>>,
+    /// A sectioned binary artifact read in part, to read more of it later.
+    pub sections: Option<Sections<PieceFile>>,
 }
 
 impl Loaded {
@@ -111,7 +112,7 @@ impl Loaded {
     /// # Errors
     /// The diagnostic of a damaged or inconsistent section.
     pub fn read_pruned(&mut self, input: &str) -> Result<(), Diagnostic> {
-        let Some(bytes) = &self.bytes else {
+        let Some(sections) = &self.sections else {
             return Ok(());
         };
         let n = self.cell.artifact().objects.len();
@@ -119,17 +120,12 @@ impl Loaded {
             .map(|i| ObjectId(i as u32))
             .filter(|&o| self.cell.parts(o).graph)
             .collect();
-        Sections::open(bytes)
-            .map_err(LoadError::Artifact)
-            .and_then(|s| {
-                read.into_iter().try_for_each(|o| {
-                    let parts = Parts {
-                        pruned: true,
-                        ..Parts::NONE
-                    };
-                    self.cell.read_parts(&s, o, parts)
-                })
-            })
+        let parts = Parts {
+            pruned: true,
+            ..Parts::NONE
+        };
+        read.into_iter()
+            .try_for_each(|o| self.cell.read_parts(sections, o, parts))
             .map_err(|e| match e {
                 LoadError::Artifact(e) => artifact_io::diagnostic(input, &e),
                 e => Diagnostic::error(codes::UNREACHABLE, e.to_string()),
@@ -214,7 +210,7 @@ pub fn load(args: &PlanArgs) -> Result<Loaded, ExitCode> {
 pub fn load_in(args: &PlanArgs, scope: Scope) -> Result<Loaded, ExitCode> {
     let (input, seed, format) = (args.input.as_str(), args.seed, args.format);
     let mut stale = Vec::new();
-    let mut bytes = None;
+    let mut file = None;
     let fail = |d: Diagnostic, sources: &SourceMap| {
         emit(format, &[d], sources);
         ExitCode::from(1)
@@ -235,8 +231,8 @@ pub fn load_in(args: &PlanArgs, scope: Scope) -> Result<Loaded, ExitCode> {
         let mut partial = match artifact_io::read_in_part(input) {
             Ok(InPart::Whole(artifact)) => Partial::whole(artifact)
                 .map_err(|e| fail(artifact_io::diagnostic(input, &e), &SourceMap::new()))?,
-            Ok(InPart::Sections { bytes: b, partial }) => {
-                bytes = Some(b);
+            Ok(InPart::Sections { sections, partial }) => {
+                file = Some(sections);
                 partial
             }
             Err(d) => return Err(fail(d, &SourceMap::new())),
@@ -252,7 +248,7 @@ pub fn load_in(args: &PlanArgs, scope: Scope) -> Result<Loaded, ExitCode> {
                 stale.push(id);
             }
         }
-        if let Some(b) = &bytes {
+        if let Some(sections) = &file {
             let has_arms = partial
                 .artifact()
                 .end_effectors
@@ -273,8 +269,9 @@ pub fn load_in(args: &PlanArgs, scope: Scope) -> Result<Loaded, ExitCode> {
                     .map(|i| ObjectId(i as u32))
                     .collect()
             });
-            Sections::open(b)
-                .and_then(|s| objects.iter().try_for_each(|&o| partial.read(&s, o, parts)))
+            objects
+                .iter()
+                .try_for_each(|&o| partial.read(sections, o, parts))
                 .map_err(|e| fail(artifact_io::diagnostic(input, &e), &sources))?;
         }
         (partial, sources, false)
@@ -330,7 +327,7 @@ pub fn load_in(args: &PlanArgs, scope: Scope) -> Result<Loaded, ExitCode> {
         sources,
         stale,
         format,
-        bytes,
+        sections: file,
     })
 }
 
