@@ -137,9 +137,12 @@ impl Partial {
         if want.graph && !had.graph {
             let nodes = sections.nodes(i)?;
             graph::nodes(a, o, &nodes).map_err(invalid)?;
-            let arcs = sections.arcs(i)?;
             let n_witnesses = witnesses_known(&a.objects[i].graph.witnesses, had);
-            graph::arcs(a, o, &arcs, nodes.len(), n_witnesses).map_err(invalid)?;
+            let test = graph::arc_test(a, nodes.len(), n_witnesses);
+            let (arcs, passed) = sections.arcs_testing(i, test)?;
+            if !passed {
+                graph::arcs(a, o, &arcs, nodes.len(), n_witnesses).map_err(invalid)?;
+            }
             let g = &mut self.artifact.objects[i].graph;
             (g.nodes, g.arcs) = (nodes, arcs);
             self.read[i].graph = true;
