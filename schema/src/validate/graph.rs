@@ -82,11 +82,7 @@ impl Bounds {
 /// The test [`arcs`] makes of each arc before it looks closer: true for an arc that is
 /// fine. A reader that applies it while decoding ([`crate::sections::Sections::arcs_testing`])
 /// needs [`arcs`] only when an arc fails it, to find and word the problem.
-pub fn arc_test(
-    a: &Artifact,
-    n_nodes: usize,
-    n_witnesses: Option<usize>,
-) -> impl Fn(&Arc) -> bool {
+pub fn arc_test(a: &Artifact, n_nodes: usize, n_witnesses: Option<usize>) -> impl Fn(&Arc) -> bool {
     let bounds = Bounds {
         n_nodes,
         n_spans: a.spans.len(),
