@@ -196,8 +196,8 @@ pub enum Scope {
     /// Every object's graph (commands that show or export the whole cell).
     Whole,
     /// The graphs of the objects the job of the arguments moves or finds in its world
-    /// ([`super::job::objects`]), and of those their witnesses only when arm motions are
-    /// planned; pruned arcs are read when a failure is explained ([`Loaded::read_pruned`]).
+    /// ([`super::job::objects`]), and of those their witnesses only when the cell has
+    /// arms; pruned arcs are read when a failure is explained ([`Loaded::read_pruned`]).
     Job,
 }
 
@@ -258,8 +258,10 @@ pub fn load_in(args: &PlanArgs, scope: Scope) -> Result<Loaded, ExitCode> {
                 Scope::Whole => (None, Parts::ALL),
                 Scope::Job => (
                     super::job::objects(args, partial.artifact()),
+                    // The planner places exchanges at their witnessed poses even without
+                    // joint motions, so a cell with arms needs its witnesses.
                     Parts {
-                        witnesses: has_arms && args.motions,
+                        witnesses: has_arms,
                         ..Parts::GRAPH
                     },
                 ),
