@@ -71,7 +71,7 @@ fn every_shipped_cell_round_trips_through_the_sections() {
 }
 
 /// Reads one section of `s` by kind and object, discarding its value.
-fn read(s: &Sections, kind: SectionKind, object: usize) -> Result<(), ReadError> {
+fn read(s: &Sections<&[u8]>, kind: SectionKind, object: usize) -> Result<(), ReadError> {
     match kind {
         SectionKind::Core => s.core().map(drop),
         SectionKind::Nodes => s.nodes(object).map(drop),
@@ -129,7 +129,7 @@ fn reseal(bytes: &mut [u8]) {
     bytes[16..24].copy_from_slice(&sum.to_le_bytes());
 }
 
-fn corrupt(result: Result<Sections, ReadError>) -> bool {
+fn corrupt(result: Result<Sections<&[u8]>, ReadError>) -> bool {
     matches!(result, Err(ReadError::Corrupt { .. }))
 }
 
