@@ -78,6 +78,7 @@ fn read(s: &Sections<&[u8]>, kind: SectionKind, object: usize) -> Result<(), Rea
         SectionKind::Arcs => s.arcs(object).map(drop),
         SectionKind::Pruned => s.pruned(object).map(drop),
         SectionKind::Witnesses => s.witnesses(object).map(drop),
+        SectionKind::Transitions => s.transitions(object).map(drop),
     }
 }
 
@@ -116,6 +117,7 @@ fn a_flipped_byte_is_found_when_and_only_when_its_section_is_read() {
         SectionKind::Arcs,
         SectionKind::Pruned,
         SectionKind::Witnesses,
+        SectionKind::Transitions,
     ] {
         assert!(kinds_damaged.contains(&kind), "{kind:?} never damaged");
     }

@@ -2,8 +2,8 @@
 //! object, only the parts of its graph that a use asks for.
 //!
 //! A plan on a 10^6-arc artifact needs the core, the requested object's nodes and its
-//! arcs; pruned arcs only when an unreachable goal is explained, witnesses only when arm
-//! motions are realised. [`Partial`] holds what has been read, each part validated when
+//! arcs; pruned arcs and declared transitions only when an unreachable goal is
+//! explained, witnesses only in a cell with arms (where exchanges are placed). [`Partial`] holds what has been read, each part validated when
 //! it is read ([`crate::validate::graph`]), so that what it hands out was checked as
 //! [`crate::validate::validate`] checks a whole artifact. An object whose graph is not
 //! read has an empty one: no state of it can be located, so nothing plans on it.
@@ -20,8 +20,10 @@ pub struct Parts {
     pub graph: bool,
     /// Arcs removed by verification, with their reasons (explanations).
     pub pruned: bool,
-    /// Witnesses of verified arcs (arm motions).
+    /// Witnesses of verified arcs (the placing of exchanges, arm motions).
     pub witnesses: bool,
+    /// The object's declared transitions (explanations suggest from them).
+    pub transitions: bool,
 }
 
 impl Parts {
@@ -30,18 +32,29 @@ impl Parts {
         graph: false,
         pruned: false,
         witnesses: false,
+        transitions: false,
     };
     /// Nodes and arcs.
     pub const GRAPH: Parts = Parts {
         graph: true,
         pruned: false,
         witnesses: false,
+        transitions: false,
     };
     /// Every part.
     pub const ALL: Parts = Parts {
         graph: true,
         pruned: true,
         witnesses: true,
+        transitions: true,
+    };
+    /// What an explanation of an unreachable goal needs beside the graph: the pruned arcs
+    /// and the declared transitions.
+    pub const EXPLAIN: Parts = Parts {
+        graph: true,
+        pruned: true,
+        witnesses: false,
+        transitions: true,
     };
 
     /// The parts in `self` or in `other`.
@@ -50,11 +63,13 @@ impl Parts {
             graph: self.graph || other.graph,
             pruned: self.pruned || other.pruned,
             witnesses: self.witnesses || other.witnesses,
+            transitions: self.transitions || other.transitions,
         }
     }
 }
 
-/// A validated core and the validated parts of its objects' graphs read so far.
+/// A validated core and the validated parts of its objects' graphs (and declared
+/// transitions) read so far.
 #[derive(Clone, Debug)]
 pub struct Partial {
     artifact: Artifact,
@@ -169,6 +184,12 @@ impl Partial {
             graph::pruned(a, o, &pruned, g.nodes.len(), n_witnesses).map_err(invalid)?;
             self.artifact.objects[i].graph.pruned = pruned;
             self.read[i].pruned = true;
+        }
+        if want.transitions && !self.read[i].transitions {
+            let transitions = sections.transitions(i)?;
+            graph::transitions(&self.artifact, o, &transitions).map_err(invalid)?;
+            self.artifact.objects[i].transitions = transitions;
+            self.read[i].transitions = true;
         }
         Ok(())
     }

@@ -9,11 +9,14 @@
 //! sections, in table order, without gaps or overlaps
 //! ```
 //!
-//! The sections are the core (postcard of the artifact with every object's graph
-//! emptied: names, geometry, requests, spans; small), and per object its nodes and its
-//! arcs in fixed-width records that need no general decoder ([`NODE_BYTES`],
-//! [`ARC_BYTES`]), its pruned arcs and its witnesses (postcard; only verification reports
-//! and arm motions need them). A 10^6-arc artifact is mostly its arcs section.
+//! The sections are the core (postcard of the artifact with every object's graph and
+//! declared transitions emptied: names, geometry, requests, spans; small), and per
+//! object its nodes and its arcs in fixed-width records that need no general decoder
+//! ([`NODE_BYTES`], [`ARC_BYTES`]), its pruned arcs and its witnesses (postcard; only
+//! explanations and the placing of exchanges need them), and its declared transitions
+//! (fixed-width, [`TRANSITION_BYTES`]; only explanations need them). A 10^6-arc artifact
+//! is mostly its arcs section; it declares 10^6 transitions too, which in the core took a
+//! quarter of a plan's time to decode and check.
 //!
 //! The checksum is XXH3-64, not SHA-256: it detects damage (a cut, a flipped bit) as well
 //! for that purpose and costs a small fraction of SHA-256 even with the CPU's SHA
@@ -22,21 +25,24 @@
 //! cell's name and content, and the JSON encoding keeps its SHA-256 as before.
 
 use crate::encoding::ReadError;
-use crate::{Arc, ArcKind, Artifact, Graph, Node, Object, MAGIC};
+use crate::{Arc, ArcKind, Artifact, DeclaredTransition, Graph, Node, Object, MAGIC};
 
 mod read;
 pub use read::{Sections, Source};
 
 /// Version of the binary encoding (the JSON encoding and the artifact's own
-/// `format_version` stay at [`crate::FORMAT_VERSION`]). Version 4 is the first
-/// sectioned one; version 3 was one postcard body behind one SHA-256.
-pub const BINARY_VERSION: u32 = 4;
+/// `format_version` stay at [`crate::FORMAT_VERSION`]). Version 5 moved each object's
+/// declared transitions out of the core into a section of their own; version 4 was the
+/// first sectioned one; version 3 was one postcard body behind one SHA-256.
+pub const BINARY_VERSION: u32 = 5;
 
 /// Bytes of one node record: end-effector, grasp, workspace (`u32` each).
 pub const NODE_BYTES: usize = 12;
 /// Bytes of one arc record: from, to, source, via, witness (`u32` each), flags (`u32`:
 /// bit 0 transition, bit 1 `via` present, bit 2 `witness` present), weight (`f64`).
 pub const ARC_BYTES: usize = 32;
+/// Bytes of one declared transition record: from, to, span (`u32` each).
+pub const TRANSITION_BYTES: usize = 12;
 
 const FIXED_HEADER: usize = 8 + 4 + 4 + 8;
 const ENTRY_BYTES: usize = 32;
@@ -57,14 +63,17 @@ pub enum SectionKind {
     Pruned,
     /// One object's witnesses.
     Witnesses,
+    /// One object's declared transitions.
+    Transitions,
 }
 
 impl SectionKind {
-    const PER_OBJECT: [SectionKind; 4] = [
+    const PER_OBJECT: [SectionKind; 5] = [
         SectionKind::Nodes,
         SectionKind::Arcs,
         SectionKind::Pruned,
         SectionKind::Witnesses,
+        SectionKind::Transitions,
     ];
 
     fn code(self) -> u32 {
@@ -74,6 +83,7 @@ impl SectionKind {
             SectionKind::Arcs => 2,
             SectionKind::Pruned => 3,
             SectionKind::Witnesses => 4,
+            SectionKind::Transitions => 5,
         }
     }
 
@@ -84,6 +94,7 @@ impl SectionKind {
             SectionKind::Arcs => "arcs",
             SectionKind::Pruned => "pruned arcs",
             SectionKind::Witnesses => "witnesses",
+            SectionKind::Transitions => "declared transitions",
         }
     }
 }
@@ -129,7 +140,7 @@ fn u64_at(b: &[u8], at: usize) -> u64 {
     u64::from_le_bytes(x)
 }
 
-/// The artifact without its objects' graphs, field by field so that a new field of
+/// The artifact without its objects' graphs and declared transitions, field by field so that a new field of
 /// [`Artifact`] or [`Object`] cannot be forgotten here.
 fn core_of(a: &Artifact) -> Artifact {
     Artifact {
@@ -151,7 +162,7 @@ fn core_of(a: &Artifact) -> Artifact {
                 shape: o.shape.clone(),
                 symmetries: o.symmetries.clone(),
                 grasps: o.grasps.clone(),
-                transitions: o.transitions.clone(),
+                transitions: Vec::new(),
                 graph: Graph::default(),
                 span: o.span,
             })
@@ -201,6 +212,16 @@ fn arcs_bytes(arcs: &[Arc]) -> Vec<u8> {
     out
 }
 
+fn transitions_bytes(transitions: &[DeclaredTransition]) -> Vec<u8> {
+    let mut out = Vec::with_capacity(transitions.len() * TRANSITION_BYTES);
+    for t in transitions {
+        put_u32(&mut out, t.from);
+        put_u32(&mut out, t.to);
+        put_u32(&mut out, t.span);
+    }
+    out
+}
+
 /// Encodes `a` in the sectioned binary layout. Deterministic: the same artifact gives the
 /// same bytes.
 pub fn write(a: &Artifact) -> Vec<u8> {
@@ -225,6 +246,11 @@ pub fn write(a: &Artifact) -> Vec<u8> {
             SectionKind::Witnesses,
             i,
             postcard::to_stdvec(&g.witnesses).unwrap_or_default(),
+        ));
+        bodies.push((
+            SectionKind::Transitions,
+            i,
+            transitions_bytes(&o.transitions),
         ));
     }
     let data_at = FIXED_HEADER + bodies.len() * ENTRY_BYTES;

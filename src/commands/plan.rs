@@ -106,8 +106,8 @@ pub struct Loaded {
 }
 
 impl Loaded {
-    /// Reads the pruned arcs of every object whose graph is read, for an explanation
-    /// (nothing when the cell was read whole).
+    /// Reads the pruned arcs and declared transitions of every object whose graph is
+    /// read, for an explanation (nothing when the cell was read whole).
     ///
     /// # Errors
     /// The diagnostic of a damaged or inconsistent section.
@@ -120,10 +120,7 @@ impl Loaded {
             .map(|i| ObjectId(i as u32))
             .filter(|&o| self.cell.parts(o).graph)
             .collect();
-        let parts = Parts {
-            pruned: true,
-            ..Parts::NONE
-        };
+        let parts = Parts::EXPLAIN;
         read.into_iter()
             .try_for_each(|o| self.cell.read_parts(sections, o, parts))
             .map_err(|e| match e {
@@ -197,7 +194,8 @@ pub enum Scope {
     Whole,
     /// The graphs of the objects the job of the arguments moves or finds in its world
     /// ([`super::job::objects`]), and of those their witnesses only when the cell has
-    /// arms; pruned arcs are read when a failure is explained ([`Loaded::read_pruned`]).
+    /// arms; pruned arcs and declared transitions are read when a failure is explained
+    /// ([`Loaded::read_pruned`]).
     Job,
 }
 
@@ -468,7 +466,8 @@ pub fn run(args: &PlanArgs) -> ExitCode {
         world: after,
         failure: stopped,
     } = loaded.cell.plan_task(&world, &list, &options);
-    // A failure is explained with the arcs verification pruned, read only now.
+    // A failure is explained with the arcs verification pruned and the declared
+    // transitions, read only now.
     if stopped.is_some() {
         if let Err(d) = loaded.read_pruned(&args.input) {
             loaded.report(&[d]);

@@ -9,10 +9,10 @@
 
 use super::{
     corrupt, u32_at, u64_at, Section, SectionKind, ARC_BYTES, BINARY_VERSION, ENTRY_BYTES,
-    FIXED_HEADER, FLAG_TRANSITION, FLAG_VIA, FLAG_WITNESS, NODE_BYTES,
+    FIXED_HEADER, FLAG_TRANSITION, FLAG_VIA, FLAG_WITNESS, NODE_BYTES, TRANSITION_BYTES,
 };
 use crate::encoding::ReadError;
-use crate::{Arc, ArcKind, Artifact, Graph, Node, PrunedArc, Witness, MAGIC};
+use crate::{Arc, ArcKind, Artifact, DeclaredTransition, Graph, Node, PrunedArc, Witness, MAGIC};
 use crate::{EndEffectorId, GraspId, WorkspaceId};
 
 /// Where the bytes of a sectioned file come from.
@@ -75,7 +75,7 @@ impl<'a> Sections<&'a [u8]> {
 impl<S: Source> Sections<S> {
     /// Reads the header and the section table of `source`. Every row is checked before
     /// anything is decoded: the table's checksum, every section inside the file, in order
-    /// without overlap, of a known kind, the core first and then the four sections of
+    /// without overlap, of a known kind, the core first and then the five sections of
     /// each object in turn. Nothing is allocated in proportion to a number of the file
     /// that the file's length does not bound.
     pub fn from_source(source: S) -> Result<Sections<S>, ReadError> {
@@ -117,7 +117,7 @@ impl<S: Source> Sections<S> {
         }
         if count == 0 || !(count - 1).is_multiple_of(SectionKind::PER_OBJECT.len()) {
             return Err(corrupt(format!(
-                "{count} sections: not a core and four per object"
+                "{count} sections: not a core and five per object"
             )));
         }
         let n_objects = (count - 1) / SectionKind::PER_OBJECT.len();
@@ -299,6 +299,25 @@ impl<S: Source> Sections<S> {
         self.postcard(SectionKind::Witnesses, o)
     }
 
+    /// The declared transitions of object `o`.
+    pub fn transitions(&self, o: usize) -> Result<Vec<DeclaredTransition>, ReadError> {
+        let s = self.row(SectionKind::Transitions, o)?;
+        let mut transitions = Vec::with_capacity(s.length / TRANSITION_BYTES);
+        self.pieces(SectionKind::Transitions, o, TRANSITION_BYTES, |bytes| {
+            transitions.extend(
+                bytes
+                    .chunks_exact(TRANSITION_BYTES)
+                    .map(|r| DeclaredTransition {
+                        from: u32_at(r, 0),
+                        to: u32_at(r, 4),
+                        span: u32_at(r, 8),
+                    }),
+            );
+            Ok(())
+        })?;
+        Ok(transitions)
+    }
+
     /// Every section, assembled into the artifact (not yet validated).
     pub fn artifact(&self) -> Result<Artifact, ReadError> {
         let mut a = self.core()?;
@@ -309,6 +328,7 @@ impl<S: Source> Sections<S> {
                 pruned: self.pruned(i)?,
                 witnesses: self.witnesses(i)?,
             };
+            o.transitions = self.transitions(i)?;
         }
         Ok(a)
     }
@@ -358,6 +378,7 @@ fn check_table(
         let width = match kind {
             SectionKind::Nodes => NODE_BYTES as u64,
             SectionKind::Arcs => ARC_BYTES as u64,
+            SectionKind::Transitions => TRANSITION_BYTES as u64,
             _ => 1,
         };
         if !length.is_multiple_of(width) {

@@ -1,5 +1,5 @@
 //! Validation of one object's graph, part by part: its nodes, its arcs, its pruned arcs,
-//! its witnesses. A reader of the sectioned binary decodes those one section at a time
+//! its witnesses, and its declared transitions. A reader of the sectioned binary decodes those one section at a time
 //! (and a plan needs only the requested object's nodes and arcs), so each part is
 //! checked on its own against the artifact's core, which [`super::core`] has checked.
 //!
@@ -14,7 +14,9 @@
 //! words the same first problem as before.
 
 use super::{Check, Invalid, Step, Validator, MAX_COORDINATE};
-use crate::{Arc, Artifact, Body, Infeasibility, Node, ObjectId, PrunedArc, Witness};
+use crate::{
+    Arc, Artifact, Body, DeclaredTransition, Infeasibility, Node, ObjectId, PrunedArc, Witness,
+};
 
 /// The object's grasp count, or a finding when the core has no such object.
 fn n_grasps(a: &Artifact, o: ObjectId) -> Result<usize, Invalid> {
@@ -165,6 +167,26 @@ pub fn witnesses(a: &Artifact, o: ObjectId, witnesses: &[Witness]) -> Check {
             })?;
         }
         Ok(())
+    })
+}
+
+/// The declared transitions of object `o`: spans and grasps in range.
+pub fn transitions(a: &Artifact, o: ObjectId, transitions: &[DeclaredTransition]) -> Check {
+    let (n_grasps, n_spans) = (n_grasps(a, o)?, a.spans.len());
+    let fine = |t: &DeclaredTransition| {
+        (t.span as usize) < n_spans && (t.from as usize) < n_grasps && (t.to as usize) < n_grasps
+    };
+    let Some(j) = transitions.iter().position(|t| !fine(t)) else {
+        return Ok(());
+    };
+    let t = transitions[j];
+    let mut v = Validator::new(a);
+    v.at(Step::Item("objects", o.index()), |v| {
+        v.at(Step::Item("transitions", j), |v| {
+            v.span("span", t.span)?;
+            v.index("from", t.from, n_grasps, "grasps")?;
+            v.index("to", t.to, n_grasps, "grasps")
+        })
     })
 }
 
