@@ -91,37 +91,6 @@ fn special(_: &std::fs::FileType) -> SpecialFile {
     SpecialFile::Other
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn refuses_what_is_not_a_small_regular_file() {
-        let folder = std::env::temp_dir().join(format!("cellc-fs-files-{}", std::process::id()));
-        std::fs::create_dir_all(&folder).expect("temp folder");
-        let file = folder.join("a.cell");
-        std::fs::write(&file, "0123456789").expect("written");
-        let path = file.to_string_lossy();
-        assert_eq!(FsFiles.read_at_most(&path, 10).map(|b| b.len()), Ok(10));
-        assert_eq!(
-            FsFiles.read_at_most(&path, 9),
-            Err(FileError::TooLarge { size: 10, limit: 9 })
-        );
-        assert_eq!(
-            FsFiles.read(&folder.to_string_lossy()),
-            Err(FileError::IsADirectory)
-        );
-        #[cfg(unix)]
-        assert_eq!(
-            FsFiles.read("/dev/zero"),
-            Err(FileError::NotRegular {
-                what: SpecialFile::CharDevice
-            })
-        );
-        std::fs::remove_dir_all(&folder).expect("removed");
-    }
-}
-
 /// A regular file read a piece at a time, as a sectioned binary artifact is: only the
 /// sections a use decodes are read, through a buffer as small as the piece.
 ///
@@ -182,5 +151,62 @@ impl cellc_schema::sections::Source for PieceFile {
         file.seek(std::io::SeekFrom::Start(offset)).map_err(cut)?;
         file.read_exact(buf).map_err(cut)?;
         Ok(buf)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn refuses_what_is_not_a_small_regular_file() {
+        let folder = std::env::temp_dir().join(format!("cellc-fs-files-{}", std::process::id()));
+        std::fs::create_dir_all(&folder).expect("temp folder");
+        let file = folder.join("a.cell");
+        std::fs::write(&file, "0123456789").expect("written");
+        let path = file.to_string_lossy();
+        assert_eq!(FsFiles.read_at_most(&path, 10).map(|b| b.len()), Ok(10));
+        assert_eq!(
+            FsFiles.read_at_most(&path, 9),
+            Err(FileError::TooLarge { size: 10, limit: 9 })
+        );
+        assert_eq!(
+            FsFiles.read(&folder.to_string_lossy()),
+            Err(FileError::IsADirectory)
+        );
+        #[cfg(unix)]
+        assert_eq!(
+            FsFiles.read("/dev/zero"),
+            Err(FileError::NotRegular {
+                what: SpecialFile::CharDevice
+            })
+        );
+        std::fs::remove_dir_all(&folder).expect("removed");
+    }
+
+    #[test]
+    fn a_piece_file_reads_what_it_is_asked_and_reports_a_cut_as_corrupt() {
+        use cellc_schema::sections::Source;
+        let folder = std::env::temp_dir().join(format!("cellc-piece-file-{}", std::process::id()));
+        std::fs::create_dir_all(&folder).expect("temp folder");
+        let file = folder.join("a.bin");
+        std::fs::write(&file, "0123456789").expect("written");
+        let path = file.to_string_lossy();
+        assert_eq!(
+            PieceFile::open(&path, 9).map(drop),
+            Err(FileError::TooLarge { size: 10, limit: 9 })
+        );
+        assert!(PieceFile::open(&folder.to_string_lossy(), 100).is_err());
+        let piece = PieceFile::open(&path, 10).expect("opens");
+        assert_eq!(piece.file_length(), 10);
+        let mut buf = Vec::new();
+        assert_eq!(piece.bytes(3, 4, &mut buf), Ok(b"3456".as_slice()));
+        // Cut short after it was opened: the bytes that are gone are an error.
+        std::fs::write(&file, "012").expect("cut");
+        assert!(matches!(
+            piece.bytes(3, 4, &mut buf),
+            Err(cellc_schema::ReadError::Corrupt { .. })
+        ));
+        std::fs::remove_dir_all(&folder).expect("removed");
     }
 }

@@ -148,7 +148,7 @@ impl Partial {
         };
         let a = &self.artifact;
         let i = o.index();
-        let witnesses_known = |w: &Vec<crate::Witness>, had: Parts| had.witnesses.then(|| w.len());
+        let witnesses_known = |w: &[crate::Witness], had: Parts| had.witnesses.then_some(w.len());
         if want.graph && !had.graph {
             let nodes = sections.nodes(i)?;
             graph::nodes(a, o, &nodes).map_err(invalid)?;
