@@ -100,7 +100,7 @@ pub fn job(args: &PlanArgs, loaded: &Loaded) -> Result<Job, ExitCode> {
             cell.artifact(),
             &e,
             Some(span).flatten(),
-            Some(&loaded.sources),
+            Some(loaded.sources()),
         ))
     })?;
     Ok(Job {

@@ -2,6 +2,7 @@
 
 use std::io::IsTerminal;
 use std::process::ExitCode;
+use std::sync::OnceLock;
 
 use cellc_lang::ast::{PlaceSpec, RequestPlacement as AstPlacement};
 use cellc_lang::{Diagnostic, FileId, SourceMap};
@@ -93,11 +94,11 @@ impl PlanArgs {
 pub struct Loaded {
     /// The cell (verified when it has arms).
     pub cell: Cell,
-    /// Source files, for rendering.
-    pub sources: SourceMap,
-    /// Sources that changed since the artifact was built: their spans would point at the
-    /// wrong lines, so labels in them are left out.
-    pub stale: Vec<FileId>,
+    /// Source files, for rendering, and those that changed since the artifact was built
+    /// (their spans would point at the wrong lines, so labels in them are left out). Of
+    /// an artifact they are read when a diagnostic is first shown: a plan that succeeds
+    /// never needs them, and a 10^6-arc cell's source is megabytes to read and hash.
+    sources: OnceLock<(SourceMap, Vec<FileId>)>,
     /// How diagnostics are reported: human text on standard error, or (with JSON output)
     /// the JSON report on standard output, so that output stays JSON on every path.
     pub format: PlanFormat,
@@ -105,7 +106,38 @@ pub struct Loaded {
     pub sections: Option<Sections<PieceFile>>,
 }
 
+/// The cell's sources as `files` records them, read again if still there and unchanged
+/// (the artifact records each one's hash), with the ids of those that changed.
+fn sources_of(files: &[cellc_schema::SourceFile]) -> (SourceMap, Vec<FileId>) {
+    let mut sources = SourceMap::new();
+    let mut stale = Vec::new();
+    for s in files {
+        let text = FsFiles.read_text(&s.path).unwrap_or_default();
+        let same = cellc_schema::sha256_hex(text.as_bytes()) == s.sha256;
+        let id = sources.add(s.path.clone(), if same { text } else { String::new() });
+        if !same {
+            stale.push(id);
+        }
+    }
+    (sources, stale)
+}
+
 impl Loaded {
+    /// The cell's source files, for rendering.
+    pub fn sources(&self) -> &SourceMap {
+        &self.read_sources().0
+    }
+
+    /// The sources that changed since the artifact was built.
+    pub fn stale(&self) -> &[FileId] {
+        &self.read_sources().1
+    }
+
+    fn read_sources(&self) -> &(SourceMap, Vec<FileId>) {
+        self.sources
+            .get_or_init(|| sources_of(&self.cell.artifact().sources))
+    }
+
     /// Reads the pruned arcs and declared transitions of every object whose graph is
     /// read, for an explanation (nothing when the cell was read whole).
     ///
@@ -132,7 +164,7 @@ impl Loaded {
     /// Prints diagnostics against the cell's sources; a label in a file that changed
     /// since the build is replaced by a note saying so.
     pub fn report(&self, diagnostics: &[Diagnostic]) {
-        emit(self.format, &self.shown(diagnostics), &self.sources);
+        emit(self.format, &self.shown(diagnostics), self.sources());
     }
 
     /// The diagnostics as they are shown: labels in files that changed since the build
@@ -143,12 +175,12 @@ impl Loaded {
             .map(|d| {
                 let mut d = d.clone();
                 let before = d.labels.len();
-                d.labels.retain(|l| !self.stale.contains(&l.file));
+                d.labels.retain(|l| !self.stale().contains(&l.file));
                 if d.labels.len() < before {
                     let paths: Vec<String> = self
-                        .stale
+                        .stale()
                         .iter()
-                        .map(|f| format!("`{}`", self.sources.get(*f).path))
+                        .map(|f| format!("`{}`", self.sources().get(*f).path))
                         .collect();
                     d.notes.push(format!(
                         "{} changed since the artifact was built, so its lines are not shown; rebuild the artifact",
@@ -163,7 +195,7 @@ impl Loaded {
     /// The JSON report of `diagnostics` (the schema of `cellc check --format json`) as a
     /// value, to embed in a plan's or run's document.
     pub fn json_report(&self, diagnostics: &[Diagnostic]) -> serde_json::Value {
-        let text = render::json(&self.shown(diagnostics), &self.sources);
+        let text = render::json(&self.shown(diagnostics), self.sources());
         serde_json::from_str(&text).unwrap_or(serde_json::Value::Null)
     }
 }
@@ -207,7 +239,6 @@ pub fn load(args: &PlanArgs) -> Result<Loaded, ExitCode> {
 /// [`load`], reading of a sectioned binary what `scope` says.
 pub fn load_in(args: &PlanArgs, scope: Scope) -> Result<Loaded, ExitCode> {
     let (input, seed, format) = (args.input.as_str(), args.seed, args.format);
-    let mut stale = Vec::new();
     let mut file = None;
     let fail = |d: Diagnostic, sources: &SourceMap| {
         emit(format, &[d], sources);
@@ -224,7 +255,11 @@ pub fn load_in(args: &PlanArgs, scope: Scope) -> Result<Loaded, ExitCode> {
             cellc_compiler::artifact::lower(cell, &compilation.graphs, &compilation.sources);
         let partial = Partial::whole(artifact)
             .map_err(|e| fail(artifact_io::diagnostic(input, &e), &compilation.sources))?;
-        (partial, compilation.sources, true)
+        (
+            partial,
+            OnceLock::from((compilation.sources, Vec::new())),
+            true,
+        )
     } else {
         let mut partial = match artifact_io::read_in_part(input) {
             Ok(InPart::Whole(artifact)) => Partial::whole(artifact)
@@ -235,17 +270,6 @@ pub fn load_in(args: &PlanArgs, scope: Scope) -> Result<Loaded, ExitCode> {
             }
             Err(d) => return Err(fail(d, &SourceMap::new())),
         };
-        // Diagnostics point into the cell's sources, read again if still there and
-        // unchanged (the artifact records each one's hash).
-        let mut sources = SourceMap::new();
-        for s in &partial.artifact().sources {
-            let text = FsFiles.read_text(&s.path).unwrap_or_default();
-            let same = cellc_schema::sha256_hex(text.as_bytes()) == s.sha256;
-            let id = sources.add(s.path.clone(), if same { text } else { String::new() });
-            if !same {
-                stale.push(id);
-            }
-        }
         if let Some(sections) = &file {
             let has_arms = partial
                 .artifact()
@@ -272,21 +296,26 @@ pub fn load_in(args: &PlanArgs, scope: Scope) -> Result<Loaded, ExitCode> {
             objects
                 .iter()
                 .try_for_each(|&o| partial.read(sections, o, parts))
-                .map_err(|e| fail(artifact_io::diagnostic(input, &e), &sources))?;
+                .map_err(|e| {
+                    let (sources, _) = sources_of(&partial.artifact().sources);
+                    fail(artifact_io::diagnostic(input, &e), &sources)
+                })?;
         }
-        (partial, sources, false)
+        (partial, OnceLock::new(), false)
     };
     let artifact = partial.artifact();
     // Robot spans, to label a model that cannot be loaded.
     let robots = artifact.robots.clone();
     let spans = artifact.spans.clone();
+    let source_files = artifact.sources.clone();
+    let sources_now = || &sources.get_or_init(|| sources_of(&source_files)).0;
     let mut cell = match Cell::from_partial(partial, &FsFiles) {
         Ok(cell) => cell,
         Err(LoadError::Scene(e)) => {
             emit(
                 format,
                 &[crate::verify_report::scene_error_at(&e, &robots, &spans)],
-                &sources,
+                sources_now(),
             );
             return Err(ExitCode::from(1));
         }
@@ -294,14 +323,14 @@ pub fn load_in(args: &PlanArgs, scope: Scope) -> Result<Loaded, ExitCode> {
             emit(
                 format,
                 &[crate::artifact_io::diagnostic(input, &e)],
-                &sources,
+                sources_now(),
             );
             return Err(ExitCode::from(1));
         }
         Err(e) => {
             let d = Diagnostic::error(crate::verify_report::codes::MODEL_UNUSABLE, e.to_string())
                 .help("rebuild the artifact with `cellc build` from a cell whose robot files load");
-            emit(format, &[d], &sources);
+            emit(format, &[d], sources_now());
             return Err(ExitCode::from(1));
         }
     };
@@ -310,9 +339,10 @@ pub fn load_in(args: &PlanArgs, scope: Scope) -> Result<Loaded, ExitCode> {
     if let Some(scene) = cell.scene().filter(|_| fresh) {
         let preflight = cellc_runtime::verify::preflight::preflight(cell.artifact(), scene);
         if preflight.blocks_verification() {
-            let found = crate::scene_report::diagnostics(cell.artifact(), &preflight, &sources);
+            let found =
+                crate::scene_report::diagnostics(cell.artifact(), &preflight, sources_now());
             let errors: Vec<Diagnostic> = found.into_iter().filter(Diagnostic::is_error).collect();
-            emit(format, &errors, &sources);
+            emit(format, &errors, sources_now());
             return Err(ExitCode::from(1));
         }
     }
@@ -325,7 +355,6 @@ pub fn load_in(args: &PlanArgs, scope: Scope) -> Result<Loaded, ExitCode> {
     Ok(Loaded {
         cell,
         sources,
-        stale,
         format,
         sections: file,
     })
@@ -528,7 +557,7 @@ pub fn run(args: &PlanArgs) -> ExitCode {
             return Diagnostic::error(codes::UNREACHABLE, "no plan").help("check the request");
         };
         let d =
-            plan_report::plan_error(artifact, error, moves[f.index].span, Some(&loaded.sources));
+            plan_report::plan_error(artifact, error, moves[f.index].span, Some(loaded.sources()));
         if single {
             d
         } else {
