@@ -5,9 +5,11 @@ use std::path::{Path, PathBuf};
 
 use cellc_lang::{Code, Diagnostic, SourceMap};
 use cellc_schema::files::{Files, MAX_ARTIFACT_BYTES};
-use cellc_schema::{Artifact, ReadError};
+use cellc_schema::partial::Partial;
+use cellc_schema::sections::{Sections, Source};
+use cellc_schema::{Artifact, ReadError, MAGIC};
 
-use crate::fs_files::FsFiles;
+use crate::fs_files::{FsFiles, PieceFile};
 use crate::render::{self, Color};
 
 /// Codes of artifact reading.
@@ -58,6 +60,39 @@ pub fn read(path: &str) -> Result<Artifact, Diagnostic> {
     let (mut artifact, _) = Artifact::from_bytes(&bytes).map_err(|e| diagnostic(path, &e))?;
     paths_from_input(&mut artifact, Path::new(path));
     Ok(artifact)
+}
+
+/// An artifact file as [`read_in_part`] gives it.
+pub enum InPart {
+    /// A sectioned binary: its table (to read the sections of the objects needed from)
+    /// and its core, validated, with paths resolved against the file's folder; no graph
+    /// read yet.
+    Sections {
+        /// The file, its table checked.
+        sections: Sections<PieceFile>,
+        /// The core.
+        partial: Partial,
+    },
+    /// Any other artifact, read and validated whole.
+    Whole(Artifact),
+}
+
+/// Reads an artifact file; of a sectioned binary only its header, table and core, so
+/// that a use reads the sections of the objects it needs ([`Partial::read`]) and nothing
+/// else.
+pub fn read_in_part(path: &str) -> Result<InPart, Diagnostic> {
+    let unreadable = |e| cellc_compiler::diagnostics::input_unreadable("artifact", path, &e);
+    let file = PieceFile::open(path, MAX_ARTIFACT_BYTES).map_err(unreadable)?;
+    let magic = MAGIC.len().min(file.file_length() as usize);
+    let binary = file.bytes(0, magic, &mut Vec::new()) == Ok(MAGIC.as_slice());
+    if !binary {
+        drop(file);
+        return read(path).map(InPart::Whole);
+    }
+    let sections = Sections::from_source(file).map_err(|e| diagnostic(path, &e))?;
+    let mut partial = Partial::open(&sections).map_err(|e| diagnostic(path, &e))?;
+    paths_from_input(partial.artifact_mut(), Path::new(path));
+    Ok(InPart::Sections { sections, partial })
 }
 
 /// The artifact of a `.cell` file (compiled now) or of an artifact file. On failure the

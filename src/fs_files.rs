@@ -91,6 +91,69 @@ fn special(_: &std::fs::FileType) -> SpecialFile {
     SpecialFile::Other
 }
 
+/// A regular file read a piece at a time, as a sectioned binary artifact is: only the
+/// sections a use decodes are read, through a buffer as small as the piece.
+///
+/// Its length is taken once, when it is opened (and checked against a budget); a file cut
+/// short later is reported as corrupt by the read that misses its bytes, and a file
+/// changed later by the checksum of the section read, so nothing read is trusted for
+/// being where it was.
+pub struct PieceFile {
+    file: std::sync::Mutex<std::fs::File>,
+    length: u64,
+}
+
+impl PieceFile {
+    /// Opens the regular file at `path`, of at most `max_bytes` bytes.
+    pub fn open(path: &str, max_bytes: u64) -> Result<PieceFile, FileError> {
+        let size = regular_file(path)?;
+        if size > max_bytes {
+            return Err(FileError::TooLarge {
+                size,
+                limit: max_bytes,
+            });
+        }
+        let file = std::fs::File::open(path)?;
+        // The path may have been replaced between the look and the open.
+        let metadata = file.metadata()?;
+        check_kind(&metadata)?;
+        if metadata.len() > max_bytes {
+            return Err(FileError::TooLarge {
+                size: metadata.len(),
+                limit: max_bytes,
+            });
+        }
+        Ok(PieceFile {
+            file: std::sync::Mutex::new(file),
+            length: metadata.len(),
+        })
+    }
+}
+
+impl cellc_schema::sections::Source for PieceFile {
+    fn file_length(&self) -> u64 {
+        self.length
+    }
+
+    fn bytes<'s>(
+        &'s self,
+        offset: u64,
+        length: usize,
+        buf: &'s mut Vec<u8>,
+    ) -> Result<&'s [u8], cellc_schema::ReadError> {
+        use std::io::Seek;
+        let cut = |e: std::io::Error| cellc_schema::ReadError::Corrupt {
+            detail: format!("the file cannot be read at byte {offset}: {e}"),
+        };
+        buf.resize(length, 0);
+        // A poisoned lock only means another reader panicked; the file is still a file.
+        let mut file = self.file.lock().unwrap_or_else(|p| p.into_inner());
+        file.seek(std::io::SeekFrom::Start(offset)).map_err(cut)?;
+        file.read_exact(buf).map_err(cut)?;
+        Ok(buf)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -118,6 +181,32 @@ mod tests {
                 what: SpecialFile::CharDevice
             })
         );
+        std::fs::remove_dir_all(&folder).expect("removed");
+    }
+
+    #[test]
+    fn a_piece_file_reads_what_it_is_asked_and_reports_a_cut_as_corrupt() {
+        use cellc_schema::sections::Source;
+        let folder = std::env::temp_dir().join(format!("cellc-piece-file-{}", std::process::id()));
+        std::fs::create_dir_all(&folder).expect("temp folder");
+        let file = folder.join("a.bin");
+        std::fs::write(&file, "0123456789").expect("written");
+        let path = file.to_string_lossy();
+        assert_eq!(
+            PieceFile::open(&path, 9).map(drop),
+            Err(FileError::TooLarge { size: 10, limit: 9 })
+        );
+        assert!(PieceFile::open(&folder.to_string_lossy(), 100).is_err());
+        let piece = PieceFile::open(&path, 10).expect("opens");
+        assert_eq!(piece.file_length(), 10);
+        let mut buf = Vec::new();
+        assert_eq!(piece.bytes(3, 4, &mut buf), Ok(b"3456".as_slice()));
+        // Cut short after it was opened: the bytes that are gone are an error.
+        std::fs::write(&file, "012").expect("cut");
+        assert!(matches!(
+            piece.bytes(3, 4, &mut buf),
+            Err(cellc_schema::ReadError::Corrupt { .. })
+        ));
         std::fs::remove_dir_all(&folder).expect("removed");
     }
 }

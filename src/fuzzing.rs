@@ -62,6 +62,40 @@ pub fn format(data: &[u8]) {
     assert_eq!(cellc_lang::format(&file, &once), once, "not idempotent");
 }
 
+/// A sectioned binary read in part, as `cellc plan` reads it: per named request only its
+/// object's graph, then (when it fails) what its explanation needs.
+fn artifact_plan_in_part(data: &[u8], files: &MemoryFiles) {
+    use cellc_schema::partial::Parts;
+    let Ok(sections) = cellc_schema::sections::Sections::open(data) else {
+        return;
+    };
+    let Ok(core) = cellc_schema::partial::Partial::open(&sections) else {
+        return;
+    };
+    let options = PlanOptions {
+        motions: false,
+        max_backtracks: 16,
+        ..PlanOptions::default()
+    };
+    for named in &core.artifact().requests {
+        let Ok(mut cell) = Cell::load_objects(&sections, &[named.object], Parts::GRAPH, files)
+        else {
+            continue;
+        };
+        let Some(request) = cell.named_request(&named.name, options.clone()) else {
+            continue;
+        };
+        if let Err(cellc_runtime::PlanError::Unreachable(u)) = cell.plan(&request) {
+            if cell
+                .read_parts(&sections, named.object, Parts::EXPLAIN)
+                .is_ok()
+            {
+                let _ = cell.explain(&u);
+            }
+        }
+    }
+}
+
 /// An artifact's bytes through the runtime's front door, then every named request planned
 /// (high level: motions would make each execution seconds long). Inputs that start with
 /// `P` are taken as the postcard content of an artifact without header and checksum, so
@@ -71,6 +105,9 @@ pub fn artifact_plan(data: &[u8]) {
         return;
     }
     let files = MemoryFiles::default();
+    if data.starts_with(cellc_schema::MAGIC.as_slice()) {
+        artifact_plan_in_part(data, &files);
+    }
     let cell = match data.split_first() {
         Some((b'P', content)) => {
             let Ok(artifact) = postcard::from_bytes::<Artifact>(content) else {

@@ -71,13 +71,14 @@ fn every_shipped_cell_round_trips_through_the_sections() {
 }
 
 /// Reads one section of `s` by kind and object, discarding its value.
-fn read(s: &Sections, kind: SectionKind, object: usize) -> Result<(), ReadError> {
+fn read(s: &Sections<&[u8]>, kind: SectionKind, object: usize) -> Result<(), ReadError> {
     match kind {
         SectionKind::Core => s.core().map(drop),
         SectionKind::Nodes => s.nodes(object).map(drop),
         SectionKind::Arcs => s.arcs(object).map(drop),
         SectionKind::Pruned => s.pruned(object).map(drop),
         SectionKind::Witnesses => s.witnesses(object).map(drop),
+        SectionKind::Transitions => s.transitions(object).map(drop),
     }
 }
 
@@ -116,6 +117,7 @@ fn a_flipped_byte_is_found_when_and_only_when_its_section_is_read() {
         SectionKind::Arcs,
         SectionKind::Pruned,
         SectionKind::Witnesses,
+        SectionKind::Transitions,
     ] {
         assert!(kinds_damaged.contains(&kind), "{kind:?} never damaged");
     }
@@ -129,7 +131,7 @@ fn reseal(bytes: &mut [u8]) {
     bytes[16..24].copy_from_slice(&sum.to_le_bytes());
 }
 
-fn corrupt(result: Result<Sections, ReadError>) -> bool {
+fn corrupt(result: Result<Sections<&[u8]>, ReadError>) -> bool {
     matches!(result, Err(ReadError::Corrupt { .. }))
 }
 

@@ -6,6 +6,8 @@
 //! (kinematics, collision, motion planning, verification) stay reachable for benches and
 //! tools, but nothing here needs them.
 
+use cellc_schema::partial::{Partial, Parts};
+use cellc_schema::sections::{Sections, Source};
 use cellc_schema::{
     Artifact, Body, EndEffectorId, GraspId, ObjectId, ReadError, WorkspaceId, WorldDocument,
 };
@@ -45,16 +47,21 @@ impl std::fmt::Display for LoadError {
 impl std::error::Error for LoadError {}
 
 /// A cell ready to answer move requests: the artifact, its geometry (when it has arms)
-/// and the search graphs of every object, built once.
+/// and the search graphs of the objects whose graphs are read, built once.
+///
+/// A cell loaded from a sectioned binary may hold only some objects' graphs
+/// ([`Cell::load_objects`]): the others have no states, so a request on one of them finds
+/// no start, and [`Cell::parts`] says what was read.
 pub struct Cell {
-    artifact: Artifact,
+    partial: Partial,
     scene: Option<Scene>,
     search: Vec<SearchGraph>,
 }
 
 impl Cell {
-    /// Loads an artifact from its bytes (JSON or binary); robot models and meshes are read
-    /// through `files`, relative paths as the artifact records them.
+    /// Loads an artifact from its bytes (JSON or binary), every object's graph; robot
+    /// models and meshes are read through `files`, relative paths as the artifact records
+    /// them.
     pub fn load(bytes: &[u8], files: &dyn Files) -> Result<Cell, LoadError> {
         let (artifact, _) = Artifact::from_bytes(bytes).map_err(LoadError::Artifact)?;
         Cell::from_artifact(artifact, files)
@@ -64,37 +71,98 @@ impl Cell {
     /// validated as one read from bytes is, so no caller can hand the planner an index it
     /// did not check.
     pub fn from_artifact(artifact: Artifact, files: &dyn Files) -> Result<Cell, LoadError> {
-        cellc_schema::validate::validate(&artifact)
-            .map_err(|e| LoadError::Artifact(ReadError::Invalid(e)))?;
+        let partial = Partial::whole(artifact).map_err(LoadError::Artifact)?;
+        Cell::from_partial(partial, files)
+    }
+
+    /// Loads from a sectioned binary the core and, of each object in `objects`, the
+    /// `parts` of its graph; the other objects' graphs stay unread (empty), so the load
+    /// reads in proportion to what the objects named need. Each part read is validated
+    /// on its own ([`cellc_schema::validate::graph`]).
+    ///
+    /// # Errors
+    /// As [`Cell::load`], for the sections read only: damage in a section not read is
+    /// not seen.
+    pub fn load_objects(
+        sections: &Sections<impl Source>,
+        objects: &[ObjectId],
+        parts: Parts,
+        files: &dyn Files,
+    ) -> Result<Cell, LoadError> {
+        let mut partial = Partial::open(sections).map_err(LoadError::Artifact)?;
+        for &o in objects {
+            partial
+                .read(sections, o, parts)
+                .map_err(LoadError::Artifact)?;
+        }
+        Cell::from_partial(partial, files)
+    }
+
+    /// A validated (partly read) artifact made ready to plan: its scene loaded when it has
+    /// arms, the search graphs of the objects whose graphs are read built.
+    pub fn from_partial(partial: Partial, files: &dyn Files) -> Result<Cell, LoadError> {
+        let artifact = partial.artifact();
         let has_arms = artifact
             .end_effectors
             .iter()
             .any(|e| matches!(e.body, Body::Arm { .. }));
         let scene = if has_arms {
-            Some(Scene::load(&artifact, files).map_err(LoadError::Scene)?)
+            Some(Scene::load(artifact, files).map_err(LoadError::Scene)?)
         } else {
             None
         };
-        let search = SearchGraph::for_artifact(&artifact);
+        let search = SearchGraph::for_artifact(artifact);
         Ok(Cell {
-            artifact,
+            partial,
             scene,
             search,
         })
+    }
+
+    /// Reads more `parts` of object `o`'s graph from `sections`, the file the cell was
+    /// loaded from (e.g. its pruned arcs, to explain an unreachable goal), and validates
+    /// them; what was read already is not read again.
+    ///
+    /// # Errors
+    /// As [`Cell::load_objects`]; on an error the cell is as it was.
+    pub fn read_parts(
+        &mut self,
+        sections: &Sections<impl Source>,
+        o: ObjectId,
+        parts: Parts,
+    ) -> Result<(), LoadError> {
+        let had = self.partial.parts(o);
+        self.partial
+            .read(sections, o, parts)
+            .map_err(LoadError::Artifact)?;
+        if !had.graph && self.partial.parts(o).graph {
+            if let (Some(slot), Some(object)) = (
+                self.search.get_mut(o.index()),
+                self.partial.artifact().objects.get(o.index()),
+            ) {
+                *slot = SearchGraph::new(&object.graph);
+            }
+        }
+        Ok(())
+    }
+
+    /// The parts of object `o`'s graph this cell holds.
+    pub fn parts(&self, o: ObjectId) -> Parts {
+        self.partial.parts(o)
     }
 
     /// Checks every arc kinematically (when the artifact was built without) and keeps
     /// witnesses and pruned arcs, as `cellc build` does.
     pub fn verify(&mut self, options: &VerifyOptions) -> Option<VerifyReport> {
         let scene = self.scene.as_ref()?;
-        let report = crate::verify::verify(&mut self.artifact, scene, options, &|_, _| {});
-        self.search = SearchGraph::for_artifact(&self.artifact);
+        let report = crate::verify::verify(self.partial.artifact_mut(), scene, options, &|_, _| {});
+        self.search = SearchGraph::for_artifact(self.partial.artifact());
         Some(report)
     }
 
     /// The artifact.
     pub fn artifact(&self) -> &Artifact {
-        &self.artifact
+        self.partial.artifact()
     }
 
     /// The geometry, for cells with arms.
@@ -104,17 +172,17 @@ impl Cell {
 
     /// The object named `name`.
     pub fn object(&self, name: &str) -> Result<ObjectId, LocateError> {
-        names::object(&self.artifact, name)
+        names::object(self.partial.artifact(), name)
     }
 
     /// The end-effector named `name`.
     pub fn end_effector(&self, name: &str) -> Result<EndEffectorId, LocateError> {
-        names::end_effector(&self.artifact, name)
+        names::end_effector(self.partial.artifact(), name)
     }
 
     /// The workspace named `name`.
     pub fn workspace(&self, name: &str) -> Result<WorkspaceId, LocateError> {
-        names::workspace(&self.artifact, name)
+        names::workspace(self.partial.artifact(), name)
     }
 
     /// The grasp of `object` named `name` that `holder` can hold.
@@ -124,7 +192,7 @@ impl Cell {
         holder: EndEffectorId,
         name: &str,
     ) -> Result<GraspId, LocateError> {
-        names::grasp(&self.artifact, object, holder, name)
+        names::grasp(self.partial.artifact(), object, holder, name)
     }
 
     /// A request given with names: "move `object` from `start` to `goal`".
@@ -138,15 +206,20 @@ impl Cell {
         let object = self.object(object)?;
         Ok(Request {
             object,
-            start: names::placement(&self.artifact, object, start)?,
-            goal: names::goal(&self.artifact, object, goal)?,
+            start: names::placement(self.partial.artifact(), object, start)?,
+            goal: names::goal(self.partial.artifact(), object, goal)?,
             options,
         })
     }
 
     /// The request the cell declares under `name` (`request NAME: ...`), or `None`.
     pub fn named_request(&self, name: &str, options: PlanOptions) -> Option<Request> {
-        let named = self.artifact.requests.iter().find(|r| r.name == name)?;
+        let named = self
+            .partial
+            .artifact()
+            .requests
+            .iter()
+            .find(|r| r.name == name)?;
         Some(crate::plan::named_request(named, options))
     }
 
@@ -158,7 +231,7 @@ impl Cell {
     /// See [`PlanError`]; [`PlanError::World`] when the start's hand cannot hold the object
     /// there.
     pub fn plan(&self, request: &Request) -> Result<Plan, PlanError> {
-        let empty = World::at_home(&self.artifact, self.scene.as_ref());
+        let empty = World::at_home(self.partial.artifact(), self.scene.as_ref());
         self.plan_request_in(&empty, request)
     }
 
@@ -181,7 +254,7 @@ impl Cell {
     pub fn request_world(&self, world: &World, request: &Request) -> Result<World, PlanError> {
         world
             .for_request(
-                &self.artifact,
+                self.partial.artifact(),
                 self.scene.as_ref(),
                 request.object,
                 &request.start,
@@ -203,7 +276,7 @@ impl Cell {
     /// # Errors
     /// A declared placement that matches no state of its object's graph.
     pub fn initial_world(&self, options: &PlanOptions) -> Result<World, WorldError> {
-        World::initial(&self.artifact, self.scene.as_ref(), options)
+        World::initial(self.partial.artifact(), self.scene.as_ref(), options)
     }
 
     /// The world a world document describes (`docs/world.md`).
@@ -215,7 +288,12 @@ impl Cell {
         document: &WorldDocument,
         options: &PlanOptions,
     ) -> Result<World, WorldError> {
-        World::from_document(&self.artifact, self.scene.as_ref(), document, options)
+        World::from_document(
+            self.partial.artifact(),
+            self.scene.as_ref(),
+            document,
+            options,
+        )
     }
 
     /// Plans moving `object` to `goal` from where it is in `world`, with the arms where
@@ -255,7 +333,7 @@ impl Cell {
     /// The world once `plan` (made in `world`) has been carried out as planned, without
     /// carrying it out ([`World::after`]).
     pub fn world_after(&self, world: &World, plan: &Plan) -> World {
-        world.after(&self.artifact, self.scene.as_ref(), plan)
+        world.after(self.partial.artifact(), self.scene.as_ref(), plan)
     }
 
     /// Executes a plan on `executor`, replanning from where the object is when a step
@@ -273,7 +351,7 @@ impl Cell {
     /// the plan found them).
     pub fn simulator(&self, plan: &Plan) -> Simulator<'_> {
         Simulator::with_arms(
-            &self.artifact,
+            self.partial.artifact(),
             self.scene.as_ref(),
             plan.object,
             plan.states[0],
@@ -286,7 +364,7 @@ impl Cell {
     /// world): the arms where the world has them, the object where it is.
     pub fn simulator_in(&self, world: &World, plan: &Plan) -> Simulator<'_> {
         Simulator::with_arms(
-            &self.artifact,
+            self.partial.artifact(),
             self.scene.as_ref(),
             plan.object,
             plan.states[0],
@@ -314,7 +392,8 @@ impl Cell {
         }
         let observed = executor.object_state();
         let rests = matches!(
-            self.artifact
+            self.partial
+                .artifact()
                 .end_effectors
                 .get(observed.state.end_effector.index())
                 .map(|e| &e.body),
@@ -333,7 +412,12 @@ impl Cell {
     /// The moves of the task the cell declares under `name`, in order: each object and
     /// where it must go.
     pub fn task(&self, name: &str) -> Option<Vec<(ObjectId, Goal)>> {
-        let task = self.artifact.tasks.iter().find(|t| t.name == name)?;
+        let task = self
+            .partial
+            .artifact()
+            .tasks
+            .iter()
+            .find(|t| t.name == name)?;
         Some(
             task.steps
                 .iter()
@@ -345,11 +429,11 @@ impl Cell {
     /// Why a request has no plan: the two sides, the cut, and checked suggestions; an
     /// error when the request's start or goals are not states of the object's graph.
     pub fn explain(&self, unreachable: &Unreachable) -> Result<Explanation, NoStates> {
-        crate::explain::explain(&self.artifact, unreachable)
+        crate::explain::explain(self.partial.artifact(), unreachable)
     }
 
     /// The planner over this cell (internal: shares the search graphs built at load).
     pub fn planner(&self) -> Planner<'_> {
-        Planner::with_search(&self.artifact, self.scene.as_ref(), &self.search)
+        Planner::with_search(self.partial.artifact(), self.scene.as_ref(), &self.search)
     }
 }

@@ -26,6 +26,7 @@ pub mod validate;
 mod encoding;
 pub use encoding::{Encoding, ReadError};
 pub mod math;
+pub mod partial;
 pub use files::{FileError, Files, MemoryFiles};
 pub use hash::sha256_hex;
 pub mod rules;

@@ -9,11 +9,14 @@
 //! sections, in table order, without gaps or overlaps
 //! ```
 //!
-//! The sections are the core (postcard of the artifact with every object's graph
-//! emptied: names, geometry, requests, spans; small), and per object its nodes and its
-//! arcs in fixed-width records that need no general decoder ([`NODE_BYTES`],
-//! [`ARC_BYTES`]), its pruned arcs and its witnesses (postcard; only verification reports
-//! and arm motions need them). A 10^6-arc artifact is mostly its arcs section.
+//! The sections are the core (postcard of the artifact with every object's graph and
+//! declared transitions emptied: names, geometry, requests, spans; small), and per
+//! object its nodes and its arcs in fixed-width records that need no general decoder
+//! ([`NODE_BYTES`], [`ARC_BYTES`]), its pruned arcs and its witnesses (postcard; only
+//! explanations and the placing of exchanges need them), and its declared transitions
+//! (fixed-width, [`TRANSITION_BYTES`]; only explanations need them). A 10^6-arc artifact
+//! is mostly its arcs section; it declares 10^6 transitions too, which in the core took a
+//! quarter of a plan's time to decode and check.
 //!
 //! The checksum is XXH3-64, not SHA-256: it detects damage (a cut, a flipped bit) as well
 //! for that purpose and costs a small fraction of SHA-256 even with the CPU's SHA
@@ -22,19 +25,24 @@
 //! cell's name and content, and the JSON encoding keeps its SHA-256 as before.
 
 use crate::encoding::ReadError;
-use crate::{Arc, ArcKind, Artifact, Graph, Node, Object, PrunedArc, Witness, MAGIC};
-use crate::{EndEffectorId, GraspId, WorkspaceId};
+use crate::{Arc, ArcKind, Artifact, DeclaredTransition, Graph, Node, Object, MAGIC};
+
+mod read;
+pub use read::{Sections, Source};
 
 /// Version of the binary encoding (the JSON encoding and the artifact's own
-/// `format_version` stay at [`crate::FORMAT_VERSION`]). Version 4 is the first
-/// sectioned one; version 3 was one postcard body behind one SHA-256.
-pub const BINARY_VERSION: u32 = 4;
+/// `format_version` stay at [`crate::FORMAT_VERSION`]). Version 5 moved each object's
+/// declared transitions out of the core into a section of their own; version 4 was the
+/// first sectioned one; version 3 was one postcard body behind one SHA-256.
+pub const BINARY_VERSION: u32 = 5;
 
 /// Bytes of one node record: end-effector, grasp, workspace (`u32` each).
 pub const NODE_BYTES: usize = 12;
 /// Bytes of one arc record: from, to, source, via, witness (`u32` each), flags (`u32`:
 /// bit 0 transition, bit 1 `via` present, bit 2 `witness` present), weight (`f64`).
 pub const ARC_BYTES: usize = 32;
+/// Bytes of one declared transition record: from, to, span (`u32` each).
+pub const TRANSITION_BYTES: usize = 12;
 
 const FIXED_HEADER: usize = 8 + 4 + 4 + 8;
 const ENTRY_BYTES: usize = 32;
@@ -55,14 +63,17 @@ pub enum SectionKind {
     Pruned,
     /// One object's witnesses.
     Witnesses,
+    /// One object's declared transitions.
+    Transitions,
 }
 
 impl SectionKind {
-    const PER_OBJECT: [SectionKind; 4] = [
+    const PER_OBJECT: [SectionKind; 5] = [
         SectionKind::Nodes,
         SectionKind::Arcs,
         SectionKind::Pruned,
         SectionKind::Witnesses,
+        SectionKind::Transitions,
     ];
 
     fn code(self) -> u32 {
@@ -72,6 +83,7 @@ impl SectionKind {
             SectionKind::Arcs => 2,
             SectionKind::Pruned => 3,
             SectionKind::Witnesses => 4,
+            SectionKind::Transitions => 5,
         }
     }
 
@@ -82,6 +94,7 @@ impl SectionKind {
             SectionKind::Arcs => "arcs",
             SectionKind::Pruned => "pruned arcs",
             SectionKind::Witnesses => "witnesses",
+            SectionKind::Transitions => "declared transitions",
         }
     }
 }
@@ -127,7 +140,7 @@ fn u64_at(b: &[u8], at: usize) -> u64 {
     u64::from_le_bytes(x)
 }
 
-/// The artifact without its objects' graphs, field by field so that a new field of
+/// The artifact without its objects' graphs and declared transitions, field by field so that a new field of
 /// [`Artifact`] or [`Object`] cannot be forgotten here.
 fn core_of(a: &Artifact) -> Artifact {
     Artifact {
@@ -149,7 +162,7 @@ fn core_of(a: &Artifact) -> Artifact {
                 shape: o.shape.clone(),
                 symmetries: o.symmetries.clone(),
                 grasps: o.grasps.clone(),
-                transitions: o.transitions.clone(),
+                transitions: Vec::new(),
                 graph: Graph::default(),
                 span: o.span,
             })
@@ -199,6 +212,16 @@ fn arcs_bytes(arcs: &[Arc]) -> Vec<u8> {
     out
 }
 
+fn transitions_bytes(transitions: &[DeclaredTransition]) -> Vec<u8> {
+    let mut out = Vec::with_capacity(transitions.len() * TRANSITION_BYTES);
+    for t in transitions {
+        put_u32(&mut out, t.from);
+        put_u32(&mut out, t.to);
+        put_u32(&mut out, t.span);
+    }
+    out
+}
+
 /// Encodes `a` in the sectioned binary layout. Deterministic: the same artifact gives the
 /// same bytes.
 pub fn write(a: &Artifact) -> Vec<u8> {
@@ -224,6 +247,11 @@ pub fn write(a: &Artifact) -> Vec<u8> {
             i,
             postcard::to_stdvec(&g.witnesses).unwrap_or_default(),
         ));
+        bodies.push((
+            SectionKind::Transitions,
+            i,
+            transitions_bytes(&o.transitions),
+        ));
     }
     let data_at = FIXED_HEADER + bodies.len() * ENTRY_BYTES;
     let total = data_at + bodies.iter().map(|b| b.2.len()).sum::<usize>();
@@ -247,253 +275,4 @@ pub fn write(a: &Artifact) -> Vec<u8> {
         out.extend(body);
     }
     out
-}
-
-/// A binary artifact whose header and section table have been checked, and whose
-/// sections are decoded (and their checksums checked) only when asked for.
-#[derive(Debug)]
-pub struct Sections<'a> {
-    bytes: &'a [u8],
-    table: Vec<Section>,
-    n_objects: usize,
-}
-
-impl<'a> Sections<'a> {
-    /// Reads the header and the section table of `bytes` (which start with `MAGIC`).
-    /// Every row is checked before anything is decoded: the table's checksum, every
-    /// section inside the file, in order without overlap, of a known kind, the core first
-    /// and then the four sections of each object in turn. Nothing is allocated in
-    /// proportion to a number of the file that the file's length does not bound.
-    pub fn open(bytes: &'a [u8]) -> Result<Sections<'a>, ReadError> {
-        let rest = bytes
-            .strip_prefix(MAGIC.as_slice())
-            .ok_or(ReadError::NotAnArtifact)?;
-        if rest.len() < 4 {
-            return Err(corrupt("the file ends inside its header"));
-        }
-        let version = u32_at(rest, 0);
-        if version != BINARY_VERSION {
-            return Err(ReadError::WrongVersion {
-                found: version,
-                expected: BINARY_VERSION,
-            });
-        }
-        if bytes.len() < FIXED_HEADER {
-            return Err(corrupt("the file ends inside its header"));
-        }
-        let count = u32_at(bytes, 12) as usize;
-        let table_checksum = u64_at(bytes, 16);
-        let table_end = count
-            .checked_mul(ENTRY_BYTES)
-            .and_then(|t| t.checked_add(FIXED_HEADER))
-            .filter(|&end| end <= bytes.len())
-            .ok_or_else(|| {
-                corrupt(format!(
-                    "a table of {count} sections does not fit in the file"
-                ))
-            })?;
-        let table_bytes = &bytes[FIXED_HEADER..table_end];
-        if xxhash_rust::xxh3::xxh3_64(table_bytes) != table_checksum {
-            return Err(ReadError::Damaged);
-        }
-        if count == 0 || !(count - 1).is_multiple_of(SectionKind::PER_OBJECT.len()) {
-            return Err(corrupt(format!(
-                "{count} sections: not a core and four per object"
-            )));
-        }
-        let n_objects = (count - 1) / SectionKind::PER_OBJECT.len();
-        let mut table = Vec::with_capacity(count);
-        let mut next = table_end;
-        for (row, entry) in table_bytes.chunks_exact(ENTRY_BYTES).enumerate() {
-            let (kind, object) = if row == 0 {
-                (SectionKind::Core, 0)
-            } else {
-                let per = SectionKind::PER_OBJECT.len();
-                (
-                    SectionKind::PER_OBJECT[(row - 1) % per],
-                    ((row - 1) / per) as u32,
-                )
-            };
-            if u32_at(entry, 0) != kind.code() || u32_at(entry, 4) != object {
-                return Err(corrupt(format!(
-                    "section {row} should be the {} of object {object}",
-                    kind.name()
-                )));
-            }
-            let offset = u64_at(entry, 8);
-            let length = u64_at(entry, 16);
-            if offset != next as u64 {
-                return Err(corrupt(format!(
-                    "section {row} starts at {offset}, not where the one before it ends ({next})"
-                )));
-            }
-            let end = offset
-                .checked_add(length)
-                .filter(|&e| e <= bytes.len() as u64)
-                .ok_or_else(|| {
-                    corrupt(format!(
-                        "section {row} ({length} bytes at {offset}) ends after the file"
-                    ))
-                })?;
-            let width = match kind {
-                SectionKind::Nodes => NODE_BYTES as u64,
-                SectionKind::Arcs => ARC_BYTES as u64,
-                _ => 1,
-            };
-            if !length.is_multiple_of(width) {
-                return Err(corrupt(format!(
-                    "section {row} ({}) is {length} bytes, not a whole number of records",
-                    kind.name()
-                )));
-            }
-            table.push(Section {
-                kind,
-                object,
-                offset: offset as usize,
-                length: length as usize,
-                checksum: u64_at(entry, 24),
-            });
-            next = end as usize;
-        }
-        if next != bytes.len() {
-            return Err(corrupt(format!(
-                "{} bytes after the last section",
-                bytes.len() - next
-            )));
-        }
-        Ok(Sections {
-            bytes,
-            table,
-            n_objects,
-        })
-    }
-
-    /// The section table, in file order.
-    pub fn table(&self) -> &[Section] {
-        &self.table
-    }
-
-    /// How many objects the file has graphs for.
-    pub fn n_objects(&self) -> usize {
-        self.n_objects
-    }
-
-    /// The bytes of one section after its checksum is checked.
-    fn body(&self, kind: SectionKind, object: usize) -> Result<&'a [u8], ReadError> {
-        let row = match kind {
-            SectionKind::Core => 0,
-            _ if object >= self.n_objects => {
-                return Err(corrupt(format!("no object {object} in the file")))
-            }
-            _ => {
-                1 + object * SectionKind::PER_OBJECT.len()
-                    + SectionKind::PER_OBJECT
-                        .iter()
-                        .position(|&k| k == kind)
-                        .unwrap_or(0)
-            }
-        };
-        let s = self.table[row];
-        let body = &self.bytes[s.offset..s.offset + s.length];
-        if xxhash_rust::xxh3::xxh3_64(body) != s.checksum {
-            return Err(ReadError::Damaged);
-        }
-        Ok(body)
-    }
-
-    fn postcard<T: serde::de::DeserializeOwned>(
-        &self,
-        kind: SectionKind,
-        object: usize,
-    ) -> Result<T, ReadError> {
-        let body = self.body(kind, object)?;
-        let (value, left) = postcard::take_from_bytes::<T>(body)
-            .map_err(|e| corrupt(format!("{}: {e}", kind.name())))?;
-        if !left.is_empty() {
-            return Err(corrupt(format!(
-                "{} bytes after the end of the {} section",
-                left.len(),
-                kind.name()
-            )));
-        }
-        Ok(value)
-    }
-
-    /// The artifact without its objects' graphs. Its object count must be the table's.
-    pub fn core(&self) -> Result<Artifact, ReadError> {
-        let core: Artifact = self.postcard(SectionKind::Core, 0)?;
-        if core.objects.len() != self.n_objects {
-            return Err(corrupt(format!(
-                "the core has {} objects, the section table {}",
-                core.objects.len(),
-                self.n_objects
-            )));
-        }
-        Ok(core)
-    }
-
-    /// The nodes of object `o`.
-    pub fn nodes(&self, o: usize) -> Result<Vec<Node>, ReadError> {
-        let body = self.body(SectionKind::Nodes, o)?;
-        Ok(body
-            .chunks_exact(NODE_BYTES)
-            .map(|r| Node {
-                end_effector: EndEffectorId(u32_at(r, 0)),
-                grasp: GraspId(u32_at(r, 4)),
-                workspace: WorkspaceId(u32_at(r, 8)),
-            })
-            .collect())
-    }
-
-    /// The arcs of object `o`.
-    pub fn arcs(&self, o: usize) -> Result<Vec<Arc>, ReadError> {
-        let body = self.body(SectionKind::Arcs, o)?;
-        body.chunks_exact(ARC_BYTES)
-            .enumerate()
-            .map(|(i, r)| {
-                let flags = u32_at(r, 20);
-                if flags & !(FLAG_TRANSITION | FLAG_VIA | FLAG_WITNESS) != 0 {
-                    return Err(corrupt(format!("arc {i} of object {o} has unknown flags")));
-                }
-                let some = |flag: u32, v: u32| (flags & flag != 0).then_some(v);
-                Ok(Arc {
-                    from: u32_at(r, 0),
-                    to: u32_at(r, 4),
-                    source: u32_at(r, 8),
-                    via: some(FLAG_VIA, u32_at(r, 12)),
-                    witness: some(FLAG_WITNESS, u32_at(r, 16)),
-                    kind: if flags & FLAG_TRANSITION != 0 {
-                        ArcKind::Transition
-                    } else {
-                        ArcKind::Move
-                    },
-                    weight: f64::from_bits(u64_at(r, 24)),
-                })
-            })
-            .collect()
-    }
-
-    /// The pruned arcs of object `o`.
-    pub fn pruned(&self, o: usize) -> Result<Vec<PrunedArc>, ReadError> {
-        self.postcard(SectionKind::Pruned, o)
-    }
-
-    /// The witnesses of object `o`.
-    pub fn witnesses(&self, o: usize) -> Result<Vec<Witness>, ReadError> {
-        self.postcard(SectionKind::Witnesses, o)
-    }
-
-    /// Every section, assembled into the artifact (not yet validated).
-    pub fn artifact(&self) -> Result<Artifact, ReadError> {
-        let mut a = self.core()?;
-        for (i, o) in a.objects.iter_mut().enumerate() {
-            o.graph = Graph {
-                nodes: self.nodes(i)?,
-                arcs: self.arcs(i)?,
-                pruned: self.pruned(i)?,
-                witnesses: self.witnesses(i)?,
-            };
-        }
-        Ok(a)
-    }
 }

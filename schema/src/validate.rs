@@ -8,9 +8,9 @@
 //! names the offending field by its path (`objects[0].graph.arcs[17].to`) and says what is
 //! wrong with it, never echoing the field's content beyond numbers.
 
-use crate::{
-    Aabb, Arc, Artifact, Body, Graph, Holder, Infeasibility, Pose, RequestPlacement, Shape,
-};
+use crate::{Aabb, Artifact, Body, Holder, ObjectId, Pose, RequestPlacement, Shape};
+
+pub mod graph;
 
 /// Why an artifact is inconsistent.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -33,11 +33,23 @@ pub const MAX_COORDINATE: f64 = 1.0e6;
 
 /// Checks everything the runtime relies on; the first finding is returned.
 pub fn validate(a: &Artifact) -> Result<(), Invalid> {
-    let mut v = Validator {
-        a,
-        path: Vec::new(),
-    };
-    v.artifact()
+    core(a)?;
+    for (i, o) in a.objects.iter().enumerate() {
+        let (g, id) = (&o.graph, ObjectId(i as u32));
+        graph::nodes(a, id, &g.nodes)?;
+        graph::arcs(a, id, &g.arcs, g.nodes.len(), Some(g.witnesses.len()))?;
+        graph::pruned(a, id, &g.pruned, g.nodes.len(), Some(g.witnesses.len()))?;
+        graph::witnesses(a, id, &g.witnesses)?;
+        graph::transitions(a, id, &o.transitions)?;
+    }
+    Ok(())
+}
+
+/// Checks everything but the objects' graphs and declared transitions (which [`graph`]
+/// checks part by part, as a reader of the sectioned binary decodes them), as
+/// [`validate`] would.
+pub fn core(a: &Artifact) -> Result<(), Invalid> {
+    Validator::new(a).core()
 }
 
 struct Validator<'a> {
@@ -73,7 +85,14 @@ impl std::fmt::Display for Step {
 
 type Check = Result<(), Invalid>;
 
-impl Validator<'_> {
+impl<'a> Validator<'a> {
+    fn new(a: &'a Artifact) -> Validator<'a> {
+        Validator {
+            a,
+            path: Vec::new(),
+        }
+    }
+
     fn fail(&self, problem: impl Into<String>) -> Invalid {
         Invalid {
             path: self
@@ -196,7 +215,7 @@ impl Validator<'_> {
         })
     }
 
-    fn artifact(&mut self) -> Check {
+    fn core(&mut self) -> Check {
         let a = self.a;
         for (i, s) in a.spans.iter().enumerate() {
             self.at(Step::Item("spans", i), |v| {
@@ -423,129 +442,6 @@ impl Validator<'_> {
                 }
             })?;
         }
-        for (j, t) in o.transitions.iter().enumerate() {
-            self.at(Step::Item("transitions", j), |v| {
-                v.span("span", t.span)?;
-                v.index("from", t.from, o.grasps.len(), "grasps")?;
-                v.index("to", t.to, o.grasps.len(), "grasps")
-            })?;
-        }
-        self.at("graph", |v| v.graph(&o.graph, o.grasps.len()))
-    }
-
-    fn graph(&mut self, g: &Graph, n_grasps: usize) -> Check {
-        let a = self.a;
-        for (i, n) in g.nodes.iter().enumerate() {
-            self.at(Step::Item("nodes", i), |v| {
-                v.index(
-                    "end_effector",
-                    n.end_effector,
-                    a.end_effectors.len(),
-                    "end-effectors",
-                )?;
-                v.index("grasp", n.grasp, n_grasps, "grasps")?;
-                v.index("workspace", n.workspace, a.workspaces.len(), "workspaces")
-            })?;
-        }
-        for (i, arc) in g.arcs.iter().enumerate() {
-            self.at(Step::Item("arcs", i), |v| v.arc(arc, g))?;
-        }
-        for (i, p) in g.pruned.iter().enumerate() {
-            self.at(Step::Item("pruned", i), |v| {
-                v.at("arc", |v| v.arc(&p.arc, g))?;
-                v.at("reason", |v| v.reason(&p.reason))
-            })?;
-        }
-        for (i, w) in g.witnesses.iter().enumerate() {
-            self.at(Step::Item("witnesses", i), |v| {
-                v.pose("object", &w.object)?;
-                for (j, c) in w.configurations.iter().enumerate() {
-                    v.at(Step::Item("configurations", j), |v| {
-                        v.index(
-                            "end_effector",
-                            c.end_effector,
-                            a.end_effectors.len(),
-                            "end-effectors",
-                        )?;
-                        match &a.end_effectors[c.end_effector.index()].body {
-                            Body::Arm { robot, .. } => v.joints("joints", *robot, &c.joints),
-                            _ => Err(v.fail("a configuration of an end-effector that is no arm")),
-                        }
-                    })?;
-                }
-                Ok(())
-            })?;
-        }
         Ok(())
-    }
-
-    fn arc(&mut self, arc: &Arc, g: &Graph) -> Check {
-        self.index("from", arc.from, g.nodes.len(), "nodes")?;
-        self.index("to", arc.to, g.nodes.len(), "nodes")?;
-        self.weight("weight", arc.weight)?;
-        self.span("source", arc.source)?;
-        if let Some(via) = arc.via {
-            self.span("via", via)?;
-        }
-        if let Some(w) = arc.witness {
-            self.index("witness", w, g.witnesses.len(), "witnesses")?;
-        }
-        Ok(())
-    }
-
-    fn reason(&mut self, r: &Infeasibility) -> Check {
-        let n = self.a.end_effectors.len();
-        match r {
-            Infeasibility::NoIkSolution {
-                end_effector,
-                position_error,
-                rotation_error,
-                ..
-            } => {
-                self.index("end_effector", *end_effector, n, "end-effectors")?;
-                self.error_value("position_error", *position_error)?;
-                self.error_value("rotation_error", *rotation_error)
-            }
-            Infeasibility::NoClosedChain {
-                a,
-                b,
-                position_error,
-                rotation_error,
-                ..
-            } => {
-                self.index("a", *a, n, "end-effectors")?;
-                self.index("b", *b, n, "end-effectors")?;
-                self.error_value("position_error", *position_error)?;
-                self.error_value("rotation_error", *rotation_error)
-            }
-            Infeasibility::HandBusy { hand, holds } => {
-                self.index("hand", *hand, n, "end-effectors")?;
-                self.index("holds", *holds, self.a.objects.len(), "objects")
-            }
-            Infeasibility::Blocked(blocker) => {
-                self.index("by", blocker.by, self.a.objects.len(), "objects")?;
-                match blocker.part {
-                    crate::BlockedPart::Arm(e) | crate::BlockedPart::Hand(e) => {
-                        self.index("part", e, n, "end-effectors")?
-                    }
-                    crate::BlockedPart::Object => {}
-                }
-                match blocker.during.position() {
-                    Some(at) => at.iter().try_for_each(|&x| self.number("at", x)),
-                    None => Ok(()),
-                }
-            }
-            Infeasibility::Collision { .. } | Infeasibility::NoPlacement { .. } => Ok(()),
-        }
-    }
-
-    /// A residual: finite and not negative (an unreached target may be infinitely far in
-    /// JSON terms only as `null`, which does not decode into a number).
-    fn error_value(&mut self, field: impl Into<Step>, x: f64) -> Check {
-        if x.is_finite() && x >= 0.0 {
-            Ok(())
-        } else {
-            self.at(field, |v| Err(v.fail(format!("{x} is not a residual"))))
-        }
     }
 }

@@ -205,7 +205,7 @@ fn given_request(
 fn problem_diagnostic(loaded: &Loaded, error: &ProblemError, span: Option<u32>) -> Diagnostic {
     let artifact = loaded.cell.artifact();
     match error {
-        ProblemError::Plan(e) => plan_report::plan_error(artifact, e, span, Some(&loaded.sources)),
+        ProblemError::Plan(e) => plan_report::plan_error(artifact, e, span, Some(loaded.sources())),
         ProblemError::StartNotInGraph { object, state } => Diagnostic::error(
             crate::runtime_codes::LOCATE,
             format!(

@@ -13,7 +13,7 @@ use std::process::ExitCode;
 
 use cellc_lang::Diagnostic;
 use cellc_runtime::plan::{Goal, GoalByName};
-use cellc_runtime::{Cell, ObjectId, Whereabouts, World};
+use cellc_runtime::{Artifact, Cell, ObjectId, Whereabouts, World};
 
 use super::plan::{placement_from_text, prepare, Loaded, PlanArgs, Prepared};
 use crate::plan_report::{self, codes};
@@ -100,7 +100,7 @@ pub fn job(args: &PlanArgs, loaded: &Loaded) -> Result<Job, ExitCode> {
             cell.artifact(),
             &e,
             Some(span).flatten(),
-            Some(&loaded.sources),
+            Some(loaded.sources()),
         ))
     })?;
     Ok(Job {
@@ -112,6 +112,34 @@ pub fn job(args: &PlanArgs, loaded: &Loaded) -> Result<Job, ExitCode> {
         }],
         title: format!("request `{name}`"),
     })
+}
+
+/// The objects the job of `args` can touch in a cell of this core: the one a request
+/// moves (its world has no other object), or a task's and the declared world's. `None`
+/// when that is not known before the job is read (a world document, `--move` flags), so
+/// every object is needed. A name that matches nothing touches nothing: the job reports
+/// it.
+pub fn objects(args: &PlanArgs, core: &Artifact) -> Option<Vec<ObjectId>> {
+    if args.world.is_some() || !args.moves.is_empty() {
+        return None;
+    }
+    let mut touched: Vec<ObjectId> = Vec::new();
+    if let Some(name) = &args.task {
+        let steps = core.tasks.iter().filter(|t| &t.name == name);
+        touched.extend(steps.flat_map(|t| t.steps.iter().map(|s| s.object)));
+        touched.extend(core.world.iter().map(|p| p.object));
+    } else if let Some(object) = &args.object {
+        touched.extend(cellc_runtime::plan::names::object(core, object).ok());
+    } else {
+        let named = match &args.request {
+            Some(n) => core.requests.iter().find(|r| &r.name == n),
+            None => core.requests.first(),
+        };
+        touched.extend(named.map(|r| r.object));
+    }
+    touched.sort_unstable();
+    touched.dedup();
+    Some(touched)
 }
 
 /// `OBJECT to PLACEMENT`, as `--move` gives it; reports what is wrong.

@@ -2,14 +2,19 @@
 
 use std::io::IsTerminal;
 use std::process::ExitCode;
+use std::sync::OnceLock;
 
 use cellc_lang::ast::{PlaceSpec, RequestPlacement as AstPlacement};
 use cellc_lang::{Diagnostic, FileId, SourceMap};
 use cellc_runtime::plan::{GoalByName, PlacementByName, PlanError, PlanOptions, Request};
-use cellc_runtime::{Cell, Files, LoadError, VerifyOptions};
+use cellc_runtime::{Cell, Files, LoadError, ObjectId, VerifyOptions};
+use cellc_schema::partial::{Partial, Parts};
+use cellc_schema::sections::Sections;
 
 use crate::args::PlanFormat;
+use crate::artifact_io::{self, InPart};
 use crate::fs_files::FsFiles;
+use crate::fs_files::PieceFile;
 use crate::plan_report::{self, codes};
 use crate::render::{self, Color};
 
@@ -89,21 +94,77 @@ impl PlanArgs {
 pub struct Loaded {
     /// The cell (verified when it has arms).
     pub cell: Cell,
-    /// Source files, for rendering.
-    pub sources: SourceMap,
-    /// Sources that changed since the artifact was built: their spans would point at the
-    /// wrong lines, so labels in them are left out.
-    pub stale: Vec<FileId>,
+    /// Source files, for rendering, and those that changed since the artifact was built
+    /// (their spans would point at the wrong lines, so labels in them are left out). Of
+    /// an artifact they are read when a diagnostic is first shown: a plan that succeeds
+    /// never needs them, and a 10^6-arc cell's source is megabytes to read and hash.
+    sources: OnceLock<(SourceMap, Vec<FileId>)>,
     /// How diagnostics are reported: human text on standard error, or (with JSON output)
     /// the JSON report on standard output, so that output stays JSON on every path.
     pub format: PlanFormat,
+    /// A sectioned binary artifact read in part, to read more of it later.
+    pub sections: Option<Sections<PieceFile>>,
+}
+
+/// The cell's sources as `files` records them, read again if still there and unchanged
+/// (the artifact records each one's hash), with the ids of those that changed.
+fn sources_of(files: &[cellc_schema::SourceFile]) -> (SourceMap, Vec<FileId>) {
+    let mut sources = SourceMap::new();
+    let mut stale = Vec::new();
+    for s in files {
+        let text = FsFiles.read_text(&s.path).unwrap_or_default();
+        let same = cellc_schema::sha256_hex(text.as_bytes()) == s.sha256;
+        let id = sources.add(s.path.clone(), if same { text } else { String::new() });
+        if !same {
+            stale.push(id);
+        }
+    }
+    (sources, stale)
 }
 
 impl Loaded {
+    /// The cell's source files, for rendering.
+    pub fn sources(&self) -> &SourceMap {
+        &self.read_sources().0
+    }
+
+    /// The sources that changed since the artifact was built.
+    pub fn stale(&self) -> &[FileId] {
+        &self.read_sources().1
+    }
+
+    fn read_sources(&self) -> &(SourceMap, Vec<FileId>) {
+        self.sources
+            .get_or_init(|| sources_of(&self.cell.artifact().sources))
+    }
+
+    /// Reads the pruned arcs and declared transitions of every object whose graph is
+    /// read, for an explanation (nothing when the cell was read whole).
+    ///
+    /// # Errors
+    /// The diagnostic of a damaged or inconsistent section.
+    pub fn read_pruned(&mut self, input: &str) -> Result<(), Diagnostic> {
+        let Some(sections) = &self.sections else {
+            return Ok(());
+        };
+        let n = self.cell.artifact().objects.len();
+        let read: Vec<ObjectId> = (0..n)
+            .map(|i| ObjectId(i as u32))
+            .filter(|&o| self.cell.parts(o).graph)
+            .collect();
+        let parts = Parts::EXPLAIN;
+        read.into_iter()
+            .try_for_each(|o| self.cell.read_parts(sections, o, parts))
+            .map_err(|e| match e {
+                LoadError::Artifact(e) => artifact_io::diagnostic(input, &e),
+                e => Diagnostic::error(codes::UNREACHABLE, e.to_string()),
+            })
+    }
+
     /// Prints diagnostics against the cell's sources; a label in a file that changed
     /// since the build is replaced by a note saying so.
     pub fn report(&self, diagnostics: &[Diagnostic]) {
-        emit(self.format, &self.shown(diagnostics), &self.sources);
+        emit(self.format, &self.shown(diagnostics), self.sources());
     }
 
     /// The diagnostics as they are shown: labels in files that changed since the build
@@ -114,12 +175,12 @@ impl Loaded {
             .map(|d| {
                 let mut d = d.clone();
                 let before = d.labels.len();
-                d.labels.retain(|l| !self.stale.contains(&l.file));
+                d.labels.retain(|l| !self.stale().contains(&l.file));
                 if d.labels.len() < before {
                     let paths: Vec<String> = self
-                        .stale
+                        .stale()
                         .iter()
-                        .map(|f| format!("`{}`", self.sources.get(*f).path))
+                        .map(|f| format!("`{}`", self.sources().get(*f).path))
                         .collect();
                     d.notes.push(format!(
                         "{} changed since the artifact was built, so its lines are not shown; rebuild the artifact",
@@ -134,7 +195,7 @@ impl Loaded {
     /// The JSON report of `diagnostics` (the schema of `cellc check --format json`) as a
     /// value, to embed in a plan's or run's document.
     pub fn json_report(&self, diagnostics: &[Diagnostic]) -> serde_json::Value {
-        let text = render::json(&self.shown(diagnostics), &self.sources);
+        let text = render::json(&self.shown(diagnostics), self.sources());
         serde_json::from_str(&text).unwrap_or(serde_json::Value::Null)
     }
 }
@@ -158,11 +219,32 @@ pub fn print(diagnostics: &[Diagnostic], sources: &SourceMap) {
     eprint!("{}", render::human(diagnostics, sources, color));
 }
 
+/// How much of a sectioned binary artifact [`load_in`] reads.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Scope {
+    /// Every object's graph (commands that show or export the whole cell).
+    Whole,
+    /// The graphs of the objects the job of the arguments moves or finds in its world
+    /// ([`super::job::objects`]), and of those their witnesses only when the cell has
+    /// arms; pruned arcs and declared transitions are read when a failure is explained
+    /// ([`Loaded::read_pruned`]).
+    Job,
+}
+
 /// Compiles (and verifies) a cell, or reads an artifact, and loads it into the runtime.
 pub fn load(args: &PlanArgs) -> Result<Loaded, ExitCode> {
+    load_in(args, Scope::Whole)
+}
+
+/// [`load`], reading of a sectioned binary what `scope` says.
+pub fn load_in(args: &PlanArgs, scope: Scope) -> Result<Loaded, ExitCode> {
     let (input, seed, format) = (args.input.as_str(), args.seed, args.format);
-    let mut stale = Vec::new();
-    let (artifact, sources, fresh) = if input.ends_with(".cell") {
+    let mut file = None;
+    let fail = |d: Diagnostic, sources: &SourceMap| {
+        emit(format, &[d], sources);
+        ExitCode::from(1)
+    };
+    let (partial, sources, fresh) = if input.ends_with(".cell") {
         let compilation = crate::reach::compile(&FsFiles, input, &args.compile);
         if compilation.has_errors() || compilation.cell.is_none() {
             emit(format, &compilation.diagnostics, &compilation.sources);
@@ -171,39 +253,69 @@ pub fn load(args: &PlanArgs) -> Result<Loaded, ExitCode> {
         let cell = compilation.cell.as_ref().ok_or(ExitCode::from(1))?;
         let artifact =
             cellc_compiler::artifact::lower(cell, &compilation.graphs, &compilation.sources);
-        (artifact, compilation.sources, true)
+        let partial = Partial::whole(artifact)
+            .map_err(|e| fail(artifact_io::diagnostic(input, &e), &compilation.sources))?;
+        (
+            partial,
+            OnceLock::from((compilation.sources, Vec::new())),
+            true,
+        )
     } else {
-        match crate::artifact_io::read(input) {
-            Ok(artifact) => {
-                // Diagnostics point into the cell's sources, read again if still there and
-                // unchanged (the artifact records each one's hash).
-                let mut sources = SourceMap::new();
-                for s in &artifact.sources {
-                    let text = FsFiles.read_text(&s.path).unwrap_or_default();
-                    let same = cellc_schema::sha256_hex(text.as_bytes()) == s.sha256;
-                    let id = sources.add(s.path.clone(), if same { text } else { String::new() });
-                    if !same {
-                        stale.push(id);
-                    }
-                }
-                (artifact, sources, false)
+        let mut partial = match artifact_io::read_in_part(input) {
+            Ok(InPart::Whole(artifact)) => Partial::whole(artifact)
+                .map_err(|e| fail(artifact_io::diagnostic(input, &e), &SourceMap::new()))?,
+            Ok(InPart::Sections { sections, partial }) => {
+                file = Some(sections);
+                partial
             }
-            Err(d) => {
-                emit(format, &[d], &SourceMap::new());
-                return Err(ExitCode::from(1));
-            }
+            Err(d) => return Err(fail(d, &SourceMap::new())),
+        };
+        if let Some(sections) = &file {
+            let has_arms = partial
+                .artifact()
+                .end_effectors
+                .iter()
+                .any(|e| matches!(e.body, cellc_schema::Body::Arm { .. }));
+            let (objects, parts) = match scope {
+                Scope::Whole => (None, Parts::ALL),
+                Scope::Job => (
+                    super::job::objects(args, partial.artifact()),
+                    // The planner places exchanges at their witnessed poses even without
+                    // joint motions, so a cell with arms needs its witnesses.
+                    Parts {
+                        witnesses: has_arms,
+                        ..Parts::GRAPH
+                    },
+                ),
+            };
+            let objects = objects.unwrap_or_else(|| {
+                (0..partial.artifact().objects.len())
+                    .map(|i| ObjectId(i as u32))
+                    .collect()
+            });
+            objects
+                .iter()
+                .try_for_each(|&o| partial.read(sections, o, parts))
+                .map_err(|e| {
+                    let (sources, _) = sources_of(&partial.artifact().sources);
+                    fail(artifact_io::diagnostic(input, &e), &sources)
+                })?;
         }
+        (partial, OnceLock::new(), false)
     };
+    let artifact = partial.artifact();
     // Robot spans, to label a model that cannot be loaded.
     let robots = artifact.robots.clone();
     let spans = artifact.spans.clone();
-    let mut cell = match Cell::from_artifact(artifact, &FsFiles) {
+    let source_files = artifact.sources.clone();
+    let sources_now = || &sources.get_or_init(|| sources_of(&source_files)).0;
+    let mut cell = match Cell::from_partial(partial, &FsFiles) {
         Ok(cell) => cell,
         Err(LoadError::Scene(e)) => {
             emit(
                 format,
                 &[crate::verify_report::scene_error_at(&e, &robots, &spans)],
-                &sources,
+                sources_now(),
             );
             return Err(ExitCode::from(1));
         }
@@ -211,14 +323,14 @@ pub fn load(args: &PlanArgs) -> Result<Loaded, ExitCode> {
             emit(
                 format,
                 &[crate::artifact_io::diagnostic(input, &e)],
-                &sources,
+                sources_now(),
             );
             return Err(ExitCode::from(1));
         }
         Err(e) => {
             let d = Diagnostic::error(crate::verify_report::codes::MODEL_UNUSABLE, e.to_string())
                 .help("rebuild the artifact with `cellc build` from a cell whose robot files load");
-            emit(format, &[d], &sources);
+            emit(format, &[d], sources_now());
             return Err(ExitCode::from(1));
         }
     };
@@ -227,9 +339,10 @@ pub fn load(args: &PlanArgs) -> Result<Loaded, ExitCode> {
     if let Some(scene) = cell.scene().filter(|_| fresh) {
         let preflight = cellc_runtime::verify::preflight::preflight(cell.artifact(), scene);
         if preflight.blocks_verification() {
-            let found = crate::scene_report::diagnostics(cell.artifact(), &preflight, &sources);
+            let found =
+                crate::scene_report::diagnostics(cell.artifact(), &preflight, sources_now());
             let errors: Vec<Diagnostic> = found.into_iter().filter(Diagnostic::is_error).collect();
-            emit(format, &errors, &sources);
+            emit(format, &errors, sources_now());
             return Err(ExitCode::from(1));
         }
     }
@@ -242,8 +355,8 @@ pub fn load(args: &PlanArgs) -> Result<Loaded, ExitCode> {
     Ok(Loaded {
         cell,
         sources,
-        stale,
         format,
+        sections: file,
     })
 }
 
@@ -357,7 +470,7 @@ pub fn prepare(args: &PlanArgs, loaded: &Loaded) -> Result<Prepared, ExitCode> {
 /// Plans each move of the job `args` ask for, in the world, and prints the plans: the
 /// world after one move (as its plan leaves it) is where the next is planned.
 pub fn run(args: &PlanArgs) -> ExitCode {
-    let loaded = match load(args) {
+    let mut loaded = match load_in(args, Scope::Job) {
         Ok(l) => l,
         Err(code) => return code,
     };
@@ -369,8 +482,6 @@ pub fn run(args: &PlanArgs) -> ExitCode {
         Ok(j) => j,
         Err(code) => return code,
     };
-    let cell = &loaded.cell;
-    let artifact = cell.artifact();
     let human = args.format == PlanFormat::Human;
     let single = moves.len() == 1 && title.starts_with("request");
     let options = cellc_runtime::TaskOptions {
@@ -383,7 +494,17 @@ pub fn run(args: &PlanArgs) -> ExitCode {
         plans: planned,
         world: after,
         failure: stopped,
-    } = cell.plan_task(&world, &list, &options);
+    } = loaded.cell.plan_task(&world, &list, &options);
+    // A failure is explained with the arcs verification pruned and the declared
+    // transitions, read only now.
+    if stopped.is_some() {
+        if let Err(d) = loaded.read_pruned(&args.input) {
+            loaded.report(&[d]);
+            return ExitCode::from(1);
+        }
+    }
+    let cell = &loaded.cell;
+    let artifact = cell.artifact();
     world = after;
     let mut plans = Vec::new();
     let label = |i: usize| {
@@ -436,7 +557,7 @@ pub fn run(args: &PlanArgs) -> ExitCode {
             return Diagnostic::error(codes::UNREACHABLE, "no plan").help("check the request");
         };
         let d =
-            plan_report::plan_error(artifact, error, moves[f.index].span, Some(&loaded.sources));
+            plan_report::plan_error(artifact, error, moves[f.index].span, Some(loaded.sources()));
         if single {
             d
         } else {

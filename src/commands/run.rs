@@ -87,7 +87,7 @@ pub fn run(args: &PlanArgs, fail_at: Option<usize>) -> ExitCode {
         .map(|f| {
             let span = moves[f.index].span;
             let d = match &f.error {
-                TaskError::Plan(e) => plan_error(artifact, e, span, Some(&loaded.sources)),
+                TaskError::Plan(e) => plan_error(artifact, e, span, Some(loaded.sources())),
                 TaskError::Execute(e) => execution_error(artifact, e, span, &loaded),
             };
             if several {
@@ -219,7 +219,7 @@ fn execution_error(
     loaded: &Loaded,
 ) -> Diagnostic {
     match e {
-        ExecutionError::Replan(e) => plan_error(artifact, e, span, Some(&loaded.sources)),
+        ExecutionError::Replan(e) => plan_error(artifact, e, span, Some(loaded.sources())),
         ExecutionError::FailedAtStart { error } => Diagnostic::error(
             codes::EXECUTION_FAILED,
             format!("{error}, before the object left its start"),

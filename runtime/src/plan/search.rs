@@ -36,12 +36,10 @@ struct OutArc {
 pub struct SearchGraph {
     /// Node `n`'s leaving arcs are `out[offsets[n]..offsets[n + 1]]`, last declared first.
     offsets: Vec<u32>,
+    /// Every arc's weight is kept here only, in its tail's row (the artifact's, or by kind
+    /// when re-weighted): a copy per arc of the artifact's graph cost a pass over 10^6
+    /// arcs and megabytes to fault in at every load.
     out: Vec<OutArc>,
-    /// Per arc of the artifact's graph: its weight here (the artifact's, or by kind when
-    /// re-weighted), for the path's cost.
-    weights: Vec<f64>,
-    /// Per arc: true for moves (to re-weight by kind).
-    is_move: Vec<bool>,
 }
 
 /// Billionths per unit of cost, for [`SearchGraph::path_cost`].
@@ -95,8 +93,12 @@ pub struct Scratch {
     predecessor: Vec<u32>,
     /// Per node: the epoch in which it was made a goal.
     goal: Vec<u32>,
-    /// Per stored arc (index into the rows): the epoch in which it was left out.
+    /// Per stored arc (index into the rows): the epoch in which it was left out. Grown
+    /// and read only by searches that leave arcs out: a first search on 10^6 arcs leaves
+    /// none out, and 4 MB of marks cost it more to fault in than to search.
     left_out: Vec<u32>,
+    /// Whether this epoch's search leaves arcs out.
+    leaving_out: bool,
     heap: BinaryHeap<Queued>,
     nodes: Vec<NodeId>,
     arcs: Vec<usize>,
@@ -106,16 +108,17 @@ impl Scratch {
     /// Starts a search on a graph of `n_nodes` nodes and `n_out` stored arcs: grows the
     /// marks if needed, and moves to a fresh epoch (clearing every mark only when the
     /// epoch counter wraps, once in four billion searches).
-    fn begin(&mut self, n_nodes: usize, n_out: usize) {
+    fn begin(&mut self, n_nodes: usize, n_out: usize, leaving_out: bool) {
         if self.reached.len() < n_nodes {
             self.reached.resize(n_nodes, 0);
             self.distance.resize(n_nodes, 0.0);
             self.predecessor.resize(n_nodes, NONE);
             self.goal.resize(n_nodes, 0);
         }
-        if self.left_out.len() < n_out {
+        if leaving_out && self.left_out.len() < n_out {
             self.left_out.resize(n_out, 0);
         }
+        self.leaving_out = leaving_out;
         self.epoch = match self.epoch.checked_add(1) {
             Some(next) => next,
             None => {
@@ -130,6 +133,11 @@ impl Scratch {
 
     fn distance(&self, n: u32) -> Option<f64> {
         (self.reached[n as usize] == self.epoch).then(|| self.distance[n as usize])
+    }
+
+    /// Whether the stored arc in `slot` is left out of this search.
+    fn is_left_out(&self, slot: usize) -> bool {
+        self.leaving_out && self.left_out[slot] == self.epoch
     }
 
     fn reach(&mut self, n: u32, distance: f64, predecessor: u32) {
@@ -222,32 +230,21 @@ impl SearchGraph {
             };
             *slot += 1;
         }
-        SearchGraph {
-            offsets,
-            out,
-            weights: graph.arcs.iter().map(|a| a.weight).collect(),
-            is_move: graph.arcs.iter().map(|a| a.kind == ArcKind::Move).collect(),
-        }
+        SearchGraph { offsets, out }
     }
 
-    /// The same graph with every move costing `weights.0` and every transition
-    /// `weights.1`.
-    pub fn reweighted(&self, weights: (f64, f64)) -> SearchGraph {
-        let by_kind = |arc: usize| {
-            if self.is_move[arc] {
-                weights.0
-            } else {
-                weights.1
-            }
-        };
-        let mut graph = self.clone();
-        for out in &mut graph.out {
-            out.weight = by_kind(out.arc as usize);
+    /// The same graph (indexed from `graph`) with every move costing `weights.0` and
+    /// every transition `weights.1`.
+    pub fn reweighted(&self, graph: &Graph, weights: (f64, f64)) -> SearchGraph {
+        let mut search = self.clone();
+        for out in &mut search.out {
+            let is_move = graph
+                .arcs
+                .get(out.arc as usize)
+                .is_some_and(|a| a.kind == ArcKind::Move);
+            out.weight = if is_move { weights.0 } else { weights.1 };
         }
-        for (arc, weight) in graph.weights.iter_mut().enumerate() {
-            *weight = by_kind(arc);
-        }
-        graph
+        search
     }
 
     /// Number of nodes.
@@ -275,7 +272,8 @@ impl SearchGraph {
         if start.index() >= n {
             return None;
         }
-        scratch.begin(n, self.out.len());
+        let leaving_out = removed.iter().any(|r| r.from.index() < n);
+        scratch.begin(n, self.out.len(), leaving_out);
         let epoch = scratch.epoch;
         for goal in goals.iter().filter(|g| g.index() < n) {
             scratch.goal[goal.index()] = epoch;
@@ -302,7 +300,7 @@ impl SearchGraph {
                 continue;
             }
             for (slot, out) in self.leaving(node) {
-                if scratch.left_out[slot] == epoch {
+                if scratch.is_left_out(slot) {
                     continue;
                 }
                 let through = distance + out.weight;
@@ -331,7 +329,7 @@ impl SearchGraph {
             scratch.arcs.push(arc);
         }
         let cost = self
-            .path_cost(&scratch.arcs)
+            .path_cost(&scratch.nodes, &scratch.arcs)
             .unwrap_or(scratch.distance[goal as usize]);
         Some(Route {
             nodes: &scratch.nodes,
@@ -383,7 +381,7 @@ impl SearchGraph {
                 nodes.extend_from_slice(rest.nodes);
                 let mut arcs = vec![out.arc as usize];
                 arcs.extend_from_slice(rest.arcs);
-                let cost = self.path_cost(&arcs).unwrap_or(cost);
+                let cost = self.path_cost(&nodes, &arcs).unwrap_or(cost);
                 best = Some(Path { nodes, arcs, cost });
             }
         }
@@ -394,11 +392,13 @@ impl SearchGraph {
     /// are written in decimal (0.1 per move), and their binary sum drifts
     /// (`8.599999999999998` for 8.6), so they are added as whole billionths and the
     /// total converted once. `None` when a weight is not a whole number of billionths
-    /// within 10^-12 (or is too large for that), which no cell's weights are.
-    fn path_cost(&self, arcs: &[usize]) -> Option<f64> {
+    /// within 10^-12 (or is too large for that), which no cell's weights are, or when an
+    /// arc does not leave the node before it in `nodes`.
+    fn path_cost(&self, nodes: &[NodeId], arcs: &[usize]) -> Option<f64> {
         let mut total: i128 = 0;
-        for &arc in arcs {
-            let scaled = self.weights.get(arc)? * BILLION;
+        for (&from, &arc) in nodes.iter().zip(arcs) {
+            let weight = self.weight(from, arc)?;
+            let scaled = weight * BILLION;
             let whole = scaled.round();
             if !whole.is_finite() || whole.abs() >= 1e18 || (scaled - whole).abs() > 1e-3 {
                 return None;
@@ -408,11 +408,21 @@ impl SearchGraph {
         Some(total as f64 / BILLION)
     }
 
+    /// The weight here of arc `arc` (an index into the artifact's graph) leaving `from`.
+    pub fn weight(&self, from: NodeId, arc: usize) -> Option<f64> {
+        if from.index() >= self.n_nodes() {
+            return None;
+        }
+        self.leaving(from.0)
+            .find(|(_, out)| out.arc as usize == arc)
+            .map(|(_, out)| out.weight)
+    }
+
     /// The cheapest arc from `from` to `to` not left out in this search, the first
     /// declared among equals.
     fn cheapest_arc(&self, scratch: &Scratch, from: u32, to: u32) -> Option<usize> {
         self.leaving(from)
-            .filter(|(slot, out)| out.to == to && scratch.left_out[*slot] != scratch.epoch)
+            .filter(|(slot, out)| out.to == to && !scratch.is_left_out(*slot))
             .map(|(_, out)| (out.weight, out.arc))
             .min_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)))
             .map(|(_, arc)| arc as usize)

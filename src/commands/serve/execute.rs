@@ -103,7 +103,7 @@ fn run_moves(
         .iter()
         .map(|f| {
             let d = match &f.error {
-                TaskError::Plan(e) => plan_error(artifact, e, None, Some(&service.loaded.sources)),
+                TaskError::Plan(e) => plan_error(artifact, e, None, Some(service.loaded.sources())),
                 TaskError::Execute(e) => execution_error(artifact, e),
             };
             if several {

@@ -143,7 +143,7 @@ pub async fn put_world(State(service): Shared, body: Body) -> Response {
         Err(e) => return e.into_response(),
     };
     blocking(service, move |service, _| {
-        let fail = |d: Diagnostic| ApiError::from_diagnostic(&d, &service.loaded.sources);
+        let fail = |d: Diagnostic| ApiError::from_diagnostic(&d, service.loaded.sources());
         let document = match WorldDocument::from_json(&bytes) {
             Ok(d) => d,
             Err(e) => return fail(document_error(e)).into_response(),
@@ -222,7 +222,7 @@ pub(super) fn locate(
     let locate_error = |e| {
         ApiError::from_diagnostic(
             &plan_error(artifact, &PlanError::Locate(e), None, None),
-            &service.loaded.sources,
+            service.loaded.sources(),
         )
     };
     let to = placement(&body.to, "to")?;
@@ -241,7 +241,7 @@ pub(super) fn locate(
             let world = cell.request_world(world, &request).map_err(|e| {
                 ApiError::from_diagnostic(
                     &plan_error(artifact, &e, None, None),
-                    &service.loaded.sources,
+                    service.loaded.sources(),
                 )
             })?;
             Ok(Located {
@@ -313,7 +313,7 @@ fn plan_response(service: &Service, planned: &cellc_runtime::TaskPlans) -> Respo
         .failure
         .iter()
         .map(|f| match &f.error {
-            TaskError::Plan(e) => plan_error(artifact, e, None, Some(&service.loaded.sources)),
+            TaskError::Plan(e) => plan_error(artifact, e, None, Some(service.loaded.sources())),
             TaskError::Execute(e) => super::execute::execution_error(artifact, e),
         })
         .collect();
@@ -368,7 +368,7 @@ pub async fn explain(State(service): Shared, body: Body) -> Response {
                     artifact,
                     &PlanError::Unreachable(u.clone()),
                     None,
-                    Some(&service.loaded.sources),
+                    Some(service.loaded.sources()),
                 );
                 let explanation = cell
                     .explain(&u)
@@ -382,8 +382,8 @@ pub async fn explain(State(service): Shared, body: Body) -> Response {
                 .into_response()
             }
             Err(e) => ApiError::from_diagnostic(
-                &plan_error(artifact, &e, None, Some(&service.loaded.sources)),
-                &service.loaded.sources,
+                &plan_error(artifact, &e, None, Some(service.loaded.sources())),
+                service.loaded.sources(),
             )
             .into_response(),
         }

@@ -76,7 +76,7 @@ impl Oracle {
             );
         }
         let sums = SearchGraph::new(g);
-        let sums = reweight.map_or(sums.clone(), |w| sums.reweighted(w));
+        let sums = reweight.map_or(sums.clone(), |w| sums.reweighted(g, w));
         Oracle { graph, sums }
     }
 
@@ -115,7 +115,7 @@ impl Oracle {
                     .map(|(_, i)| i)
             })
             .collect::<Option<Vec<usize>>>()?;
-        let cost = self.sums.path_cost(&arcs).unwrap_or(cost);
+        let cost = self.sums.path_cost(&nodes, &arcs).unwrap_or(cost);
         Some(Path { nodes, arcs, cost })
     }
 
@@ -144,7 +144,7 @@ impl Oracle {
                 nodes.extend(rest.nodes);
                 let mut arcs = vec![arc];
                 arcs.extend(rest.arcs);
-                let cost = self.sums.path_cost(&arcs).unwrap_or(cost);
+                let cost = self.sums.path_cost(&nodes, &arcs).unwrap_or(cost);
                 best = Some(Path { nodes, arcs, cost });
             }
         }
@@ -184,7 +184,7 @@ fn check_walk(
         let arc = &g.arcs[a];
         assert_eq!((arc.from, arc.to), (path.nodes[i].0, path.nodes[i + 1].0));
         assert!(!removed.contains(&ArcRef::of(arc)));
-        sum += search.weights[a];
+        sum += search.weight(path.nodes[i], a).expect("an arc of the path");
     }
     assert!((sum - path.cost).abs() <= 1e-9, "{sum} vs {}", path.cost);
 }
@@ -224,7 +224,7 @@ proptest! {
         let g = graph(n, &arcs);
         let reweight = reweight.map(|(m, t)| (WEIGHTS[m], WEIGHTS[t]));
         let base = SearchGraph::new(&g);
-        let search = reweight.map_or(base.clone(), |w| base.reweighted(w));
+        let search = reweight.map_or(base.clone(), |w| base.reweighted(&g, w));
         let oracle = Oracle::new(&g, reweight);
         let mut removed: HashSet<ArcRef> = out_pairs
             .iter()
