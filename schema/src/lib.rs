@@ -20,6 +20,7 @@ use serde::{Deserialize, Serialize};
 pub mod blocked;
 pub mod files;
 pub mod hash;
+pub mod huge;
 pub mod ids;
 pub mod validate;
 

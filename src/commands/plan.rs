@@ -164,6 +164,12 @@ impl Loaded {
     /// Prints diagnostics against the cell's sources; a label in a file that changed
     /// since the build is replaced by a note saying so.
     pub fn report(&self, diagnostics: &[Diagnostic]) {
+        // No diagnostic, no label: the sources are not read (hashing them is a few
+        // milliseconds of a plan on a large artifact).
+        if diagnostics.is_empty() {
+            emit(self.format, &[], &SourceMap::new());
+            return;
+        }
         emit(self.format, &self.shown(diagnostics), self.sources());
     }
 
@@ -195,7 +201,11 @@ impl Loaded {
     /// The JSON report of `diagnostics` (the schema of `cellc check --format json`) as a
     /// value, to embed in a plan's or run's document.
     pub fn json_report(&self, diagnostics: &[Diagnostic]) -> serde_json::Value {
-        let text = render::json(&self.shown(diagnostics), self.sources());
+        let text = if diagnostics.is_empty() {
+            render::json(&[], &SourceMap::new())
+        } else {
+            render::json(&self.shown(diagnostics), self.sources())
+        };
         serde_json::from_str(&text).unwrap_or(serde_json::Value::Null)
     }
 }

@@ -217,7 +217,9 @@ impl SearchGraph {
             weight: 0.0,
             arc: 0,
         };
-        let mut out = vec![placeholder; offsets[n] as usize];
+        // Rows of a 10^6-arc graph are 16 MB of fresh memory: asked for in huge pages.
+        let mut out = cellc_schema::huge::with_capacity(offsets[n] as usize);
+        out.resize(offsets[n] as usize, placeholder);
         for (i, arc) in graph.arcs.iter().enumerate().rev() {
             if !valid(arc) {
                 continue;

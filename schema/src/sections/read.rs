@@ -259,7 +259,7 @@ impl<S: Source> Sections<S> {
     ) -> Result<(Vec<Arc>, bool), ReadError> {
         let mut passed = true;
         let s = self.row(SectionKind::Arcs, o)?;
-        let mut arcs = Vec::with_capacity(s.length / ARC_BYTES);
+        let mut arcs = crate::huge::with_capacity(s.length / ARC_BYTES);
         self.pieces(SectionKind::Arcs, o, ARC_BYTES, |bytes| {
             for r in bytes.chunks_exact(ARC_BYTES) {
                 let flags = u32_at(r, 20);
