@@ -21,19 +21,7 @@ impl Files for FsFiles {
     }
 
     fn read_at_most(&self, path: &str, max_bytes: u64) -> Result<Vec<u8>, FileError> {
-        // `metadata` follows symbolic links, so a link to a FIFO is refused too; it never
-        // opens the file, so it cannot block.
-        let size = regular_file(path)?;
-        if size > max_bytes {
-            return Err(FileError::TooLarge {
-                size,
-                limit: max_bytes,
-            });
-        }
-        let file = std::fs::File::open(path)?;
-        // The path may have been replaced between the look and the open: check what was
-        // opened, before reading from it.
-        check_kind(&file.metadata()?)?;
+        let (file, size) = open_at_most(path, max_bytes)?;
         let mut bytes = Vec::with_capacity(size as usize);
         file.take(max_bytes.saturating_add(1))
             .read_to_end(&mut bytes)?;
@@ -46,6 +34,30 @@ impl Files for FsFiles {
         }
         Ok(bytes)
     }
+}
+
+/// Opens the regular file at `path` of at most `max_bytes` bytes, with its length: the
+/// path is looked at before it is opened (`metadata` follows symbolic links, so a link
+/// to a FIFO is refused too, and it never opens the file, so it cannot block), and what
+/// was opened is looked at again (the path may have been replaced in between).
+fn open_at_most(path: &str, max_bytes: u64) -> Result<(std::fs::File, u64), FileError> {
+    let too_large = |size: u64| {
+        Err(FileError::TooLarge {
+            size,
+            limit: max_bytes,
+        })
+    };
+    let size = regular_file(path)?;
+    if size > max_bytes {
+        return too_large(size);
+    }
+    let file = std::fs::File::open(path)?;
+    let metadata = file.metadata()?;
+    check_kind(&metadata)?;
+    if metadata.len() > max_bytes {
+        return too_large(metadata.len());
+    }
+    Ok((file, metadata.len()))
 }
 
 /// The size of the regular file at `path`, from its metadata (the file is not opened);
@@ -106,26 +118,10 @@ pub struct PieceFile {
 impl PieceFile {
     /// Opens the regular file at `path`, of at most `max_bytes` bytes.
     pub fn open(path: &str, max_bytes: u64) -> Result<PieceFile, FileError> {
-        let size = regular_file(path)?;
-        if size > max_bytes {
-            return Err(FileError::TooLarge {
-                size,
-                limit: max_bytes,
-            });
-        }
-        let file = std::fs::File::open(path)?;
-        // The path may have been replaced between the look and the open.
-        let metadata = file.metadata()?;
-        check_kind(&metadata)?;
-        if metadata.len() > max_bytes {
-            return Err(FileError::TooLarge {
-                size: metadata.len(),
-                limit: max_bytes,
-            });
-        }
+        let (file, length) = open_at_most(path, max_bytes)?;
         Ok(PieceFile {
             file: std::sync::Mutex::new(file),
-            length: metadata.len(),
+            length,
         })
     }
 }

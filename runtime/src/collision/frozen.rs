@@ -110,29 +110,18 @@ impl CollisionWorld {
         self.check_state(state)?;
         self.check_standing(home, moving_robot)?;
         self.check_standing(home, away)?;
-        let mut extra = Vec::new();
-        for (r, bodies) in home.robot_bodies.iter().enumerate() {
-            if away[r] && !moving_robot[r] {
-                for &i in bodies {
-                    if let Some(p) = self.place_body(state, i as usize, 0.0)? {
-                        extra.push((i, p));
-                    }
-                }
-            }
-        }
         let moving_object: Vec<bool> = (0..self.objects.len())
             .map(|o| moving_object.get(o).copied().unwrap_or(false))
             .collect();
-        for (o, bodies) in home.object_bodies.iter().enumerate() {
-            if moving_object[o] || state.objects[o].pose.is_none() {
-                continue;
-            }
-            for &i in bodies {
-                if let Some(p) = self.place_body(state, i as usize, 0.0)? {
-                    extra.push((i, p));
-                }
-            }
-        }
+        let mut extra = Vec::new();
+        self.place_owned(
+            home,
+            state,
+            |r| away[r] && !moving_robot[r],
+            |o| !moving_object[o],
+            |_| 0.0,
+            |i, p| extra.push((i as u32, *p)),
+        )?;
         extra.sort_unstable_by_key(|&(i, _)| i);
         let bvh = Bvh::from_iter(
             BvhBuildStrategy::Binned,
@@ -171,7 +160,7 @@ impl CollisionWorld {
         state: &Configuration<'_>,
         scratch: &mut CollisionScratch,
     ) -> Result<bool, CollisionError> {
-        if home.hit(self, &frozen.away).is_some() {
+        if home.touches(self, &frozen.away) {
             return Ok(true);
         }
         let standing = Standing {
@@ -187,8 +176,12 @@ impl CollisionWorld {
             let i = *i as usize;
             let mut hit = false;
             self.near_standing(&standing, state, i, pi, 0.0, |j| {
-                // Each pair of the standing set once, from its first member.
-                if frozen.extra[..=k].iter().any(|&(e, _)| e as usize == j) {
+                // Each pair of the standing set once, from its first member (the set is
+                // in body order).
+                if frozen.extra[..=k]
+                    .binary_search_by_key(&(j as u32), |&(e, _)| e)
+                    .is_ok()
+                {
                     return Ok(Visit::Continue);
                 }
                 if self.intersect(i.min(j), i.max(j), scratch)? {
@@ -231,7 +224,7 @@ impl CollisionWorld {
         if standing.frozen.is_some_and(Frozen::blocked) {
             return Ok(false);
         }
-        if standing.frozen.is_none() && standing.home.hit(self, standing.live).is_some() {
+        if standing.frozen.is_none() && standing.home.touches(self, standing.live) {
             return Ok(false);
         }
         self.place_live(standing, state, scratch, |_| 0.0)?;
@@ -339,29 +332,39 @@ impl CollisionWorld {
             scratch.overlay = overlay;
             scratch.extra = extra;
         }
-        for (r, bodies) in home.robot_bodies.iter().enumerate() {
-            if !standing.live[r] {
-                continue;
-            }
+        self.place_owned(
+            home,
+            state,
+            |r| standing.live[r],
+            |o| standing.frozen.is_none_or(|f| f.moving_object[o]),
+            margin,
+            |i, p| {
+                write_placed(scratch, i, p);
+                scratch.order.push(i as u32);
+            },
+        )
+    }
+
+    /// Places the bodies of the robots `robot` marks and of the present objects `object`
+    /// marks (AABBs grown by `margin`), handing each to `placed`, robots first, in body
+    /// order within each.
+    fn place_owned(
+        &self,
+        home: &Home,
+        state: &Configuration<'_>,
+        robot: impl Fn(usize) -> bool,
+        object: impl Fn(usize) -> bool,
+        margin: impl Fn(usize) -> f64,
+        mut placed: impl FnMut(usize, &PlacedBody),
+    ) -> Result<(), CollisionError> {
+        let robots = (home.robot_bodies.iter().enumerate()).filter(|&(r, _)| robot(r));
+        let objects = (home.object_bodies.iter().enumerate())
+            .filter(|&(o, _)| state.objects[o].pose.is_some() && object(o));
+        for (_, bodies) in robots.chain(objects) {
             for &i in bodies {
                 let i = i as usize;
                 if let Some(p) = self.place_body(state, i, margin(i))? {
-                    write_placed(scratch, i, &p);
-                    scratch.order.push(i as u32);
-                }
-            }
-        }
-        for (o, bodies) in home.object_bodies.iter().enumerate() {
-            let live = state.objects[o].pose.is_some()
-                && standing.frozen.is_none_or(|f| f.moving_object[o]);
-            if !live {
-                continue;
-            }
-            for &i in bodies {
-                let i = i as usize;
-                if let Some(p) = self.place_body(state, i, margin(i))? {
-                    write_placed(scratch, i, &p);
-                    scratch.order.push(i as u32);
+                    placed(i, &p);
                 }
             }
         }

@@ -87,10 +87,7 @@ impl CollisionWorld {
         });
         // The pairs that touch at home, by the plain broad phase over the resting state
         // (objects absent).
-        let mut objects = home.objects.to_vec();
-        for o in &mut objects {
-            *o = super::ObjectState::absent();
-        }
+        let objects = vec![super::ObjectState::absent(); home.objects.len()];
         let at_home_state = Configuration {
             robots: home.robots,
             objects: &objects,
@@ -138,11 +135,10 @@ impl CollisionWorld {
 }
 
 impl Home {
-    /// The first pair that touches at home and has neither body on a robot `away` marks.
-    pub(super) fn hit(&self, world: &CollisionWorld, away: &[bool]) -> Option<(usize, usize)> {
-        self.hits
-            .iter()
-            .map(|&(i, j)| (i as usize, j as usize))
-            .find(|&(i, j)| !world.on_away_robot(i, away) && !world.on_away_robot(j, away))
+    /// Whether a pair that touches at home has neither body on a robot `away` marks.
+    pub(super) fn touches(&self, world: &CollisionWorld, away: &[bool]) -> bool {
+        self.hits.iter().any(|&(i, j)| {
+            !world.on_away_robot(i as usize, away) && !world.on_away_robot(j as usize, away)
+        })
     }
 }

@@ -29,7 +29,7 @@ pub struct CollisionScratch {
     /// none; a plain query overwrites them).
     pub(super) frozen: u64,
     /// The tag of the motion's standing set ([`Frozen`](super::Frozen)) written over the
-    /// rest (0: none), and the bodies it wrote.
+    /// home (0: none), and the bodies it wrote.
     pub(super) extra: u64,
     pub(super) overlay: Vec<u32>,
     /// Exact queries (GJK or parry) run through these buffers, for tests and profiles of

@@ -32,8 +32,8 @@ impl Scene {
     /// Freezes every arm but `moving` at the joints `arms` gives (others at home, where
     /// the scene's home already has them) and every object placed as `at` says, except
     /// one that follows a moving hand; `known_free` as in
-    /// [`CollisionWorld::freeze`](crate::collision::CollisionWorld). `None`-like failure
-    /// when the scene has no home (the plain queries answer then).
+    /// [`CollisionWorld::freeze`](crate::collision::CollisionWorld). Fails when the scene
+    /// has no home (the plain queries answer then).
     pub(crate) fn freeze(
         &self,
         arms: &[(EndEffectorId, &[f64])],
@@ -42,12 +42,7 @@ impl Scene {
         known_free: bool,
         scratch: &mut SceneScratch,
     ) -> Result<FrozenScene, QueryError> {
-        let home = self.at_home().ok_or(QueryError::Collision(
-            crate::collision::CollisionError::RobotCount {
-                expected: self.robot_holder.len(),
-                found: 0,
-            },
-        ))?;
+        let home = self.frozen_home()?;
         let n = self.robot_holder.len();
         let mut frames = vec![Vec::new(); n];
         let mut moving_robot = vec![false; n];
@@ -169,12 +164,7 @@ impl Scene {
             &mut crate::collision::CollisionScratch,
         ) -> Result<T, crate::collision::CollisionError>,
     ) -> Result<T, QueryError> {
-        let home = self.at_home().ok_or(QueryError::Collision(
-            crate::collision::CollisionError::RobotCount {
-                expected: self.robot_holder.len(),
-                found: 0,
-            },
-        ))?;
+        let home = self.frozen_home()?;
         let n = self.robot_holder.len();
         let moving = frozen.frozen.moving();
         scratch.frames.resize_with(n, Vec::new);
@@ -227,5 +217,17 @@ impl Scene {
             frozen: Some(&frozen.frozen),
         };
         query(&configuration, &standing, &mut scratch.collision).map_err(QueryError::Collision)
+    }
+
+    /// The scene's home, which every frozen query stands on; a scene without one (its
+    /// home state could not be placed) is refused as a world of the wrong shape, and the
+    /// checker falls back to the plain queries.
+    fn frozen_home(&self) -> Result<&crate::collision::Home, QueryError> {
+        self.at_home().ok_or(QueryError::Collision(
+            crate::collision::CollisionError::RobotCount {
+                expected: self.robot_holder.len(),
+                found: 0,
+            },
+        ))
     }
 }

@@ -41,7 +41,7 @@ pub enum Holder {
         /// Home configuration.
         home: Vec<f64>,
     },
-    /// A fixed slab; objects home on its top face.
+    /// A fixed slab; objects rest on its top face.
     Surface {
         /// The slab.
         slab: Aabb,
@@ -124,7 +124,7 @@ impl Scene {
         self.world_robot.get(e.index()).copied().flatten()
     }
 
-    /// The cell at home, built on first use (see [`Scene::home`](Self)'s field).
+    /// The cell at home, built on first use (`None` when its state cannot be placed).
     pub(crate) fn at_home(&self) -> Option<&crate::collision::Home> {
         self.at_home
             .get_or_init(|| {

@@ -242,9 +242,9 @@ pub(super) fn invalidity(
 }
 
 /// The colliding pair a failed check reports: the first pair the plain broad phase finds
-/// in the state when it involves an arm of the check or its object, else the first pair, in body order, that
-/// does (the first one found may be an arm standing by at its home touching a fixed
-/// body), so a reason names the bodies of the arc in question. When nothing of the check
+/// in the state when it involves an arm of the check or its object, else the first pair,
+/// in body order, that does (the first one found may be an arm standing by at its home
+/// touching a fixed body), so a reason names the bodies of the arc in question. When nothing of the check
 /// collides, the first pair found stays: a standing arm's own collision, which `cellc
 /// build` refuses before verifying (E0420), so a built artifact never blames it.
 fn blamed(

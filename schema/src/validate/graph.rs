@@ -66,6 +66,16 @@ struct Bounds {
 }
 
 impl Bounds {
+    /// The bounds of an object's arcs in `a`, its graph having `n_nodes` nodes and (when
+    /// read) `n_witnesses` witnesses.
+    fn of(a: &Artifact, n_nodes: usize, n_witnesses: Option<usize>) -> Bounds {
+        Bounds {
+            n_nodes,
+            n_spans: a.spans.len(),
+            n_witnesses,
+        }
+    }
+
     fn fine(&self, arc: &Arc) -> bool {
         (arc.from as usize) < self.n_nodes
             && (arc.to as usize) < self.n_nodes
@@ -85,11 +95,7 @@ impl Bounds {
 /// fine. A reader that applies it while decoding ([`crate::sections::Sections::arcs_testing`])
 /// needs [`arcs`] only when an arc fails it, to find and word the problem.
 pub fn arc_test(a: &Artifact, n_nodes: usize, n_witnesses: Option<usize>) -> impl Fn(&Arc) -> bool {
-    let bounds = Bounds {
-        n_nodes,
-        n_spans: a.spans.len(),
-        n_witnesses,
-    };
+    let bounds = Bounds::of(a, n_nodes, n_witnesses);
     move |arc| bounds.fine(arc)
 }
 
@@ -103,11 +109,7 @@ pub fn arcs(
     n_witnesses: Option<usize>,
 ) -> Check {
     n_grasps(a, o)?;
-    let bounds = Bounds {
-        n_nodes,
-        n_spans: a.spans.len(),
-        n_witnesses,
-    };
+    let bounds = Bounds::of(a, n_nodes, n_witnesses);
     let Some(i) = arcs.iter().position(|arc| !bounds.fine(arc)) else {
         return Ok(());
     };
@@ -126,11 +128,7 @@ pub fn pruned(
     n_witnesses: Option<usize>,
 ) -> Check {
     n_grasps(a, o)?;
-    let bounds = Bounds {
-        n_nodes,
-        n_spans: a.spans.len(),
-        n_witnesses,
-    };
+    let bounds = Bounds::of(a, n_nodes, n_witnesses);
     at_graph(a, o, |v| {
         for (i, p) in pruned.iter().enumerate() {
             v.at(Step::Item("pruned", i), |v| {
