@@ -298,7 +298,7 @@ fn a_connected_graph_says_which_steps_failed_and_why() {
     assert!(
         d.notes.iter().any(|n| n
             == "the transition `g5 -> g7` from `left_arm` to `right_arm` in `w2` failed during \
-                this request: no collision-free motion found in 5000 iterations"),
+                this request: no collision-free motion found in 10000 iterations"),
         "{:?}",
         d.notes
     );

@@ -90,7 +90,7 @@ fn the_cage_checks_builds_plans_and_runs() {
 }
 
 /// Most seeds plan the request (RRT-Connect gives up on the carry round the cage after
-/// its 5000 iterations for some: the bench reports the rate), and every motion of every
+/// its 10000 iterations for some: the bench reports the rate), and every motion of every
 /// plan is collision-free when re-checked four times finer than the planner's resolution;
 /// at least one of them (the carry round the cage) could not go straight.
 #[test]

@@ -6,10 +6,10 @@
 //! keeps its pose for the whole motion: the arms at home and the furniture (the
 //! [`Home`]), and, away from home, an arm that stands by holding something, the world's
 //! other objects, an object resting on a surface. A [`Frozen`] places those once and
-//! keeps their boxes in a small hierarchy of its own. A query ([`Standing`] says what
+//! keeps their boxes in an index of their own (`boxes.rs`). A query ([`Standing`] says what
 //! stands) then places only the *live* bodies (the moving robots' and the objects not
 //! standing), sweeps them against each other as the plain broad phase does, and asks
-//! both hierarchies for the standing bodies near each of them: its cost follows the
+//! both indexes for the standing bodies near each of them: its cost follows the
 //! moving bodies and what is near them, not the size of the cell. A plain question about
 //! one state (`Scene::is_free`) is the same query with the arms it names live and no
 //! [`Frozen`].
@@ -26,8 +26,8 @@
 //! plain questions, costs what changed.
 
 use parry3d_f64::bounding_volume::Aabb;
-use parry3d_f64::partitioning::{Bvh, BvhBuildStrategy};
 
+use super::boxes::BoxIndex;
 use super::broad_phase::{grow, PlacedBody};
 use super::home::{next_tag, Home};
 use super::swept::CONTACT;
@@ -70,8 +70,8 @@ pub(crate) struct Frozen {
     moving_object: Vec<bool>,
     /// The standing bodies away from home, in body order.
     extra: Vec<(u32, PlacedBody)>,
-    /// Their boxes; leaf data is the index into `extra`.
-    bvh: Bvh,
+    /// Their boxes, numbered as `extra`.
+    boxes: BoxIndex,
     /// Whether two standing bodies that may not touch intersect (every state collides).
     blocked: bool,
 }
@@ -123,13 +123,7 @@ impl CollisionWorld {
             |i, p| extra.push((i as u32, *p)),
         )?;
         extra.sort_unstable_by_key(|&(i, _)| i);
-        let bvh = Bvh::from_iter(
-            BvhBuildStrategy::Binned,
-            extra
-                .iter()
-                .enumerate()
-                .map(|(leaf, (_, p))| (leaf, p.aabb)),
-        );
+        let boxes = BoxIndex::new(extra.iter().map(|(_, p)| p.aabb).collect());
         let mut frozen = Frozen {
             tag: next_tag(),
             home: home.tag,
@@ -141,7 +135,7 @@ impl CollisionWorld {
                 .collect(),
             moving_object,
             extra,
-            bvh,
+            boxes,
             blocked: false,
         };
         if !known_free {
@@ -386,7 +380,7 @@ impl CollisionWorld {
 
     /// Calls `visit` for every pair with a live body that the plain broad phase would
     /// hand the exact test: the live bodies among themselves by the plain sweep, then
-    /// each against the standing bodies the hierarchies find near it, standing bodies
+    /// each against the standing bodies the indexes find near it, standing bodies
     /// grown by `standing_margin` (what the plain placement would have grown them by).
     fn visit_live(
         &self,
@@ -443,42 +437,53 @@ impl CollisionWorld {
         standing_margin: f64,
         mut visit: impl FnMut(usize) -> Result<Visit, CollisionError>,
     ) -> Result<(), CollisionError> {
-        // A hair wider than the exact filter below, so that rounding in the hierarchy's
+        // A hair wider than the exact filter below, so that rounding in the index's
         // own boxes never drops a pair the filter would keep.
         let query = grow(&pi.aabb, standing_margin + 1e-9);
         let away = standing.away();
         let home = standing.home;
-        for leaf in home.bvh.intersect_aabb(&query) {
+        let mut result = Ok(());
+        let mut stopped = false;
+        home.boxes.overlapping(&query, |leaf| {
             let Some(&j) = home.leaves.get(leaf as usize) else {
-                continue;
+                return true;
             };
             let j = j as usize;
             if j == i || self.on_away_robot(j, away) {
-                continue;
+                return true;
             }
             let Some(sj) = &home.placed[j] else {
-                continue;
+                return true;
             };
             if self.standing_pair(state, i, pi, j, sj, standing_margin) {
-                if let Visit::Stop = visit(j)? {
-                    return Ok(());
+                match visit(j) {
+                    Ok(Visit::Continue) => {}
+                    Ok(Visit::Stop) => stopped = true,
+                    Err(e) => result = Err(e),
                 }
             }
+            !stopped && result.is_ok()
+        });
+        if stopped || result.is_err() {
+            return result;
         }
         if let Some(f) = standing.frozen {
-            for leaf in f.bvh.intersect_aabb(&query) {
+            f.boxes.overlapping(&query, |leaf| {
                 let Some((j, sj)) = f.extra.get(leaf as usize) else {
-                    continue;
+                    return true;
                 };
                 let j = *j as usize;
                 if j != i && self.standing_pair(state, i, pi, j, sj, standing_margin) {
-                    if let Visit::Stop = visit(j)? {
-                        return Ok(());
+                    match visit(j) {
+                        Ok(Visit::Continue) => {}
+                        Ok(Visit::Stop) => stopped = true,
+                        Err(e) => result = Err(e),
                     }
                 }
-            }
+                !stopped && result.is_ok()
+            });
         }
-        Ok(())
+        result
     }
 
     /// The plain sweep's filters for body `i` placed as `pi` and standing body `j`

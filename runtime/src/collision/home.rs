@@ -1,5 +1,5 @@
-//! The cell at home, placed once: every arm at home and the furniture, in one hierarchy
-//! of boxes that every query of the scene shares.
+//! The cell at home, placed once: every arm at home and the furniture, in one index of
+//! boxes that every query of the scene shares.
 //!
 //! Most of a cell stands still in any one question: a query moves one or two arms and
 //! one object, and a line of fifty arms leaves forty-eight at home. Placing and sorting
@@ -8,7 +8,7 @@
 //! still placed every body once per motion and built its hierarchy over all of them. A
 //! [`Home`] is built once per scene: the pose, box and sphere of every robot body at its
 //! robot's home configuration and of every fixed body, their boxes in a bounding-volume
-//! hierarchy (parry's [`Bvh`]), and the pairs among them that already touch (none, in a
+//! index (`boxes.rs`), and the pairs among them that already touch (none, in a
 //! cell `cellc build` accepts: E0420 refuses an arm at home in collision). A query then
 //! names the robots that are *away* from home (their resting bodies are skipped) and
 //! places only the bodies that are not at home: its cost follows them and what is near
@@ -19,8 +19,7 @@
 
 use std::sync::atomic::{AtomicU64, Ordering};
 
-use parry3d_f64::partitioning::{Bvh, BvhBuildStrategy};
-
+use super::boxes::BoxIndex;
 use super::broad_phase::PlacedBody;
 use super::build::Mount;
 use super::world::{CollisionScratch, CollisionWorld, Visit};
@@ -43,9 +42,9 @@ pub(crate) struct Home {
     pub(super) tag: u64,
     /// Per body: where it is at home; `None` for object bodies.
     pub(super) placed: Vec<Option<PlacedBody>>,
-    /// The resting bodies' boxes; leaf data is the index into `leaves`.
-    pub(super) bvh: Bvh,
-    /// Body index of each leaf (dense from 0: parry's builder assumes leaf 0 exists).
+    /// The resting bodies' boxes, numbered as `leaves`.
+    pub(super) boxes: BoxIndex,
+    /// Body index of each box.
     pub(super) leaves: Vec<u32>,
     /// Pairs of resting bodies that may not touch and intersect at home, in body order.
     pub(super) hits: Vec<(u32, u32)>,
@@ -70,12 +69,11 @@ impl CollisionWorld {
         let leaves: Vec<u32> = (0..n as u32)
             .filter(|&i| placed[i as usize].is_some())
             .collect();
-        let bvh = Bvh::from_iter(
-            BvhBuildStrategy::Binned,
+        let boxes = BoxIndex::new(
             leaves
                 .iter()
-                .enumerate()
-                .filter_map(|(leaf, &i)| placed[i as usize].map(|p| (leaf, p.aabb))),
+                .filter_map(|&i| placed[i as usize].map(|p| p.aabb))
+                .collect(),
         );
         let robot_bodies = self.owned(self.robots.len(), |m| match m {
             Mount::Frame { robot, .. } => Some(robot),
@@ -105,7 +103,7 @@ impl CollisionWorld {
         Ok(Home {
             tag: next_tag(),
             placed,
-            bvh,
+            boxes,
             leaves,
             hits,
             robot_bodies,

@@ -72,6 +72,7 @@
 //! not standing, so a check's cost follows the moving bodies, not the size of the cell.
 
 mod bounds;
+mod boxes;
 mod broad_phase;
 mod build;
 mod capsule;

@@ -77,6 +77,7 @@ mod rrt;
 mod segment;
 mod shortcut;
 mod timing;
+mod tree;
 
 use std::fmt;
 

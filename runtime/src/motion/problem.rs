@@ -11,7 +11,12 @@ use crate::validity::LayoutError;
 /// Planner settings.
 #[derive(Clone, Debug, PartialEq)]
 pub struct MotionOptions {
-    /// RRT-Connect iterations (one sample each) before giving up.
+    /// RRT-Connect iterations (one sample each) before giving up, over all the rounds of
+    /// the lazy search (`tree.rs`). An iteration checks nodes only, about a third of what
+    /// one that checked its edges cost, so the default is twice the 5,000 it was when
+    /// edges were checked as the trees grew: in the cage of `cells/panda_cage.cell` the
+    /// carry round the cage then plans for 26 of 32 seeds, where 5,000 eager iterations
+    /// planned 14, in half the time.
     pub max_iterations: usize,
     /// Largest joint change of one tree extension, and between two output points (rad, or
     /// m for prismatic joints).
@@ -35,7 +40,7 @@ pub struct MotionOptions {
 impl Default for MotionOptions {
     fn default() -> MotionOptions {
         MotionOptions {
-            max_iterations: 5000,
+            max_iterations: 10000,
             // A quarter radian per extension: a handful of checks per edge, trees of tens
             // of nodes around a table-sized obstacle.
             step: 0.25,

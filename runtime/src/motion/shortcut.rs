@@ -28,31 +28,47 @@ pub(super) fn dedup_waypoints(path: &mut Vec<f64>, dim: usize) {
 
 /// Random shortcuts: two random waypoints are joined directly when the edge between them
 /// is free, dropping those in between. Then every waypoint whose neighbours see each
-/// other is dropped too, since each waypoint costs a stop in the timing. Every segment of
-/// the result is an edge `motion` accepted as a whole (with the default validity, a
-/// certified one, so the result is as free as the path it shortens). Shortcuts join
+/// other is dropped too, since each waypoint costs a stop in the timing. Shortcuts join
 /// waypoints only (never points inside segments), which also keeps the cuts of a sampled
 /// validity those of [`check_trajectory`](super::check_trajectory); RRT waypoints are at
 /// most `step` apart, so little is lost. `stop` is checked before every attempt.
+///
+/// Nothing is checked by `motion` (the sound check) until the end. The shortcuts are
+/// taken on `screen`'s word (a sampled check, many times cheaper than certifying an edge,
+/// and right about most), and most of them are later cut short by a longer one: in the
+/// cage of `cells/panda_cage.cell` about 4 of 11 taken shortcuts survive, and certifying
+/// one there takes 30 or more clearance certificates. Then every edge of the result goes
+/// to `motion`, unless it is an edge of `path` that `accepted` (one flag per edge of
+/// `path`, edge `e` joining waypoints `e` and `e + 1`) marks as accepted already. A
+/// refused shortcut is replaced by the waypoints of `path` it had cut out, whose edges
+/// are checked in turn. A refused edge of `path` ends the call with its index: `path` is
+/// then left part shortened, and the caller must find another (the lazy trees of
+/// `tree.rs` cut that edge off). Otherwise (`None`) every segment of the result is one
+/// `motion` accepted as a whole: with the default validity, certified. Edges of `path`
+/// accepted on the way are marked in `accepted`.
 ///
 /// Checks are reused: an edge between two waypoints that was refused once is never
 /// checked again (random draws repeat pairs often on a short path, and the final pass
 /// asks again about neighbours the random phase already tried). Edge checks are
 /// deterministic in their ends, so skipping a known refusal changes no result, and the
 /// random draws are the same as without the memory.
+#[allow(clippy::too_many_arguments)]
 pub(super) fn shortcut(
     motion: &mut dyn MotionValidity,
+    screen: &mut dyn MotionValidity,
     path: &mut Vec<f64>,
     dim: usize,
+    accepted: &mut [bool],
     iterations: usize,
     rng: &mut ChaCha8Rng,
     stop: &Termination,
     scratch: &mut SceneScratch,
-) -> Result<(), MotionError> {
+) -> Result<Option<usize>, MotionError> {
     if dim == 0 {
-        return Ok(());
+        return Ok(None);
     }
     let stopped = || MotionError::Terminated { iterations: 0 };
+    let original = path.clone();
     // Waypoints keep their original index as identity while others are dropped.
     let mut ids: Vec<u32> = (0..(path.len() / dim) as u32).collect();
     let mut refused: FxHashSet<(u32, u32)> = FxHashSet::default();
@@ -70,7 +86,7 @@ pub(super) fn shortcut(
             continue;
         }
         let (head, tail) = path.split_at(j * dim);
-        if motion.check_motion(&head[i * dim..(i + 1) * dim], &tail[..dim], scratch)? {
+        if screen.check_motion(&head[i * dim..(i + 1) * dim], &tail[..dim], scratch)? {
             path.drain((i + 1) * dim..j * dim);
             ids.drain(i + 1..j);
         } else {
@@ -88,14 +104,40 @@ pub(super) fn shortcut(
         }
         let (head, tail) = path.split_at(i * dim);
         let (before, after) = (&head[(i - 1) * dim..], &tail[dim..2 * dim]);
-        if motion.check_motion(before, after, scratch)? {
+        if screen.check_motion(before, after, scratch)? {
             path.drain(i * dim..(i + 1) * dim);
             ids.remove(i);
         } else {
             i += 1;
         }
     }
-    Ok(())
+    // What survives, to `motion`: an edge of `path` it refuses ends the round; a refused
+    // shortcut gets the waypoints it cut out back, their edges checked in turn.
+    let mut k = 1;
+    while k < ids.len() {
+        if stop.should_stop() {
+            return Err(stopped());
+        }
+        let (from, to) = (ids[k - 1] as usize, ids[k] as usize);
+        if to == from + 1 && accepted[from] {
+            k += 1;
+            continue;
+        }
+        let (head, tail) = path.split_at(k * dim);
+        if motion.check_motion(&head[(k - 1) * dim..], &tail[..dim], scratch)? {
+            if to == from + 1 {
+                accepted[from] = true;
+            }
+            k += 1;
+        } else if to == from + 1 {
+            return Ok(Some(from));
+        } else {
+            let at = k * dim;
+            path.splice(at..at, original[(from + 1) * dim..to * dim].iter().copied());
+            ids.splice(k..k, (from + 1) as u32..to as u32);
+        }
+    }
+    Ok(None)
 }
 
 #[cfg(test)]
@@ -149,35 +191,115 @@ mod tests {
         path
     }
 
+    /// Accepts every edge: a screen that is always wrong about the wall.
+    struct Blind;
+
+    impl MotionValidity for Blind {
+        fn check_motion(
+            &mut self,
+            _: &[f64],
+            _: &[f64],
+            _: &mut SceneScratch,
+        ) -> Result<bool, QueryError> {
+            Ok(true)
+        }
+    }
+
+    /// Every segment of `path` is free by the wall's own check.
+    fn assert_free(path: &[f64], scratch: &mut SceneScratch) {
+        let mut check = Wall::default();
+        for w in path.chunks(2).collect::<Vec<_>>().windows(2) {
+            assert!(check.check_motion(w[0], w[1], scratch).unwrap(), "{w:?}");
+        }
+    }
+
     #[test]
     fn no_edge_is_checked_twice_and_every_kept_edge_is_free() {
         for seed in 0..8 {
-            let mut wall = Wall::default();
+            let (mut screen, mut wall) = (Wall::default(), Wall::default());
             let mut path = detour();
+            let mut accepted = vec![true; path.len() / 2 - 1];
             let mut rng = ChaCha8Rng::seed_from_u64(seed);
             let mut scratch = SceneScratch::default();
-            shortcut(
+            let refused = shortcut(
                 &mut wall,
+                &mut screen,
                 &mut path,
                 2,
+                &mut accepted,
                 200,
                 &mut rng,
                 &Termination::never(),
                 &mut scratch,
             )
             .unwrap();
-            let repeated = wall.asked.values().filter(|&&n| n > 1).count();
-            assert_eq!(repeated, 0, "seed {seed}: an edge was checked again");
+            assert_eq!(refused, None);
+            let repeated = screen.asked.values().filter(|&&n| n > 1).count();
+            assert_eq!(repeated, 0, "seed {seed}: an edge was screened again");
+            // The sound check saw the surviving shortcuts only, each once.
+            assert!(!wall.asked.is_empty() && wall.asked.len() < screen.asked.len());
+            assert!(wall.asked.values().all(|&n| n == 1));
             assert!(
                 path.len() < detour().len(),
                 "seed {seed}: nothing was shortened"
             );
             assert_eq!(&path[..2], &[-1.0, 0.0]);
             assert_eq!(&path[path.len() - 2..], &[1.0, 0.0]);
-            let mut check = Wall::default();
-            for w in path.chunks(2).collect::<Vec<_>>().windows(2) {
-                assert!(check.check_motion(w[0], w[1], &mut scratch).unwrap());
-            }
+            assert_free(&path, &mut scratch);
         }
+    }
+
+    /// A screen that lets shortcuts through the wall: the sound check refuses them and
+    /// the waypoints they cut out come back, so the result is still free.
+    #[test]
+    fn refused_shortcuts_get_their_waypoints_back() {
+        for seed in 0..8 {
+            let mut wall = Wall::default();
+            let mut path = detour();
+            let mut accepted = vec![true; path.len() / 2 - 1];
+            let mut rng = ChaCha8Rng::seed_from_u64(seed);
+            let mut scratch = SceneScratch::default();
+            let refused = shortcut(
+                &mut wall,
+                &mut Blind,
+                &mut path,
+                2,
+                &mut accepted,
+                200,
+                &mut rng,
+                &Termination::never(),
+                &mut scratch,
+            )
+            .unwrap();
+            assert_eq!(refused, None);
+            assert_eq!(&path[..2], &[-1.0, 0.0]);
+            assert_eq!(&path[path.len() - 2..], &[1.0, 0.0]);
+            assert_free(&path, &mut scratch);
+        }
+    }
+
+    /// An edge of the given path that the sound check refuses is reported by its index,
+    /// after the edges before it were accepted and marked.
+    #[test]
+    fn a_refused_edge_of_the_path_is_reported() {
+        // The edge from the second waypoint to the third crosses the wall.
+        let mut path = vec![-1.0, 0.0, -0.5, 0.0, 0.5, 0.0, 1.0, 0.0];
+        let mut accepted = vec![false; 3];
+        let mut rng = ChaCha8Rng::seed_from_u64(0);
+        let mut scratch = SceneScratch::default();
+        let refused = shortcut(
+            &mut Wall::default(),
+            &mut Wall::default(),
+            &mut path,
+            2,
+            &mut accepted,
+            20,
+            &mut rng,
+            &Termination::never(),
+            &mut scratch,
+        )
+        .unwrap();
+        assert_eq!(refused, Some(1));
+        assert_eq!(accepted, [true, false, false]);
     }
 }

@@ -423,7 +423,7 @@ pub fn fig3_gave_up() -> (Desc, Req) {
         st("right_arm", "g7", "w2"),
         Infeasibility::NoPlacement {
             detail: s(
-                "no collision-free motion: no collision-free motion found in 5000 iterations",
+                "no collision-free motion: no collision-free motion found in 10000 iterations",
             ),
         },
     ));
