@@ -28,11 +28,15 @@
 //! 1. check the problem (arms, lengths, limits, options) and that start and goal are
 //!    valid;
 //! 2. try the straight line from start to goal (most motions in an uncluttered cell);
-//! 3. otherwise RRT-Connect (`rrt.rs`): two trees (from the start and from the goal), each
+//! 3. otherwise RRT-Connect (`tree.rs`): two trees (from the start and from the goal), each
 //!    extended towards uniform samples within the joint limits (goal-biased), the other
-//!    tree greedily connected to every new node;
+//!    tree greedily connected to every new node; lazily, as in Lazy PRM: a node joins
+//!    when it is valid, its edge is checked only if it is still on the path after 4;
 //! 4. random shortcuts between waypoints, then dropping waypoints whose neighbours see
-//!    each other (`shortcut.rs`);
+//!    each other (`shortcut.rs`), each taken on a cheap sampled check; then every edge
+//!    left is checked soundly: a refused shortcut gets its waypoints back, and a refused
+//!    tree edge is cut off its tree, which grows on to the next path (`rrt.rs` runs
+//!    these rounds);
 //! 5. a trapezoidal velocity profile per segment (rest to rest, every joint synchronised),
 //!    sampled so that no joint moves more than [`MotionOptions::step`] between points
 //!    (`timing.rs`).
@@ -59,8 +63,9 @@
 //!   bisected, coarse to fine, until the segment is covered or a certificate fails.
 //!
 //! An accepted edge is therefore free at every configuration (at least a micrometre from
-//! contact), and a re-check at any resolution, however fine, finds nothing. Shortcuts
-//! and the final waypoint pruning go through the same validity, and timing only samples
+//! contact), and a re-check at any resolution, however fine, finds nothing. Every edge of
+//! the result has been accepted so (the lazy trees and the screened shortcuts only decide
+//! which edges are worth certifying), and timing only samples
 //! points on the accepted straight segments, so every segment of the trajectory is a
 //! piece of a certified edge. [`MotionOptions::collision_resolution`] is left to the
 //! sampled fallback and to [`check_trajectory`], the independent re-check, which stays a
