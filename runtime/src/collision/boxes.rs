@@ -4,10 +4,10 @@
 //!
 //! A query asks once per moving body (a Panda has ten), so the index is on the hot path
 //! of every check. Walking a hierarchy costs a stack, a test per node and an indirect
-//! call per leaf; over the 30 boxes of the cage cell (14 cubes, the floor, the pad, the
-//! arm's own resting links) a branch-free comparison of every box, six numbers each in
-//! arrays of their own, is several times faster (the profile of `cage_motions` had 13%
-//! in the hierarchy's traversal). Past [`FLAT_MAX`] boxes the scan's linear cost loses
+//! call per leaf; over the 26 boxes of the cage cell (14 cubes, the floor, the pad, the
+//! arm's own resting links) comparing every box, six numbers each in arrays of their
+//! own, costs less (the profile of `cage_motions` had 13% in the hierarchy's traversal,
+//! and about half of that in the scan). Past [`FLAT_MAX`] boxes the scan's linear cost loses
 //! to the hierarchy's logarithmic one, so larger sets keep it. Both answer the same set,
 //! each in its own fixed order; every caller either stops at the first pair that
 //! intersects (a yes or no that does not depend on the order) or sorts what it gathers.
@@ -15,9 +15,10 @@
 use parry3d_f64::bounding_volume::Aabb;
 use parry3d_f64::partitioning::{Bvh, BvhBuildStrategy};
 
-/// The most boxes scanned flat; more go into a hierarchy. Chosen by `cage_motions` (30
-/// boxes) and `line_motions` (hundreds to thousands of resting bodies).
-const FLAT_MAX: usize = 128;
+/// The most boxes scanned flat; more go into a hierarchy. The shipped cells' homes have
+/// 16 to 26 boxes (the cage's plans 5 to 10% faster flat than with the hierarchy; the
+/// others within noise); a generated line of arms has hundreds to thousands.
+const FLAT_MAX: usize = 64;
 
 /// Boxes numbered from 0 in the order given (see [the module](self) documentation).
 #[derive(Clone, Debug)]

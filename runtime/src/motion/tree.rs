@@ -10,7 +10,8 @@
 //! spent 1,600 certificates on the trees alone. Lazily, a found path that crosses an
 //! obstacle between two valid nodes is caught when its edges are checked: the refused
 //! edge's lower node and everything below it are cut off (they were reached through it)
-//! and the trees grow on, their other nodes and already accepted edges kept. This is the
+//! and the trees grow on, their other nodes and already accepted edges kept (a node's
+//! edge midpoint is checked with it, which keeps most such paths from forming). This is the
 //! lazy evaluation of Bohlin and Kavraki's Lazy PRM (2000), applied to the two trees.
 
 use rand::Rng;
@@ -133,6 +134,7 @@ pub(super) struct Search<'v> {
     sample: Vec<f64>,
     reached: Vec<f64>,
     new: Vec<f64>,
+    mid: Vec<f64>,
 }
 
 impl<'v> Search<'v> {
@@ -154,6 +156,7 @@ impl<'v> Search<'v> {
             sample: vec![0.0; dim],
             reached: vec![0.0; dim],
             new: Vec::with_capacity(dim),
+            mid: Vec::with_capacity(dim),
         }
     }
 
@@ -255,7 +258,8 @@ impl<'v> Search<'v> {
     }
 
     /// One step of at most `step` (per joint) from the live node of tree `t` nearest
-    /// `target` towards it; the new node joins when it is valid.
+    /// `target` towards it; the new node joins when it and its edge's midpoint are
+    /// valid.
     fn extend(
         &mut self,
         t: usize,
@@ -278,6 +282,16 @@ impl<'v> Search<'v> {
             interpolate(from, target, self.step / d, &mut self.new);
         }
         if !self.validity.is_valid(&self.new, scratch)? {
+            return Ok(Extension::Trapped);
+        }
+        // And its edge's midpoint: a step can jump a thin obstacle (a hand through a
+        // table top, past a cube's corner), and a path through such an edge would be
+        // refused only after its round's shortcutting. With the midpoint the Vito
+        // requests plan in about a third of the time, the cage's VAMP motion in 3.6 ms
+        // (4.7 ms without it), and the carry round the cage for 31 of 32 seeds (26); the
+        // quarters too measured slower again.
+        interpolate(from, &self.new, 0.5, &mut self.mid);
+        if !self.validity.is_valid(&self.mid, scratch)? {
             return Ok(Extension::Trapped);
         }
         let i = tree.push(&self.new, near);
