@@ -205,6 +205,31 @@ mod tests {
         }
     }
 
+    /// [`shortcut`] on a plane path with `iterations` random attempts drawn with `seed`.
+    fn run(
+        motion: &mut dyn MotionValidity,
+        screen: &mut dyn MotionValidity,
+        path: &mut Vec<f64>,
+        accepted: &mut [bool],
+        iterations: usize,
+        seed: u64,
+    ) -> Option<usize> {
+        let mut rng = ChaCha8Rng::seed_from_u64(seed);
+        let (stop, mut scratch) = (Termination::never(), SceneScratch::default());
+        shortcut(
+            motion,
+            screen,
+            path,
+            2,
+            accepted,
+            iterations,
+            &mut rng,
+            &stop,
+            &mut scratch,
+        )
+        .unwrap()
+    }
+
     /// Every segment of `path` is free by the wall's own check.
     fn assert_free(path: &[f64], scratch: &mut SceneScratch) {
         let mut check = Wall::default();
@@ -219,20 +244,8 @@ mod tests {
             let (mut screen, mut wall) = (Wall::default(), Wall::default());
             let mut path = detour();
             let mut accepted = vec![true; path.len() / 2 - 1];
-            let mut rng = ChaCha8Rng::seed_from_u64(seed);
             let mut scratch = SceneScratch::default();
-            let refused = shortcut(
-                &mut wall,
-                &mut screen,
-                &mut path,
-                2,
-                &mut accepted,
-                200,
-                &mut rng,
-                &Termination::never(),
-                &mut scratch,
-            )
-            .unwrap();
+            let refused = run(&mut wall, &mut screen, &mut path, &mut accepted, 200, seed);
             assert_eq!(refused, None);
             let repeated = screen.asked.values().filter(|&&n| n > 1).count();
             assert_eq!(repeated, 0, "seed {seed}: an edge was screened again");
@@ -257,21 +270,11 @@ mod tests {
             let mut wall = Wall::default();
             let mut path = detour();
             let mut accepted = vec![true; path.len() / 2 - 1];
-            let mut rng = ChaCha8Rng::seed_from_u64(seed);
             let mut scratch = SceneScratch::default();
-            let refused = shortcut(
-                &mut wall,
-                &mut Blind,
-                &mut path,
-                2,
-                &mut accepted,
-                200,
-                &mut rng,
-                &Termination::never(),
-                &mut scratch,
-            )
-            .unwrap();
+            let refused = run(&mut wall, &mut Blind, &mut path, &mut accepted, 200, seed);
             assert_eq!(refused, None);
+            // Blind took shortcuts through the wall, which the sound check was asked.
+            assert!(!wall.asked.is_empty());
             assert_eq!(&path[..2], &[-1.0, 0.0]);
             assert_eq!(&path[path.len() - 2..], &[1.0, 0.0]);
             assert_free(&path, &mut scratch);
@@ -285,20 +288,8 @@ mod tests {
         // The edge from the second waypoint to the third crosses the wall.
         let mut path = vec![-1.0, 0.0, -0.5, 0.0, 0.5, 0.0, 1.0, 0.0];
         let mut accepted = vec![false; 3];
-        let mut rng = ChaCha8Rng::seed_from_u64(0);
-        let mut scratch = SceneScratch::default();
-        let refused = shortcut(
-            &mut Wall::default(),
-            &mut Wall::default(),
-            &mut path,
-            2,
-            &mut accepted,
-            20,
-            &mut rng,
-            &Termination::never(),
-            &mut scratch,
-        )
-        .unwrap();
+        let (mut wall, mut screen) = (Wall::default(), Wall::default());
+        let refused = run(&mut wall, &mut screen, &mut path, &mut accepted, 20, 0);
         assert_eq!(refused, Some(1));
         assert_eq!(accepted, [true, false, false]);
     }
