@@ -15,6 +15,8 @@
 use parry3d_f64::bounding_volume::Aabb;
 use parry3d_f64::partitioning::{Bvh, BvhBuildStrategy};
 
+use super::world::Visit;
+
 /// The most boxes scanned flat; more go into a hierarchy. The shipped cells' homes have
 /// 16 to 26 boxes (the cage's plans 5 to 10% faster flat than with the hierarchy; the
 /// others within noise); a generated line of arms has hundreds to thousands.
@@ -50,9 +52,13 @@ impl BoxIndex {
     }
 
     /// Calls `visit` with the number of every box that overlaps `query` (touching
-    /// counts), until it returns false.
+    /// counts), until it says stop (then [`Visit::Stop`]) or fails.
     #[inline]
-    pub(super) fn overlapping(&self, query: &Aabb, mut visit: impl FnMut(u32) -> bool) {
+    pub(super) fn overlapping<E>(
+        &self,
+        query: &Aabb,
+        mut visit: impl FnMut(u32) -> Result<Visit, E>,
+    ) -> Result<Visit, E> {
         match self {
             BoxIndex::Flat { lo, hi } => {
                 let (qlo, qhi) = (query.mins, query.maxs);
@@ -64,19 +70,22 @@ impl BoxIndex {
                         & (hi[1][k] >= qlo.y)
                         & (lo[2][k] <= qhi.z)
                         & (hi[2][k] >= qlo.z);
-                    if hit && !visit(k as u32) {
-                        return;
+                    if hit {
+                        if let Visit::Stop = visit(k as u32)? {
+                            return Ok(Visit::Stop);
+                        }
                     }
                 }
             }
             BoxIndex::Tree(bvh) => {
                 for leaf in bvh.intersect_aabb(query) {
-                    if !visit(leaf) {
-                        return;
+                    if let Visit::Stop = visit(leaf)? {
+                        return Ok(Visit::Stop);
                     }
                 }
             }
         }
+        Ok(Visit::Continue)
     }
 }
 
@@ -116,10 +125,11 @@ mod tests {
             for _ in 0..200 {
                 let query = random_box(&mut rng, 0.3);
                 let mut found = Vec::new();
-                index.overlapping(&query, |k| {
+                let all = index.overlapping(&query, |k| {
                     found.push(k);
-                    true
+                    Ok::<_, ()>(Visit::Continue)
                 });
+                assert!(matches!(all, Ok(Visit::Continue)));
                 found.sort_unstable();
                 let expected: Vec<u32> = (0..n as u32)
                     .filter(|&k| boxes[k as usize].intersects(&query))
@@ -127,10 +137,12 @@ mod tests {
                 assert_eq!(found, expected, "{n} boxes");
                 found_some += usize::from(!expected.is_empty());
                 let mut calls = 0;
-                index.overlapping(&query, |_| {
+                let first = index.overlapping(&query, |_| {
                     calls += 1;
-                    false
+                    Ok::<_, ()>(Visit::Stop)
                 });
+                let stopped = matches!(first, Ok(Visit::Stop));
+                assert_eq!(stopped, !expected.is_empty());
                 assert_eq!(calls, usize::from(!expected.is_empty()));
             }
             // Not vacuous: queries do hit (most of them, past a few boxes).

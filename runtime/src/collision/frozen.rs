@@ -442,48 +442,35 @@ impl CollisionWorld {
         let query = grow(&pi.aabb, standing_margin + 1e-9);
         let away = standing.away();
         let home = standing.home;
-        let mut result = Ok(());
-        let mut stopped = false;
-        home.boxes.overlapping(&query, |leaf| {
+        let near_home = home.boxes.overlapping(&query, |leaf| {
             let Some(&j) = home.leaves.get(leaf as usize) else {
-                return true;
+                return Ok(Visit::Continue);
             };
             let j = j as usize;
             if j == i || self.on_away_robot(j, away) {
-                return true;
+                return Ok(Visit::Continue);
             }
             let Some(sj) = &home.placed[j] else {
-                return true;
+                return Ok(Visit::Continue);
             };
             if self.standing_pair(state, i, pi, j, sj, standing_margin) {
-                match visit(j) {
-                    Ok(Visit::Continue) => {}
-                    Ok(Visit::Stop) => stopped = true,
-                    Err(e) => result = Err(e),
-                }
+                return visit(j);
             }
-            !stopped && result.is_ok()
-        });
-        if stopped || result.is_err() {
-            return result;
-        }
-        if let Some(f) = standing.frozen {
+            Ok(Visit::Continue)
+        })?;
+        if let (Visit::Continue, Some(f)) = (near_home, standing.frozen) {
             f.boxes.overlapping(&query, |leaf| {
                 let Some((j, sj)) = f.extra.get(leaf as usize) else {
-                    return true;
+                    return Ok(Visit::Continue);
                 };
                 let j = *j as usize;
                 if j != i && self.standing_pair(state, i, pi, j, sj, standing_margin) {
-                    match visit(j) {
-                        Ok(Visit::Continue) => {}
-                        Ok(Visit::Stop) => stopped = true,
-                        Err(e) => result = Err(e),
-                    }
+                    return visit(j);
                 }
-                !stopped && result.is_ok()
-            });
+                Ok(Visit::Continue)
+            })?;
         }
-        result
+        Ok(())
     }
 
     /// The plain sweep's filters for body `i` placed as `pi` and standing body `j`

@@ -15,8 +15,8 @@ pub struct MotionOptions {
     /// the lazy search (`tree.rs`). An iteration checks nodes only, about a third of what
     /// one that checked its edges cost, so the default is twice the 5,000 it was when
     /// edges were checked as the trees grew: in the cage of `cells/panda_cage.cell` the
-    /// carry round the cage then plans for 26 of 32 seeds, where 5,000 eager iterations
-    /// planned 14, in half the time.
+    /// carry round the cage then plans for 31 of 32 seeds, where 5,000 eager iterations
+    /// planned 14, in half the time (`docs/performance.md`).
     pub max_iterations: usize,
     /// Largest joint change of one tree extension, and between two output points (rad, or
     /// m for prismatic joints).
