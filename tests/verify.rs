@@ -373,3 +373,34 @@ fn two_hands_in_one_place_are_refused_for_their_overlap() {
         }
     }
 }
+
+/// Grasp pairs of two families that are one closed chain share its solves: the side
+/// family turned every 45° about the block's axis makes 64 handoff pairs but 8 chains
+/// (what matters is how far apart the two members are turned). Most pairs put the two
+/// palms into each other and are refused before any IK (`verify/hands.rs`); the pairs
+/// that reach the solver each needed a solve of their own before, and now at most 8
+/// chains are solved per position tried, fewer than the checks kept. The witnesses found
+/// so pass the recheck as every other does.
+#[test]
+fn grasp_pairs_that_are_one_closed_chain_share_its_solves() {
+    let mut artifact = build("tests/data/verify/side_family.cell");
+    let scene = Scene::load(&artifact, &FsFiles).expect("scene loads");
+    let options = VerifyOptions::default();
+    let report = verify(&mut artifact, &scene, &options, &|_, _| {});
+    let block = &artifact.objects[0];
+    for arc in &block.graph.arcs {
+        recheck(&artifact, &scene, 0, arc).unwrap_or_else(|e| panic!("{e}"));
+    }
+    // Both directions of a handoff are one check.
+    let kept_checks = block.graph.arcs.len() as u64 / 2;
+    assert!(kept_checks >= 4 && report.n_pruned > 0, "{report:?}");
+    assert!(report.n_chains > 0, "{report:?}");
+    assert!(
+        report.n_chains < kept_checks,
+        "{report:?}, {kept_checks} checks kept"
+    );
+    assert!(
+        report.n_chains <= 8 * u64::from(options.placements),
+        "{report:?}"
+    );
+}

@@ -103,8 +103,12 @@ fn the_colander_is_handed_over_too() {
 }
 
 /// Tampers with the first grasp by an arm at or after step `from`: the motion is
-/// dropped and the grasping arm's shoulder turned by 0.1 rad, which swings its hand
-/// several centimetres off the object. Returns the step's index.
+/// dropped and the grasping arm's shoulder turned back by 0.1 rad, which swings its hand
+/// several centimetres off the object. Back, not on: at the handoff the receiving hand
+/// comes in beside the giver's, and a hand swung on into the object or the other arm
+/// would leave a state no plan starts from (the simulator moves an arm without asking
+/// whether it fits), which is not the recovery the test is about. Returns the step's
+/// index.
 fn tamper_with_a_grasp(cell: &Cell, plan: &mut Plan, from: usize) -> usize {
     let scene = cell.scene().expect("geometric");
     let is_arm = |e: cellc_schema::EndEffectorId| {
@@ -127,7 +131,7 @@ fn tamper_with_a_grasp(cell: &Cell, plan: &mut Plan, from: usize) -> usize {
     } = &mut step.command
     {
         for (_, q) in configurations.iter_mut().filter(|(e, _)| e == holder) {
-            q[0] += 0.1;
+            q[0] -= 0.1;
         }
     }
     index

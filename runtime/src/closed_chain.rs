@@ -235,6 +235,36 @@ pub fn solve_handoff(
     })
 }
 
+/// Whether `qa` and `qb` hold `problem`'s object at one pose: the loop closes within
+/// `opts.ik`'s tolerances and the midpoint of the two estimates of the object's position
+/// lies inside `problem.bounds` (within the position tolerance), the test
+/// [`solve_handoff`] accepts a solution by. The target is a preference and is not tested.
+/// For a solution found for a nearby problem (`verify` shares solves between grasp pairs
+/// that are one problem up to rounding), this is what makes it one of this problem.
+pub fn closes(problem: &HandoffProblem<'_>, qa: &[f64], qb: &[f64], opts: &HandoffOptions) -> bool {
+    let (robot_a, base_a) = problem.a;
+    let (robot_b, base_b) = problem.b;
+    if qa.len() != robot_a.n_joints() || qb.len() != robot_b.n_joints() {
+        return false;
+    }
+    let object_a = robot_a.tip_pose(&base_a, qa) * problem.grasp_a;
+    let object_b = robot_b.tip_pose(&base_b, qb) * problem.grasp_b;
+    let pa = Point::from(object_a.translation.vector);
+    let pb = Point::from(object_b.translation.vector);
+    if (pa - pb).norm() > opts.ik.position_tolerance
+        || rotation_log(&(object_a.rotation * object_b.rotation.inverse())).norm()
+            > opts.ik.rotation_tolerance
+    {
+        return false;
+    }
+    let Some((min, max)) = problem.bounds else {
+        return true;
+    };
+    let middle = na::center(&pa, &pb);
+    let outside = Vec3::from_fn(|k, _| middle[k] - middle[k].clamp(min[k], max[k]));
+    (outside * opts.bounds_weight).norm() <= opts.bounds_weight * opts.ik.position_tolerance
+}
+
 /// The closed chain's residual (see the module documentation for its rows).
 struct LoopResidual<'p, 'a> {
     problem: &'p HandoffProblem<'a>,

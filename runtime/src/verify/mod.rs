@@ -27,6 +27,7 @@
 //! state is judged by [`crate::validity::SceneValidity`].
 
 mod attempt;
+mod chains;
 mod hands;
 pub mod preflight;
 mod witness;
@@ -98,6 +99,9 @@ pub struct VerifyReport {
     pub n_pruned: u64,
     /// Distinct feasibility checks run (arcs share checks).
     pub n_checks: u64,
+    /// Closed-chain problems solved for the handoff checks' placements (checks share
+    /// them: `chains.rs`).
+    pub n_chains: u64,
 }
 
 /// One feasibility question, keyed by everything its answer depends on.
@@ -163,12 +167,14 @@ pub fn verify(
     }
     let checks: Vec<Check> = checks.into_keys().collect();
     let turns = hands::TurnTable::new(artifact, scene, &checks);
+    let chains = chains::ChainTable::new();
     let total = checks.len() as u64;
     let done = std::sync::atomic::AtomicU64::new(0);
     let results: Vec<(Check, Result<Witness, Infeasibility>)> = checks
         .par_iter()
         .map_init(SceneScratch::default, |scratch, &check| {
-            let result = witness::run_check(artifact, scene, scratch, options, &turns, check);
+            let result =
+                witness::run_check(artifact, scene, scratch, options, (&turns, &chains), check);
             let n = done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
             progress(n, total);
             (check, result)
@@ -178,6 +184,7 @@ pub fn verify(
 
     let mut report = VerifyReport {
         n_checks: total,
+        n_chains: chains.len() as u64,
         ..VerifyReport::default()
     };
     for (object, per_arc) in artifact.objects.iter_mut().zip(arc_checks) {
@@ -290,7 +297,6 @@ fn check_of(
 /// The generator of one check: the same for a given seed and check, whatever thread runs
 /// it and in whatever order.
 fn rng_for(seed: u64, check: &Check) -> ChaCha8Rng {
-    let mut h: u64 = seed ^ 0x9E37_79B9_7F4A_7C15;
     let words: Vec<u32> = match *check {
         Check::Hold { object, e, g, w } => vec![1, object.0, e.0, g.0, w.0],
         Check::Handoff {
@@ -317,15 +323,18 @@ fn rng_for(seed: u64, check: &Check) -> ChaCha8Rng {
             w,
         } => vec![4, object.0, e.0, from.0, to.0, w.0],
     };
+    ChaCha8Rng::seed_from_u64(mix(seed, words.into_iter().map(u64::from)))
+}
+
+/// A cheap, well-mixed hash of `words` (SplitMix64 steps) under `seed`.
+fn mix(seed: u64, words: impl IntoIterator<Item = u64>) -> u64 {
+    let mut h: u64 = seed ^ 0x9E37_79B9_7F4A_7C15;
     for word in words {
-        // SplitMix64 steps: a cheap, well-mixed hash of the check's identity.
-        h = h
-            .wrapping_add(u64::from(word))
-            .wrapping_add(0x9E37_79B9_7F4A_7C15);
+        h = h.wrapping_add(word).wrapping_add(0x9E37_79B9_7F4A_7C15);
         let mut z = h;
         z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
         z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
         h = z ^ (z >> 31);
     }
-    ChaCha8Rng::seed_from_u64(h)
+    h
 }

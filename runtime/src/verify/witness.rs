@@ -9,13 +9,13 @@ use rand::Rng;
 use rand_chacha::ChaCha8Rng;
 
 use super::attempt::{arm, invalidity, sample_point, Attempt, Outcome};
+use super::chains::{Chain, ChainTable};
 use super::hands::{TurnTable, Turns};
 use super::{rng_for, Check, VerifyOptions};
-use crate::closed_chain::{solve_handoff, HandoffProblem};
+use crate::closed_chain::HandoffProblem;
 use crate::math::{iso_to_schema, Iso, Point, Quat, Vec3};
 use crate::rest::RestRegions;
 use crate::scene::{Holder, ObjectPlacement, Scene, SceneScratch};
-use crate::termination::Termination;
 
 /// The answer to one question: a witness, or why there is none.
 pub(super) fn run_check(
@@ -23,12 +23,13 @@ pub(super) fn run_check(
     scene: &Scene,
     scratch: &mut SceneScratch,
     options: &VerifyOptions,
-    turns: &TurnTable,
+    (turns, chains): (&TurnTable, &ChainTable),
     check: Check,
 ) -> Result<Witness, Infeasibility> {
     let mut answer = Answer {
         artifact,
         turns,
+        chains,
         scene,
         options,
         scratch,
@@ -68,6 +69,7 @@ pub(super) fn run_check(
 struct Answer<'a> {
     artifact: &'a Artifact,
     turns: &'a TurnTable,
+    chains: &'a ChainTable,
     scene: &'a Scene,
     options: &'a VerifyOptions,
     scratch: &'a mut SceneScratch,
@@ -190,8 +192,14 @@ impl Answer<'_> {
                 })
             }
         };
+        let (grasp_a, grasp_b) = (
+            artifact.grasp_pose(object, ga),
+            artifact.grasp_pose(object, gb),
+        );
+        // The positions tried are the chain's, not the check's: see `chains.rs`.
+        let mut targets = Chain::of(a, b, &grasp_a, &(grasp_b * turns[0])).targets(options.seed, w);
         for attempt in 0..options.placements {
-            let Some(target) = sample_point(boxes, rng) else {
+            let Some(target) = sample_point(boxes, &mut targets) else {
                 break;
             };
             let turn = if attempt == 0 {
@@ -206,13 +214,16 @@ impl Answer<'_> {
             let problem = HandoffProblem {
                 a: (robot_a, base_a),
                 b: (robot_b, base_b),
-                grasp_a: artifact.grasp_pose(object, ga),
-                grasp_b: artifact.grasp_pose(object, gb) * turn,
+                grasp_a,
+                grasp_b: grasp_b * turn,
                 target,
                 bounds,
             };
-            let never = Termination::never();
-            match solve_handoff(&problem, home_a, home_b, rng, &options.handoff, &never) {
+            let seeds = (home_a, home_b);
+            match self
+                .chains
+                .solve(options.seed, (a, b), &problem, seeds, &options.handoff)
+            {
                 Ok(solution) => {
                     let center = Point::from(solution.object.translation.vector);
                     if !boxes
