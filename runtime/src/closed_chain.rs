@@ -247,8 +247,23 @@ pub fn closes(problem: &HandoffProblem<'_>, qa: &[f64], qb: &[f64], opts: &Hando
     if qa.len() != robot_a.n_joints() || qb.len() != robot_b.n_joints() {
         return false;
     }
-    let object_a = robot_a.tip_pose(&base_a, qa) * problem.grasp_a;
-    let object_b = robot_b.tip_pose(&base_b, qb) * problem.grasp_b;
+    closes_at(
+        problem,
+        &robot_a.tip_pose(&base_a, qa),
+        &robot_b.tip_pose(&base_b, qb),
+        opts,
+    )
+}
+
+/// [`closes`] with the two tips' world poses already computed from the joints.
+pub fn closes_at(
+    problem: &HandoffProblem<'_>,
+    tip_a: &Iso,
+    tip_b: &Iso,
+    opts: &HandoffOptions,
+) -> bool {
+    let object_a = tip_a * problem.grasp_a;
+    let object_b = tip_b * problem.grasp_b;
     let pa = Point::from(object_a.translation.vector);
     let pb = Point::from(object_b.translation.vector);
     if (pa - pb).norm() > opts.ik.position_tolerance

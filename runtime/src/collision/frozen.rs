@@ -32,7 +32,7 @@ use super::broad_phase::{grow, PlacedBody};
 use super::home::{next_tag, Home};
 use super::swept::CONTACT;
 use super::world::{CollisionScratch, CollisionWorld, Visit};
-use super::{CollisionError, Configuration, SweepBounds};
+use super::{Collision, CollisionError, Configuration, SweepBounds};
 
 /// What stands during a query: the home less the robots away from home, and a motion's
 /// standing set.
@@ -231,6 +231,31 @@ impl CollisionWorld {
             Ok(Visit::Continue)
         })?;
         Ok(free)
+    }
+
+    /// Every intersecting pair of `state` that involves a live body, sorted and with an
+    /// object's solids as one body, as [`all_collisions`](CollisionWorld::all_collisions)
+    /// reports them: what names a colliding state without placing the cell's resting
+    /// bodies (a 50-arm line's pruned handoffs spent a quarter of their verification
+    /// placing every arm to name the pair).
+    pub(crate) fn live_collisions(
+        &self,
+        standing: &Standing<'_>,
+        state: &Configuration<'_>,
+        scratch: &mut CollisionScratch,
+        out: &mut Vec<Collision>,
+    ) -> Result<(), CollisionError> {
+        out.clear();
+        self.place_live(standing, state, scratch, |_| 0.0)?;
+        self.visit_live(standing, state, scratch, 0.0, |i, j, scratch| {
+            if self.intersect(i, j, scratch)? {
+                out.push(self.collision(i, j));
+            }
+            Ok(Visit::Continue)
+        })?;
+        out.sort_unstable();
+        out.dedup();
+        Ok(())
     }
 
     /// [`free_radius`](CollisionWorld::free_radius) with `standing` standing: `bounds`

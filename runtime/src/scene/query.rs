@@ -172,6 +172,37 @@ impl Scene {
         })
     }
 
+    /// The colliding pairs of the state [`Scene::collision`] describes that involve a
+    /// body it places (the arms given away from their homes, the object), sorted as
+    /// [`Scene::all_collisions`] sorts them, written to `out`. What stands at home is not
+    /// placed (`collision::home`), so the cost does not grow with the cell; pairs of two
+    /// bodies at home (none in a built cell: `cellc build` refuses them) are not listed.
+    pub fn live_collisions(
+        &self,
+        arms: &[(EndEffectorId, &[f64])],
+        object: ObjectId,
+        placement: ObjectPlacement,
+        scratch: &mut SceneScratch,
+        out: &mut Vec<Collision>,
+    ) -> Result<(), QueryError> {
+        let at = Placed {
+            object,
+            placement,
+            obstacles: &[],
+        };
+        let Some(home) = self.at_home() else {
+            return self.all_collisions(arms, object, placement, scratch, out);
+        };
+        self.with_configuration(arms, at, scratch, |state, scratch, live| {
+            let standing = Standing {
+                home,
+                live,
+                frozen: None,
+            };
+            self.world.live_collisions(&standing, state, scratch, out)
+        })
+    }
+
     /// Whether the state [`Scene::collision`] describes is free, without naming anything
     /// (the inner loops of motion planning ask this millions of times). Only the arms
     /// given and the objects are placed; every other arm and the furniture stand at home

@@ -28,7 +28,7 @@
 //! every handoff check (it is dropped with the verification).
 
 use std::hash::BuildHasher;
-use std::sync::{Arc, Mutex};
+use std::sync::{Arc, Mutex, OnceLock};
 
 use cellc_schema::{EndEffectorId, WorkspaceId};
 use nalgebra as na;
@@ -36,7 +36,9 @@ use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use rustc_hash::{FxBuildHasher, FxHashMap};
 
-use crate::closed_chain::{closes, solve_handoff, HandoffOptions, HandoffProblem, HandoffSolution};
+use crate::closed_chain::{
+    closes_at, solve_handoff, HandoffOptions, HandoffProblem, HandoffSolution,
+};
 use crate::kinematics::IkError;
 use crate::math::{Iso, Quat};
 use crate::termination::Termination;
@@ -143,8 +145,29 @@ impl ChainKey {
     }
 }
 
-/// A solve's answer: both arms' joints (A's then B's), or the solver's error.
-type Solved = Result<Arc<[f64]>, IkError>;
+/// A chain's solution as the table keeps it.
+pub(super) struct Joints {
+    /// A's joints, then B's.
+    q: Box<[f64]>,
+    /// The two tips' world poses at `q`, so that a check tests its own closure without
+    /// forward kinematics.
+    tips: (Iso, Iso),
+    /// Whether the two arms alone, without the object, collide at `q`: a fact of the
+    /// joints, so it is decided once, by the first check that asks, for every check that
+    /// takes them (an object only adds bodies, so arms that collide without it collide
+    /// with it). In the 50-arm line most handoffs end so, the two forearms in each other.
+    arms_collide: OnceLock<bool>,
+}
+
+impl Joints {
+    /// Whether the arms alone collide, `decide` asked only the first time.
+    pub(super) fn arms_collide(&self, decide: impl FnOnce() -> bool) -> bool {
+        *self.arms_collide.get_or_init(decide)
+    }
+}
+
+/// A solve's answer: the joints, or the solver's error.
+type Solved = Result<Arc<Joints>, IkError>;
 
 /// The answers of the closed chains asked so far, shared by every check of a verification.
 pub(super) struct ChainTable {
@@ -180,6 +203,8 @@ impl ChainTable {
 
     /// Joints for `a` and `b` holding the object as `problem` asks, found from the arms'
     /// homes (`seeds`), or why there are none; the same for a given seed and problem.
+    /// With the solution, the table's entry when the joints are the chain's (its verdict
+    /// on the arms alone is shared), `None` when this problem was solved on its own.
     pub(super) fn solve(
         &self,
         seed: u64,
@@ -187,7 +212,7 @@ impl ChainTable {
         problem: &HandoffProblem<'_>,
         seeds: (&[f64], &[f64]),
         options: &HandoffOptions,
-    ) -> Result<HandoffSolution, IkError> {
+    ) -> Result<(HandoffSolution, Option<Arc<Joints>>), IkError> {
         let key = ChainKey::new(a, b, problem);
         let shard = &self.shards[(self.hasher.hash_one(key) as usize) % SHARDS];
         let known = shard
@@ -195,6 +220,8 @@ impl ChainTable {
             .unwrap_or_else(std::sync::PoisonError::into_inner)
             .get(&key)
             .cloned();
+        let (robot_a, base_a) = problem.a;
+        let (robot_b, base_b) = problem.b;
         let solved = match known {
             Some(solved) => solved,
             None => {
@@ -206,7 +233,16 @@ impl ChainTable {
                     options,
                     &Termination::never(),
                 )
-                .map(|s| Arc::from([s.qa, s.qb].concat()));
+                .map(|s| {
+                    Arc::new(Joints {
+                        tips: (
+                            robot_a.tip_pose(&base_a, &s.qa),
+                            robot_b.tip_pose(&base_b, &s.qb),
+                        ),
+                        q: [s.qa, s.qb].concat().into(),
+                        arms_collide: OnceLock::new(),
+                    })
+                });
                 // Another thread may have solved the same key meanwhile: the same answer.
                 shard
                     .lock()
@@ -215,15 +251,18 @@ impl ChainTable {
                 solved
             }
         };
-        let n_a = problem.a.0.n_joints();
-        let solution = |q: &[f64]| HandoffSolution {
-            qa: q[..n_a].to_vec(),
-            qb: q[n_a..].to_vec(),
-            object: problem.a.0.tip_pose(&problem.a.1, &q[..n_a]) * problem.grasp_a,
-        };
+        let n_a = robot_a.n_joints();
         match solved {
-            Ok(q) if q.len() > n_a && closes(problem, &q[..n_a], &q[n_a..], options) => {
-                Ok(solution(&q))
+            Ok(joints)
+                if joints.q.len() == n_a + robot_b.n_joints()
+                    && closes_at(problem, &joints.tips.0, &joints.tips.1, options) =>
+            {
+                let solution = HandoffSolution {
+                    qa: joints.q[..n_a].to_vec(),
+                    qb: joints.q[n_a..].to_vec(),
+                    object: joints.tips.0 * problem.grasp_a,
+                };
+                Ok((solution, Some(joints)))
             }
             // Closed for the rounded rotation, not to the tolerances for this one: solve
             // this problem itself.
@@ -234,7 +273,8 @@ impl ChainTable {
                 &mut key.rng(seed),
                 options,
                 &Termination::never(),
-            ),
+            )
+            .map(|s| (s, None)),
             Err(error) => Err(error),
         }
     }
@@ -248,6 +288,7 @@ mod tests {
     use std::f64::consts::{FRAC_PI_2, PI};
 
     use super::*;
+    use crate::closed_chain::closes;
     use crate::math::{Point, Vec3};
     use crate::robot::Robot;
     use crate::MemoryFiles;
@@ -321,9 +362,10 @@ mod tests {
         let mut joints = Vec::new();
         for (ga, gb) in pairs {
             let p = problem(&robot, ga, gb);
-            let s = table
+            let (s, shared) = table
                 .solve(7, (A, B), &p, (&home, &home), &options)
                 .expect("the facing arms hand over");
+            assert!(shared.is_some(), "the chain's own joints");
             assert!(closes(&p, &s.qa, &s.qb, &options));
             // The object is A's own estimate, with A's own grasp.
             let object = robot.tip_pose(&p.a.1, &s.qa) * ga;
@@ -354,7 +396,7 @@ mod tests {
             let mut out = vec![None; problems.len()];
             for &i in order {
                 let s = table.solve(3, (A, B), &problems[i], (&home, &home), &options);
-                out[i] = Some(s.map(|s| [s.qa, s.qb].concat()));
+                out[i] = Some(s.map(|(s, _)| [s.qa, s.qb].concat()));
             }
             out
         };
@@ -390,15 +432,20 @@ mod tests {
         let off_grid = Iso::rotation(Vec3::y() * 3e-10);
         let p = problem(&robot, grasp(0.0, false), grasp(30.0, true) * off_grid);
         let table = ChainTable::new();
-        let s = table
+        let (s, shared) = table
             .solve(1, (A, B), &p, (&home, &home), &options)
             .expect("hands over");
+        assert!(shared.is_none(), "solved on its own");
         assert!(closes(&p, &s.qa, &s.qb, &options));
         // The table's own answer is the rounded chain's, and it does not close this one:
         // the answer above was solved again.
         let key = ChainKey::new(A, B, &p);
         let shard = &table.shards[(table.hasher.hash_one(key) as usize) % SHARDS];
-        let stored = shard.lock().unwrap()[&key].clone().expect("solved");
+        let stored = shard.lock().unwrap()[&key]
+            .clone()
+            .expect("solved")
+            .q
+            .clone();
         let n = robot.n_joints();
         assert!(closes(
             &key.problem(&p),

@@ -8,7 +8,7 @@ use cellc_schema::{
 use rand::Rng;
 use rand_chacha::ChaCha8Rng;
 
-use super::attempt::{arm, invalidity, sample_point, Attempt, Outcome};
+use super::attempt::{arm, invalidity, sample_point, Attempt, Fault, Outcome};
 use super::chains::{Chain, ChainTable};
 use super::hands::{TurnTable, Turns};
 use super::{rng_for, Check, VerifyOptions};
@@ -224,7 +224,7 @@ impl Answer<'_> {
                 .chains
                 .solve(options.seed, (a, b), &problem, seeds, &options.handoff)
             {
-                Ok(solution) => {
+                Ok((solution, shared)) => {
                     let center = Point::from(solution.object.translation.vector);
                     if !boxes
                         .iter()
@@ -238,6 +238,21 @@ impl Answer<'_> {
                         b,
                     };
                     let q = [solution.qa.as_slice(), solution.qb.as_slice()].concat();
+                    // Arms that collide on their own collide with the object too: a fact
+                    // of the chain's joints, decided once for every check that takes them.
+                    let arms_alone = || {
+                        let absent = ObjectPlacement::Absent;
+                        let fault = invalidity(scene, &[a, b], &q, object, absent, scratch);
+                        matches!(fault, Some(Fault::Collision { .. }))
+                    };
+                    if shared.is_some_and(|joints| joints.arms_collide(arms_alone)) {
+                        outcome.last_collision = Some(Fault::Collision {
+                            arms: vec![a, b],
+                            q,
+                            placement,
+                        });
+                        continue;
+                    }
                     match invalidity(scene, &[a, b], &q, object, placement, scratch) {
                         None => {
                             return Ok(Witness {
