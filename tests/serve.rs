@@ -299,7 +299,7 @@ fn the_service_on_vito() {
     let (status, report) = server.json(
         "POST",
         "/v1/plan",
-        json!({"object": "cylinder", "to": "table at (0.3, 0.05, 1.0)", "options": {"motions": false}}),
+        json!({"object": "cylinder", "to": "table at (0.4, 0.05, 1.0)", "options": {"motions": false}}),
     );
     assert_eq!((status, first_code(&report)), (409, "R0010"), "{report}");
     assert_eq!(report["ok"], false);
@@ -345,7 +345,7 @@ fn the_service_on_vito() {
     let (status, run) = server.json(
         "POST",
         "/v1/execute",
-        json!({"object": "cylinder", "to": "table at (0.3, 0.05, 1.0)", "options": {"motions": false}}),
+        json!({"object": "cylinder", "to": "table at (0.4, 0.05, 1.0)", "options": {"motions": false}}),
     );
     assert_eq!((status, first_code(&run)), (409, "R0010"), "{run}");
     assert_eq!(run["world"], before);

@@ -109,11 +109,31 @@ struct ChainKey {
     chain: Chain,
     target: [u64; 3],
     bounds: Option<[u64; 6]>,
+    start: Start,
+}
+
+/// Where a solve starts.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub(super) enum Start {
+    /// From the arms' homes, where most handoffs close (and close the same way every
+    /// time).
+    Homes,
+    /// From configurations drawn from the key's generator: after a placement whose chain
+    /// closed into a collision, since a solve from the homes tends to close the next chain
+    /// in the same basin, the same collision (in `cells/two_pandas.cell`, a forearm in the
+    /// other arm's wrist placement after placement).
+    Drawn,
 }
 
 impl ChainKey {
-    fn new(a: EndEffectorId, b: EndEffectorId, problem: &HandoffProblem<'_>) -> ChainKey {
+    fn new(
+        a: EndEffectorId,
+        b: EndEffectorId,
+        problem: &HandoffProblem<'_>,
+        start: Start,
+    ) -> ChainKey {
         ChainKey {
+            start,
             chain: Chain::of(a, b, &problem.grasp_a, &problem.grasp_b),
             target: bits(&problem.target.coords),
             bounds: problem.bounds.map(|(min, max)| {
@@ -137,7 +157,8 @@ impl ChainKey {
 
     /// The generator of the key's solve: a function of the seed and the key.
     fn rng(&self, seed: u64) -> ChaCha8Rng {
-        let words = std::iter::once(6)
+        let words = [6, self.start as u64]
+            .into_iter()
             .chain(self.chain.words())
             .chain(self.target)
             .chain(self.bounds.into_iter().flatten());
@@ -202,18 +223,19 @@ impl ChainTable {
     }
 
     /// Joints for `a` and `b` holding the object as `problem` asks, found from the arms'
-    /// homes (`seeds`), or why there are none; the same for a given seed and problem.
-    /// With the solution, the table's entry when the joints are the chain's (its verdict
+    /// homes (`seeds`) or, with [`Start::Drawn`], from configurations drawn for the key,
+    /// or why there are none; the same for a given seed, problem and start. With the
+    /// solution, the table's entry when the joints are the chain's (its verdict
     /// on the arms alone is shared), `None` when this problem was solved on its own.
     pub(super) fn solve(
         &self,
         seed: u64,
         (a, b): (EndEffectorId, EndEffectorId),
         problem: &HandoffProblem<'_>,
-        seeds: (&[f64], &[f64]),
+        (seeds, start): ((&[f64], &[f64]), Start),
         options: &HandoffOptions,
     ) -> Result<(HandoffSolution, Option<Arc<Joints>>), IkError> {
-        let key = ChainKey::new(a, b, problem);
+        let key = ChainKey::new(a, b, problem, start);
         let shard = &self.shards[(self.hasher.hash_one(key) as usize) % SHARDS];
         let known = shard
             .lock()
@@ -222,14 +244,25 @@ impl ChainTable {
             .cloned();
         let (robot_a, base_a) = problem.a;
         let (robot_b, base_b) = problem.b;
+        // The generator and the start configurations of a solve of `key`'s.
+        let begin = || {
+            let mut rng = key.rng(seed);
+            let (mut qa, mut qb) = (seeds.0.to_vec(), seeds.1.to_vec());
+            if start == Start::Drawn {
+                robot_a.sample_configuration(&mut rng, &mut qa);
+                robot_b.sample_configuration(&mut rng, &mut qb);
+            }
+            (rng, qa, qb)
+        };
         let solved = match known {
             Some(solved) => solved,
             None => {
+                let (mut rng, qa, qb) = begin();
                 let solved = solve_handoff(
                     &key.problem(problem),
-                    seeds.0,
-                    seeds.1,
-                    &mut key.rng(seed),
+                    &qa,
+                    &qb,
+                    &mut rng,
                     options,
                     &Termination::never(),
                 )
@@ -266,15 +299,11 @@ impl ChainTable {
             }
             // Closed for the rounded rotation, not to the tolerances for this one: solve
             // this problem itself.
-            Ok(_) => solve_handoff(
-                problem,
-                seeds.0,
-                seeds.1,
-                &mut key.rng(seed),
-                options,
-                &Termination::never(),
-            )
-            .map(|s| (s, None)),
+            Ok(_) => {
+                let (mut rng, qa, qb) = begin();
+                solve_handoff(problem, &qa, &qb, &mut rng, options, &Termination::never())
+                    .map(|s| (s, None))
+            }
             Err(error) => Err(error),
         }
     }
@@ -363,7 +392,7 @@ mod tests {
         for (ga, gb) in pairs {
             let p = problem(&robot, ga, gb);
             let (s, shared) = table
-                .solve(7, (A, B), &p, (&home, &home), &options)
+                .solve(7, (A, B), &p, ((&home, &home), Start::Homes), &options)
                 .expect("the facing arms hand over");
             assert!(shared.is_some(), "the chain's own joints");
             assert!(closes(&p, &s.qa, &s.qb, &options));
@@ -377,7 +406,7 @@ mod tests {
         // Another sum is another chain.
         let p = problem(&robot, grasp(0.0, false), grasp(45.0, true));
         table
-            .solve(7, (A, B), &p, (&home, &home), &options)
+            .solve(7, (A, B), &p, ((&home, &home), Start::Homes), &options)
             .expect("hands over");
         assert_eq!(table.len(), 2);
     }
@@ -395,7 +424,13 @@ mod tests {
             let table = ChainTable::new();
             let mut out = vec![None; problems.len()];
             for &i in order {
-                let s = table.solve(3, (A, B), &problems[i], (&home, &home), &options);
+                let s = table.solve(
+                    3,
+                    (A, B),
+                    &problems[i],
+                    ((&home, &home), Start::Homes),
+                    &options,
+                );
                 out[i] = Some(s.map(|(s, _)| [s.qa, s.qb].concat()));
             }
             out
@@ -406,6 +441,30 @@ mod tests {
         // Asked alone, the second is what it is when the first was asked before it: the
         // table answered it from the first's solve, which is its own chain's.
         assert_eq!(forward[1], answers(&[1])[1]);
+    }
+
+    #[test]
+    fn a_drawn_start_is_another_solve_of_the_same_chain() {
+        let robot = lwr();
+        let home = vec![0.0; robot.n_joints()];
+        let options = HandoffOptions::default();
+        let table = ChainTable::new();
+        let p = problem(&robot, grasp(0.0, false), grasp(30.0, true));
+        let solve = |start| {
+            let (s, shared) = table
+                .solve(5, (A, B), &p, ((&home, &home), start), &options)
+                .expect("hands over");
+            assert!(shared.is_some());
+            assert!(closes(&p, &s.qa, &s.qb, &options));
+            [s.qa, s.qb].concat()
+        };
+        let from_homes = solve(Start::Homes);
+        let drawn = solve(Start::Drawn);
+        assert_eq!(table.len(), 2);
+        assert_ne!(from_homes, drawn, "the drawn start found the homes' answer");
+        // Asked again, each start is answered from the table.
+        assert_eq!(solve(Start::Drawn), drawn);
+        assert_eq!(table.len(), 2);
     }
 
     #[test]
@@ -433,13 +492,13 @@ mod tests {
         let p = problem(&robot, grasp(0.0, false), grasp(30.0, true) * off_grid);
         let table = ChainTable::new();
         let (s, shared) = table
-            .solve(1, (A, B), &p, (&home, &home), &options)
+            .solve(1, (A, B), &p, ((&home, &home), Start::Homes), &options)
             .expect("hands over");
         assert!(shared.is_none(), "solved on its own");
         assert!(closes(&p, &s.qa, &s.qb, &options));
         // The table's own answer is the rounded chain's, and it does not close this one:
         // the answer above was solved again.
-        let key = ChainKey::new(A, B, &p);
+        let key = ChainKey::new(A, B, &p, Start::Homes);
         let shard = &table.shards[(table.hasher.hash_one(key) as usize) % SHARDS];
         let stored = shard.lock().unwrap()[&key]
             .clone()

@@ -9,7 +9,7 @@ use rand::Rng;
 use rand_chacha::ChaCha8Rng;
 
 use super::attempt::{arm, invalidity, sample_point, Attempt, Fault, Outcome};
-use super::chains::{Chain, ChainTable};
+use super::chains::{Chain, ChainTable, Start};
 use super::hands::{TurnTable, Turns};
 use super::{rng_for, Check, VerifyOptions};
 use crate::closed_chain::HandoffProblem;
@@ -197,6 +197,8 @@ impl Answer<'_> {
             artifact.grasp_pose(object, gb),
         );
         // The positions tried are the chain's, not the check's: see `chains.rs`.
+        // From the homes until a chain closes into a collision (see `Start::Drawn`).
+        let mut start = Start::Homes;
         let mut targets = Chain::of(a, b, &grasp_a, &(grasp_b * turns[0])).targets(options.seed, w);
         for attempt in 0..options.placements {
             let Some(target) = sample_point(boxes, &mut targets) else {
@@ -219,7 +221,7 @@ impl Answer<'_> {
                 target,
                 bounds,
             };
-            let seeds = (home_a, home_b);
+            let seeds = ((home_a, home_b), start);
             match self
                 .chains
                 .solve(options.seed, (a, b), &problem, seeds, &options.handoff)
@@ -246,6 +248,7 @@ impl Answer<'_> {
                         matches!(fault, Some(Fault::Collision { .. }))
                     };
                     if shared.is_some_and(|joints| joints.arms_collide(arms_alone)) {
+                        start = Start::Drawn;
                         outcome.last_collision = Some(Fault::Collision {
                             arms: vec![a, b],
                             q,
@@ -269,7 +272,10 @@ impl Answer<'_> {
                                 ],
                             })
                         }
-                        Some(fault) => outcome.last_collision = Some(fault),
+                        Some(fault) => {
+                            start = Start::Drawn;
+                            outcome.last_collision = Some(fault);
+                        }
                     }
                 }
                 Err(error) => outcome.best_ik.record(a, &error),
