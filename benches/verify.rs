@@ -36,8 +36,8 @@ fn case(c: &mut Criterion, name: &str, artifact: Artifact) {
     let mut once = artifact.clone();
     let report = verify(&mut once, &scene, &options, &|_, _| {});
     println!(
-        "{name}: {} arcs checked in {} distinct checks, {} pruned",
-        report.n_checked, report.n_checks, report.n_pruned
+        "{name}: {} arcs checked in {} distinct checks ({} closed chains solved), {} pruned",
+        report.n_checked, report.n_checks, report.n_chains, report.n_pruned
     );
     c.bench_function(name, |b| {
         b.iter(|| {
@@ -78,6 +78,14 @@ fn benches(c: &mut Criterion) {
             ),
         );
     }
+    // The 5-arm slice of the 10^6-arc line (`line_cell -- 50 70 4`): 70 grasps one yaw
+    // family, so its 4,900 grasp pairs per arm pair are about 120 closed chains, which
+    // verification solves once each per target (`runtime/src/verify/chains.rs`).
+    case(
+        &mut c,
+        "verify/line_5_arms_70_grasps",
+        artifact("cells/line5_70.cell", line::line_cell(5, 70, 4)),
+    );
 }
 
 criterion_group!(verify_benches, benches);
