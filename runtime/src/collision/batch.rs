@@ -61,16 +61,15 @@ pub(crate) struct BatchScratch {
     objects: Vec<super::ObjectState>,
     /// States placed since [`CollisionWorld::batch_begin`].
     states: usize,
-    /// Per state, per live body (`state * live + body`): its pose, its capsule's ends in
-    /// the world and the box around the capsule.
+    /// Per state, per live body (`state * live + body`): its pose and the box around its
+    /// capsule in the world.
     poses: Vec<Iso>,
-    ends: Vec<(Point, Point)>,
     lo: Vec<[f64; 3]>,
     hi: Vec<[f64; 3]>,
     /// Per live body, the range of its standing candidates in the arrays below.
     starts: Vec<u32>,
-    /// Standing candidates: body, box corners one array per axis (so the loop over them
-    /// compares six arrays, which the compiler vectorises), where they stand.
+    /// Standing candidates: body, box corners one array per axis (the loop over them
+    /// compares six arrays, no branch between the comparisons), where they stand.
     near: Vec<u32>,
     near_lo: [Vec<f64>; 3],
     near_hi: [Vec<f64>; 3],
@@ -88,7 +87,6 @@ impl CollisionWorld {
     pub(crate) fn batch_begin(&self, standing: &Standing<'_>, batch: &mut BatchScratch) {
         batch.states = 0;
         batch.poses.clear();
-        batch.ends.clear();
         batch.lo.clear();
         batch.hi.clear();
         let Some(frozen) = standing.frozen else {
@@ -128,20 +126,16 @@ impl CollisionWorld {
                 Mount::Object { object } => state.objects.get(object).and_then(|o| o.pose.as_ref()),
                 Mount::Fixed => None,
             };
-            let (pose, ends, r) = match (frame, &b.capsule) {
-                (Some(frame), Some(c)) => {
-                    let pose = frame * b.local;
-                    (pose, c.placed(&pose), c.radius - shrink)
-                }
-                // Nothing to measure: a box that overlaps everything.
-                _ => {
-                    let inf = Point::new(f64::INFINITY, f64::INFINITY, f64::INFINITY);
-                    (b.local, (-inf, inf), f64::NAN)
-                }
+            let (Some(frame), Some(c)) = (frame, &b.capsule) else {
+                // Nothing to measure (a live body not in this state, or without a
+                // capsule): the batch judges nothing.
+                batch.usable = false;
+                return;
             };
-            let (a, e) = ends;
+            let pose = frame * b.local;
+            let (a, e) = c.placed(&pose);
+            let r = c.radius - shrink;
             batch.poses.push(pose);
-            batch.ends.push(ends);
             batch.lo.push(std::array::from_fn(|k| a[k].min(e[k]) - r));
             batch.hi.push(std::array::from_fn(|k| a[k].max(e[k]) + r));
         }

@@ -101,9 +101,9 @@ impl MotionValidity for DiscreteMotion<'_> {
                 samples.extend_from_slice(point);
             });
         }
-        // In batches, in that order: the screen clears what it can prove valid, the
-        // full check judges the rest, and the first invalid configuration ends the
-        // check, so the answer is the one-by-one answer.
+        // In batches, in that order: the screen judges what it can, the full check the
+        // rest, and the first invalid configuration ends the check, so the answer is
+        // the one-by-one answer.
         let dim = a.len().max(1);
         let mut batch = FIRST_BATCH;
         let mut done = 0;
