@@ -43,6 +43,17 @@ pub trait StateValidity {
         Ok(self.check(q, scratch)?.is_none())
     }
 
+    /// A screen of several configurations at once (`qs`, concatenated, one verdict
+    /// per configuration in `out`): [`Screened::Valid`] or [`Screened::Invalid`] only
+    /// where [`StateValidity::is_valid`] is certain to give that answer, so that a
+    /// sampled motion check ([`DiscreteMotion`](crate::motion::DiscreteMotion)) asks
+    /// the full check only about the others and its answers do not change. The default
+    /// knows nothing.
+    fn screen(&self, qs: &[f64], out: &mut [Screened], scratch: &mut SceneScratch) {
+        let _ = (qs, scratch);
+        out.fill(Screened::Unknown);
+    }
+
     /// A clearance certificate for sound motion checks
     /// ([`CertifiedMotion`](crate::motion::CertifiedMotion)): a radius `t` in
     /// `[0, horizon]` such that every configuration `q + s delta` with `|s| <= t` that is
@@ -63,6 +74,17 @@ pub trait StateValidity {
         let _ = (q, delta, horizon, scratch);
         Ok(None)
     }
+}
+
+/// What [`StateValidity::screen`] proves of one configuration.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Screened {
+    /// [`StateValidity::is_valid`] would say valid.
+    Valid,
+    /// [`StateValidity::is_valid`] would say invalid.
+    Invalid,
+    /// Not judged: ask [`StateValidity::is_valid`].
+    Unknown,
 }
 
 /// Why a configuration is not valid.
@@ -479,6 +501,48 @@ impl StateValidity for SceneValidity<'_> {
             }
             Ok(free)
         })
+    }
+
+    /// The batched screen of the motion's frozen scene (`collision/batch.rs`):
+    /// forward kinematics of every configuration first, then each live body's capsule
+    /// against the standing bodies near it and the live bodies' own pairs, the exact
+    /// test only for the pairs the capsules do not settle. Nothing is judged before the
+    /// checker has frozen (its first few queries); a configuration outside the joint
+    /// limits is invalid.
+    fn screen(&self, qs: &[f64], out: &mut [Screened], scratch: &mut SceneScratch) {
+        out.fill(Screened::Unknown);
+        let dim = self.dim;
+        if dim == 0 || out.is_empty() || qs.len() != out.len() * dim {
+            return;
+        }
+        let Some(frozen) = self.frozen(&qs[..dim], scratch) else {
+            return;
+        };
+        if self.scene.screen_begin(frozen, scratch).is_err() {
+            return;
+        }
+        for q in qs.chunks_exact(dim) {
+            let placed = self.with_moving(q, |arms| self.scene.screen_place(frozen, arms, scratch));
+            if placed.is_err() {
+                return;
+            }
+        }
+        let mut verdicts = std::mem::take(&mut scratch.verdicts);
+        verdicts.clear();
+        verdicts.resize(out.len(), None);
+        self.scene.screen_clear(frozen, scratch, &mut verdicts);
+        for ((q, verdict), slot) in qs.chunks_exact(dim).zip(&verdicts).zip(out.iter_mut()) {
+            *slot = if out_of_limits(self.scene, &self.slices, q).is_some() {
+                Screened::Invalid
+            } else {
+                match verdict {
+                    Some(true) => Screened::Valid,
+                    Some(false) => Screened::Invalid,
+                    None => Screened::Unknown,
+                }
+            };
+        }
+        scratch.verdicts = verdicts;
     }
 
     fn free_radius(

@@ -114,6 +114,19 @@ impl CollisionWorld {
                 None => return Ok(None),
             },
         };
+        self.placed_at(i, pose, margin).map(Some)
+    }
+
+    /// Body `i` at world pose `pose`: [`CollisionWorld::place_body`] once the pose is
+    /// known.
+    #[inline]
+    pub(super) fn placed_at(
+        &self,
+        i: usize,
+        pose: Iso,
+        margin: f64,
+    ) -> Result<PlacedBody, CollisionError> {
+        let b = &self.bodies[i];
         let aabb = match (b.fixed_aabb, b.cylinder, b.hull_aabb) {
             (Some(a), _, _) => a,
             (None, Some((h, r)), _) => cylinder_aabb(&pose, h, r),
@@ -125,12 +138,12 @@ impl CollisionWorld {
                 body: b.name.clone(),
             });
         }
-        Ok(Some(PlacedBody {
+        Ok(PlacedBody {
             pose,
             aabb: grow(&aabb, margin),
             centre: pose * b.sphere_centre,
             margin: margin.max(0.0),
-        }))
+        })
     }
 
     /// Sort and sweep over the placed bodies; calls `visit` for every pair whose AABBs

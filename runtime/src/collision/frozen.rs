@@ -49,7 +49,7 @@ pub(crate) struct Standing<'a> {
 impl Standing<'_> {
     /// Per robot: whether its resting bodies are skipped (it is live, or stands away from
     /// home in the motion's set).
-    fn away(&self) -> &[bool] {
+    pub(super) fn away(&self) -> &[bool] {
         self.frozen.map_or(self.live, |f| &f.away)
     }
 }
@@ -58,7 +58,7 @@ impl Standing<'_> {
 /// module](self) documentation). Built by [`CollisionWorld::freeze`].
 #[derive(Clone, Debug)]
 pub(crate) struct Frozen {
-    tag: u64,
+    pub(super) tag: u64,
     /// The tag of the home it was built over.
     home: u64,
     /// Per robot: moving during the motion.
@@ -67,11 +67,11 @@ pub(crate) struct Frozen {
     away: Vec<bool>,
     /// Per object: placed per query (it rides a moving hand); a present object that does
     /// not is in `extra`.
-    moving_object: Vec<bool>,
+    pub(super) moving_object: Vec<bool>,
     /// The standing bodies away from home, in body order.
-    extra: Vec<(u32, PlacedBody)>,
+    pub(super) extra: Vec<(u32, PlacedBody)>,
     /// Their boxes, numbered as `extra`.
-    boxes: BoxIndex,
+    pub(super) boxes: BoxIndex,
     /// Whether two standing bodies that may not touch intersect (every state collides).
     blocked: bool,
 }
@@ -501,7 +501,7 @@ impl CollisionWorld {
     /// The plain sweep's filters for body `i` placed as `pi` and standing body `j`
     /// placed as `sj`, grown by `margin`.
     #[inline]
-    fn standing_pair(
+    pub(super) fn standing_pair(
         &self,
         state: &Configuration<'_>,
         i: usize,

@@ -69,8 +69,10 @@
 //! free radius of a state along a segment, for sound motion checks, with the bodies'
 //! travel bounds in `bounds.rs`. `home.rs` places the cell at home once per scene (every
 //! arm at home, the furniture) and `frozen.rs` answers queries that place only what is
-//! not standing, so a check's cost follows the moving bodies, not the size of the cell.
+//! not standing, so a check's cost follows the moving bodies, not the size of the cell;
+//! `batch.rs` judges several states of one motion at once on the same standing set.
 
+mod batch;
 mod bounds;
 mod boxes;
 mod broad_phase;
@@ -88,6 +90,7 @@ use parry3d_f64::shape::SharedShape;
 
 use crate::math::Iso;
 
+pub(crate) use batch::BatchScratch;
 pub(crate) use bounds::{AxisRef, JointReach, SweepBounds};
 pub use build::CollisionWorldBuilder;
 pub(crate) use build::Mount;

@@ -35,6 +35,8 @@ pub struct CollisionScratch {
     /// Exact queries (GJK or parry) run through these buffers, for tests and profiles of
     /// the cheap rejections.
     pub(super) exact_queries: QueryCount,
+    /// The batched screen's buffers (`batch.rs`).
+    pub(crate) batch: super::BatchScratch,
 }
 
 impl CollisionScratch {
@@ -273,13 +275,34 @@ impl CollisionWorld {
         j: usize,
         scratch: &CollisionScratch,
     ) -> Result<bool, CollisionError> {
+        self.intersect_at(i, &scratch.poses[i], j, &scratch.poses[j], || {
+            scratch.count_exact()
+        })
+    }
+
+    /// Whether bodies `i` at `pi` and `j` at `pj` intersect: apart when their capsules
+    /// are, else the exact test (`exact` is called before it runs, to count it).
+    pub(super) fn intersect_at(
+        &self,
+        i: usize,
+        pi: &Iso,
+        j: usize,
+        pj: &Iso,
+        exact: impl FnOnce(),
+    ) -> Result<bool, CollisionError> {
+        let (bi, bj) = (&self.bodies[i], &self.bodies[j]);
         // Capsules apart: the bodies inside them are too.
-        if self.capsule_gap(scratch, i, j).is_some_and(|gap| gap > 0.0) {
-            return Ok(false);
+        if let (Some(ci), Some(cj)) = (&bi.capsule, &bj.capsule) {
+            let gap = capsule_bound(
+                (ci, pi, bi.half_extents.as_ref()),
+                (cj, pj, bj.half_extents.as_ref()),
+            );
+            if gap > 0.0 {
+                return Ok(false);
+            }
         }
-        scratch.count_exact();
-        let (pi, pj) = (&scratch.poses[i], &scratch.poses[j]);
-        if self.bodies[i].hull.is_some() || self.bodies[j].hull.is_some() {
+        exact();
+        if bi.hull.is_some() || bj.hull.is_some() {
             if let (Some(gi), Some(gj)) = (self.support_map(i), self.support_map(j)) {
                 return Ok(query::details::intersection_test_support_map_support_map(
                     &pi.inv_mul(pj),
@@ -288,13 +311,8 @@ impl CollisionWorld {
                 ));
             }
         }
-        query::intersection_test(
-            pi,
-            self.bodies[i].shape.as_ref(),
-            pj,
-            self.bodies[j].shape.as_ref(),
-        )
-        .map_err(|_| self.unsupported(i, j))
+        query::intersection_test(pi, bi.shape.as_ref(), pj, bj.shape.as_ref())
+            .map_err(|_| self.unsupported(i, j))
     }
 
     /// A lower bound on the distance between placed bodies `i` and `j` from their

@@ -5,7 +5,7 @@
 
 use super::MotionValidity;
 use crate::scene::{QueryError, SceneScratch};
-use crate::validity::StateValidity;
+use crate::validity::{Screened, StateValidity};
 
 /// The sampled [`MotionValidity`]: a segment is valid when the state validity accepts
 /// every configuration at which [`super::check_trajectory`] at `resolution` will look
@@ -17,7 +17,12 @@ use crate::validity::StateValidity;
 /// `check_trajectory` at the planner's resolution, bit for bit, whatever the rounding.
 /// The order is coarse to fine (the pieces' ends in bisection order, then the points
 /// inside each piece in bisection order), so a blocked segment is usually rejected after
-/// a few checks. No allocation once the buffers have grown to the dimension.
+/// a few checks. The configurations go to the state validity in batches in that order:
+/// [`StateValidity::screen`] first (the scene's checker judges all of a batch at once,
+/// most pairs settled by their capsules, `collision/batch.rs`), then
+/// [`StateValidity::is_valid`] for what it left unknown, until one is invalid; a batch
+/// may cost the forward kinematics of a few configurations past the first invalid one,
+/// never another answer. No allocation once the buffers have grown to the segment.
 ///
 /// Sampling is not sound: a contact shallower than what one step sweeps can lie between
 /// two checked configurations, and a finer re-check finds it. The planner uses
@@ -30,7 +35,16 @@ pub struct DiscreteMotion<'v> {
     from: Vec<f64>,
     to: Vec<f64>,
     point: Vec<f64>,
+    /// Every configuration of the segment in the order checked, concatenated.
+    samples: Vec<f64>,
+    /// What the screen proved of each configuration of a batch.
+    screened: Vec<Screened>,
 }
+
+/// Configurations handed to [`StateValidity::screen`] at once. The first batch
+/// holds the far end and the coarse bisection points, where a blocked segment is
+/// usually caught; batches after it are twice as large each time.
+const FIRST_BATCH: usize = 4;
 
 impl<'v> DiscreteMotion<'v> {
     /// Segments checked through `validity`, cut by the output `step` and the checking
@@ -44,6 +58,8 @@ impl<'v> DiscreteMotion<'v> {
             from: Vec::new(),
             to: Vec::new(),
             point: Vec::new(),
+            samples: Vec::new(),
+            screened: Vec::new(),
         }
     }
 }
@@ -65,55 +81,74 @@ impl MotionValidity for DiscreteMotion<'_> {
             from,
             to,
             point,
+            samples,
+            screened,
             ..
         } = self;
-        // The samples themselves (the pieces' ends) first, then inside each piece.
-        let ends = bisection(pieces, |i| {
+        // Every configuration in the order checked: the samples themselves (the pieces'
+        // ends) first, then inside each piece.
+        samples.clear();
+        bisection(pieces, |i| {
             sample(a, b, i, pieces, to);
-            validity.is_valid(to, scratch)
-        })?;
-        if !ends {
-            return Ok(false);
-        }
+            samples.extend_from_slice(to);
+        });
         for i in 1..=pieces {
             sample(a, b, i - 1, pieces, from);
             sample(a, b, i, pieces, to);
             let n = steps(from, to, *resolution);
-            let inside = bisection(n.saturating_sub(1), |k| {
+            bisection(n.saturating_sub(1), |k| {
                 sample(from, to, k, n, point);
-                validity.is_valid(point, scratch)
-            })?;
-            if !inside {
-                return Ok(false);
+                samples.extend_from_slice(point);
+            });
+        }
+        // In batches, in that order: the screen judges what it can, the full check the
+        // rest, and the first invalid configuration ends the check, so the answer is
+        // the one-by-one answer.
+        let dim = a.len().max(1);
+        let mut batch = FIRST_BATCH;
+        let mut done = 0;
+        while done < samples.len() {
+            let end = (done + batch * dim).min(samples.len());
+            let chunk = &samples[done..end];
+            let count = chunk.len() / dim;
+            screened.clear();
+            screened.resize(count, Screened::Unknown);
+            validity.screen(chunk, screened, scratch);
+            for (q, &verdict) in chunk.chunks_exact(dim).zip(screened.iter()) {
+                let valid = match verdict {
+                    Screened::Valid => true,
+                    Screened::Invalid => false,
+                    Screened::Unknown => validity.is_valid(q, scratch)?,
+                };
+                if !valid {
+                    return Ok(false);
+                }
             }
+            done = end;
+            batch *= 2;
         }
         Ok(true)
     }
 }
 
 /// Calls `visit` on `n`, then on every `k` in `1..n` coarse to fine (the midpoint, the
-/// quarters, ...), until it returns `false` or an error; `Ok(true)` when every call did.
-fn bisection<E>(n: usize, mut visit: impl FnMut(usize) -> Result<bool, E>) -> Result<bool, E> {
+/// quarters, ...); nothing for `n == 0`.
+fn bisection(n: usize, mut visit: impl FnMut(usize)) {
     if n == 0 {
-        return Ok(true);
+        return;
     }
-    if !visit(n)? {
-        return Ok(false);
-    }
+    visit(n);
     // Every k in 1..n is an odd multiple of exactly one power of two, so visiting odd
     // multiples of s for s = 2^m, ..., 2, 1 visits each once.
     let mut s = 1usize << (usize::BITS - 1 - n.leading_zeros());
     while s >= 1 {
         let mut k = s;
         while k < n {
-            if !visit(k)? {
-                return Ok(false);
-            }
+            visit(k);
             k += 2 * s;
         }
         s /= 2;
     }
-    Ok(true)
 }
 
 /// Sample `i` of `n` of the segment from `a` to `b`: `b` itself for `i == n` (so waypoints

@@ -150,6 +150,62 @@ impl Scene {
         })
     }
 
+    /// Starts a batch of states of the motion `frozen` was made for, for the batched
+    /// screen (`collision/batch.rs`): [`Scene::screen_place`] each state, then
+    /// [`Scene::screen_clear`].
+    pub(crate) fn screen_begin(
+        &self,
+        frozen: &FrozenScene,
+        scratch: &mut SceneScratch,
+    ) -> Result<(), QueryError> {
+        let home = self.frozen_home()?;
+        let standing = Standing {
+            home,
+            live: frozen.frozen.moving(),
+            frozen: Some(&frozen.frozen),
+        };
+        self.world
+            .batch_begin(&standing, &mut scratch.collision.batch);
+        Ok(())
+    }
+
+    /// Adds the state with the moving arms at `arms` (every moving arm listed) to the
+    /// batch: their forward kinematics into the scratch's frames (no allocation once
+    /// they have grown), the carried object on its hand, the live bodies' capsules.
+    pub(crate) fn screen_place(
+        &self,
+        frozen: &FrozenScene,
+        arms: &[(EndEffectorId, &[f64])],
+        scratch: &mut SceneScratch,
+    ) -> Result<(), QueryError> {
+        self.with_moving(frozen, arms, scratch, |state, standing, scratch| {
+            self.world.batch_place(standing, state, &mut scratch.batch);
+            Ok(())
+        })
+    }
+
+    /// What the screen proves of each state placed since [`Scene::screen_begin`], in
+    /// order (`out` has one verdict per state: free, colliding, or `None`, unknown; all
+    /// unknown when the screen cannot judge).
+    pub(crate) fn screen_clear(
+        &self,
+        frozen: &FrozenScene,
+        scratch: &mut SceneScratch,
+        out: &mut [Option<bool>],
+    ) {
+        out.fill(None);
+        let Ok(home) = self.frozen_home() else {
+            return;
+        };
+        let standing = Standing {
+            home,
+            live: frozen.frozen.moving(),
+            frozen: Some(&frozen.frozen),
+        };
+        self.world
+            .batch_clear(&standing, &mut scratch.collision.batch, out);
+    }
+
     /// The state with the moving arms at `arms`: their frames computed into the
     /// scratch, the standing robots' frames taken from `frozen` (away from home) or the
     /// scene (at home), the objects from `frozen`, the carried object placed on its hand.

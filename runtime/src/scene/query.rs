@@ -121,6 +121,9 @@ pub struct SceneScratch {
     /// How far the bodies travel along the segment a sound motion check is certifying
     /// (`crate::swept`), kept here so that no query allocates.
     pub(crate) sweep: SweepBounds,
+    /// The batched screen's verdicts (`validity.rs`), kept here so that no screen
+    /// allocates.
+    pub(crate) verdicts: Vec<Option<bool>>,
 }
 
 impl SceneScratch {
