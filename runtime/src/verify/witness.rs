@@ -197,12 +197,18 @@ impl Answer<'_> {
             artifact.grasp_pose(object, gb),
         );
         // The positions tried are the chain's, not the check's: see `chains.rs`.
-        // From the homes until a chain closes into a collision (see `Start::Drawn`).
-        let mut start = Start::Homes;
+        // From the homes, and in the second half of the placements from drawn
+        // configurations once a chain has closed into a collision (see `Start::Drawn`).
+        let mut collided = false;
         let mut targets = Chain::of(a, b, &grasp_a, &(grasp_b * turns[0])).targets(options.seed, w);
         for attempt in 0..options.placements {
             let Some(target) = sample_point(boxes, &mut targets) else {
                 break;
+            };
+            let start = if collided && attempt >= options.placements / 2 {
+                Start::Drawn
+            } else {
+                Start::Homes
             };
             let turn = if attempt == 0 {
                 turns[0]
@@ -248,7 +254,7 @@ impl Answer<'_> {
                         matches!(fault, Some(Fault::Collision { .. }))
                     };
                     if shared.is_some_and(|joints| joints.arms_collide(arms_alone)) {
-                        start = Start::Drawn;
+                        collided = true;
                         outcome.last_collision = Some(Fault::Collision {
                             arms: vec![a, b],
                             q,
@@ -273,7 +279,7 @@ impl Answer<'_> {
                             })
                         }
                         Some(fault) => {
-                            start = Start::Drawn;
+                            collided = true;
                             outcome.last_collision = Some(fault);
                         }
                     }
