@@ -7,31 +7,20 @@
 
 use std::cell::RefCell;
 
-use cellc::fs_files::FsFiles;
+#[path = "support/verified.rs"]
+mod verified;
+use verified::verified_cell;
+
 use cellc_runtime::motion::{DiscreteMotion, MotionValidity};
 use cellc_runtime::plan::PlanOptions;
 use cellc_runtime::scene::{Holder, ObjectPlacement, QueryError, Scene, SceneScratch};
 use cellc_runtime::validity::{SceneValidity, Screened, StateFault, StateValidity};
-use cellc_runtime::{Cell, EndEffectorId, ObjectId, VerifyOptions};
+use cellc_runtime::{Cell, EndEffectorId, ObjectId};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
 /// The shortcut screen's resolution (`motion/rrt.rs`).
 const SCREEN: f64 = 0.1;
-
-/// A shipped cell compiled (reach `auto` included), loaded and verified.
-fn cell(path: &str) -> Cell {
-    let compilation = cellc::reach::compile(&FsFiles, path, &Default::default());
-    assert!(compilation.diagnostics.is_empty(), "{path} is not clean");
-    let artifact = cellc_compiler::artifact::lower(
-        compilation.cell.as_ref().expect("resolved"),
-        &compilation.graphs,
-        &compilation.sources,
-    );
-    let mut cell = Cell::from_artifact(artifact, &FsFiles).expect("loads");
-    cell.verify(&VerifyOptions::default());
-    cell
-}
 
 /// Forwards the full checks of a validity and hides its screen (the default screen
 /// proves nothing): the one-by-one check. Records every configuration it judges.
@@ -258,7 +247,7 @@ fn compare_arms(cell: &Cell, arms: &[&str], segments: (usize, f64), tally: &mut 
 
 #[test]
 fn the_batched_screen_answers_as_one_by_one_on_vito() {
-    let cell = cell("cells/vito.cell");
+    let cell = verified_cell("cells/vito.cell");
     let mut tally = Tally::default();
     compare_arms(&cell, &["left", "right"], (200, 3.0), &mut tally);
     compare_plan(&cell, "handoff_cylinder", 0, (40, 3.0), &mut tally);
@@ -271,7 +260,7 @@ fn the_batched_screen_answers_as_one_by_one_on_vito() {
 
 #[test]
 fn the_batched_screen_answers_as_one_by_one_in_the_cage() {
-    let cell = cell("cells/panda_cage.cell");
+    let cell = verified_cell("cells/panda_cage.cell");
     let mut tally = Tally::default();
     compare_arms(&cell, &["franka"], (500, 1.2), &mut tally);
     compare_plan(&cell, "through_cage", 0, (60, 1.2), &mut tally);

@@ -8,7 +8,6 @@
 use std::path::Path;
 use std::process::{Command, Output};
 
-use cellc::fs_files::FsFiles;
 use cellc_runtime::motion::{
     check_trajectory, MotionOptions, MotionPlanner, MotionProblem, MotionValidity, RrtConnect,
 };
@@ -17,9 +16,12 @@ use cellc_runtime::plan::{Plan, PlanError, PlanOptions};
 use cellc_runtime::scene::{Holder, ObjectPlacement, SceneScratch};
 use cellc_runtime::termination::Termination;
 use cellc_runtime::validity::SceneValidity;
-use cellc_runtime::verify::VerifyOptions;
 use cellc_runtime::Cell;
 use rand::SeedableRng;
+
+#[path = "support/verified.rs"]
+mod verified;
+use verified::verified_cell;
 
 const CELL: &str = "cells/panda_cage.cell";
 
@@ -44,16 +46,7 @@ fn text(output: &Output) -> String {
 }
 
 fn cell() -> Cell {
-    let compilation = cellc::reach::compile(&FsFiles, CELL, &Default::default());
-    assert!(compilation.diagnostics.is_empty(), "{CELL} is not clean");
-    let artifact = cellc_compiler::artifact::lower(
-        compilation.cell.as_ref().expect("resolved"),
-        &compilation.graphs,
-        &compilation.sources,
-    );
-    let mut cell = Cell::from_artifact(artifact, &FsFiles).expect("loads");
-    cell.verify(&VerifyOptions::default());
-    cell
+    verified_cell(CELL)
 }
 
 /// The request planned with `seed`, or why not.
