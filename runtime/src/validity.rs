@@ -76,6 +76,31 @@ pub trait StateValidity {
     }
 }
 
+/// Whether every configuration of `qs` (concatenated, `out.len()` of them) is valid,
+/// asked in order: [`StateValidity::screen`] first, then [`StateValidity::is_valid`] for
+/// each it left unknown, until one is invalid. The answer is the one-by-one answer; `out`
+/// is the screen's buffer.
+pub(crate) fn all_valid(
+    validity: &dyn StateValidity,
+    qs: &[f64],
+    out: &mut [Screened],
+    scratch: &mut SceneScratch,
+) -> Result<bool, QueryError> {
+    validity.screen(qs, out, scratch);
+    let dim = qs.len() / out.len().max(1);
+    for (q, &verdict) in qs.chunks_exact(dim.max(1)).zip(out.iter()) {
+        let valid = match verdict {
+            Screened::Valid => true,
+            Screened::Invalid => false,
+            Screened::Unknown => validity.is_valid(q, scratch)?,
+        };
+        if !valid {
+            return Ok(false);
+        }
+    }
+    Ok(true)
+}
+
 /// What [`StateValidity::screen`] proves of one configuration.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Screened {

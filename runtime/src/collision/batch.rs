@@ -339,10 +339,19 @@ impl CollisionWorld {
             match self.pair_apart(batch, i, a, j, &batch.poses[b]) {
                 Some(true) => {}
                 Some(false) => {
+                    // The sweep's filters for the two, placed with no margin (the pair
+                    // rules were applied when the pairs were listed): a pair the screen
+                    // finds intersecting counts only when the full check would visit it.
+                    let state = Configuration {
+                        robots: &[],
+                        objects: &batch.objects,
+                    };
                     let pi = self.placed_at(i, batch.poses[a], 0.0);
                     let pj = self.placed_at(j, batch.poses[b], 0.0);
                     match (pi, pj) {
-                        (Ok(pi), Ok(pj)) if self.live_pair(i, &pi, j, &pj) => return Some(false),
+                        (Ok(pi), Ok(pj)) if self.standing_pair(&state, i, &pi, j, &pj, 0.0) => {
+                            return Some(false)
+                        }
                         _ => known = false,
                     }
                 }
@@ -350,19 +359,6 @@ impl CollisionWorld {
             }
         }
         known.then_some(true)
-    }
-
-    /// The sweep's filters (`broad_phase.rs`) for two live bodies placed with no margin
-    /// (the pair rules were applied when the pairs were listed): boxes overlapping on
-    /// every axis, bounding spheres within reach. A pair the screen finds intersecting
-    /// counts as a collision only when the full check would have visited it.
-    fn live_pair(&self, i: usize, pi: &PlacedBody, j: usize, pj: &PlacedBody) -> bool {
-        let (ai, aj) = (&pi.aabb, &pj.aabb);
-        if (0..3).any(|k| aj.mins[k] > ai.maxs[k] || ai.mins[k] > aj.maxs[k]) {
-            return false;
-        }
-        let reach = self.bodies[i].sphere_radius + self.bodies[j].sphere_radius;
-        (pi.centre - pj.centre).norm_squared() <= reach * reach
     }
 
     /// Whether live body `i` (entry `entry` of the batch) and body `j` at `pose_j` are

@@ -499,7 +499,8 @@ impl CollisionWorld {
     }
 
     /// The plain sweep's filters for body `i` placed as `pi` and standing body `j`
-    /// placed as `sj`, grown by `margin`.
+    /// placed as `sj`, grown by `margin` (with no margin, those of any two placed bodies:
+    /// the batched screen's live pairs use them too).
     #[inline]
     pub(super) fn standing_pair(
         &self,

@@ -5,7 +5,7 @@
 
 use super::MotionValidity;
 use crate::scene::{QueryError, SceneScratch};
-use crate::validity::{Screened, StateValidity};
+use crate::validity::{all_valid, Screened, StateValidity};
 
 /// The sampled [`MotionValidity`]: a segment is valid when the state validity accepts
 /// every configuration at which [`super::check_trajectory`] at `resolution` will look
@@ -113,16 +113,8 @@ impl MotionValidity for DiscreteMotion<'_> {
             let count = chunk.len() / dim;
             screened.clear();
             screened.resize(count, Screened::Unknown);
-            validity.screen(chunk, screened, scratch);
-            for (q, &verdict) in chunk.chunks_exact(dim).zip(screened.iter()) {
-                let valid = match verdict {
-                    Screened::Valid => true,
-                    Screened::Invalid => false,
-                    Screened::Unknown => validity.is_valid(q, scratch)?,
-                };
-                if !valid {
-                    return Ok(false);
-                }
+            if !all_valid(*validity, chunk, screened, scratch)? {
+                return Ok(false);
             }
             done = end;
             batch *= 2;

@@ -21,7 +21,7 @@ use super::segment::{interpolate, max_diff};
 use super::{MotionError, MotionOptions};
 use crate::scene::{QueryError, SceneScratch};
 use crate::termination::Termination;
-use crate::validity::{Screened, StateValidity};
+use crate::validity::{all_valid, Screened, StateValidity};
 
 /// A tree of configurations, stored flat (`dim` values per node) so growing it allocates
 /// rarely and the nearest-neighbour scan runs over contiguous memory.
@@ -295,17 +295,8 @@ impl<'v> Search<'v> {
         self.pair.extend_from_slice(&self.new);
         self.pair.extend_from_slice(&self.mid);
         let mut screened = [Screened::Unknown; 2];
-        self.validity.screen(&self.pair, &mut screened, scratch);
-        let dim = self.new.len().max(1);
-        for (q, verdict) in self.pair.chunks_exact(dim).zip(screened) {
-            let valid = match verdict {
-                Screened::Valid => true,
-                Screened::Invalid => false,
-                Screened::Unknown => self.validity.is_valid(q, scratch)?,
-            };
-            if !valid {
-                return Ok(Extension::Trapped);
-            }
+        if !all_valid(self.validity, &self.pair, &mut screened, scratch)? {
+            return Ok(Extension::Trapped);
         }
         let i = tree.push(&self.new, near);
         Ok(if reached {

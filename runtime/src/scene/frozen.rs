@@ -158,12 +158,7 @@ impl Scene {
         frozen: &FrozenScene,
         scratch: &mut SceneScratch,
     ) -> Result<(), QueryError> {
-        let home = self.frozen_home()?;
-        let standing = Standing {
-            home,
-            live: frozen.frozen.moving(),
-            frozen: Some(&frozen.frozen),
-        };
+        let standing = self.frozen_standing(frozen)?;
         self.world
             .batch_begin(&standing, &mut scratch.collision.batch);
         Ok(())
@@ -194,13 +189,8 @@ impl Scene {
         out: &mut [Option<bool>],
     ) {
         out.fill(None);
-        let Ok(home) = self.frozen_home() else {
+        let Ok(standing) = self.frozen_standing(frozen) else {
             return;
-        };
-        let standing = Standing {
-            home,
-            live: frozen.frozen.moving(),
-            frozen: Some(&frozen.frozen),
         };
         self.world
             .batch_clear(&standing, &mut scratch.collision.batch, out);
@@ -220,9 +210,9 @@ impl Scene {
             &mut crate::collision::CollisionScratch,
         ) -> Result<T, crate::collision::CollisionError>,
     ) -> Result<T, QueryError> {
-        let home = self.frozen_home()?;
+        let standing = self.frozen_standing(frozen)?;
         let n = self.robot_holder.len();
-        let moving = frozen.frozen.moving();
+        let moving = standing.live;
         scratch.frames.resize_with(n, Vec::new);
         for &(e, q) in arms {
             let Some(r) = self.world_robot(e) else {
@@ -267,12 +257,17 @@ impl Scene {
             robots: frames,
             objects: &scratch.objects,
         };
-        let standing = Standing {
-            home,
-            live: moving,
-            frozen: Some(&frozen.frozen),
-        };
         query(&configuration, &standing, &mut scratch.collision).map_err(QueryError::Collision)
+    }
+
+    /// What stands during `frozen`'s motion: the home, less the moving robots, and the
+    /// motion's standing set.
+    fn frozen_standing<'a>(&'a self, frozen: &'a FrozenScene) -> Result<Standing<'a>, QueryError> {
+        Ok(Standing {
+            home: self.frozen_home()?,
+            live: frozen.frozen.moving(),
+            frozen: Some(&frozen.frozen),
+        })
     }
 
     /// The scene's home, which every frozen query stands on; a scene without one (its

@@ -193,17 +193,15 @@ impl Scene {
             placement,
             obstacles: &[],
         };
-        let Some(home) = self.at_home() else {
-            return self.all_collisions(arms, object, placement, scratch, out);
-        };
-        self.with_configuration(arms, at, scratch, |state, scratch, live| {
-            let standing = Standing {
-                home,
-                live,
-                frozen: None,
-            };
-            self.world.live_collisions(&standing, state, scratch, out)
-        })
+        self.on_home(
+            arms,
+            at,
+            scratch,
+            |standing, state, scratch| match standing {
+                Some(standing) => self.world.live_collisions(standing, state, scratch, out),
+                None => self.world.all_collisions(state, scratch, out),
+            },
+        )
     }
 
     /// Whether the state [`Scene::collision`] describes is free, without naming anything
@@ -223,19 +221,15 @@ impl Scene {
             placement,
             obstacles,
         };
-        let Some(home) = self.at_home() else {
-            return self.with_configuration(arms, at, scratch, |state, scratch, _| {
-                self.world.is_free(state, scratch)
-            });
-        };
-        self.with_configuration(arms, at, scratch, |state, scratch, live| {
-            let standing = Standing {
-                home,
-                live,
-                frozen: None,
-            };
-            self.world.is_free_standing(&standing, state, scratch)
-        })
+        self.on_home(
+            arms,
+            at,
+            scratch,
+            |standing, state, scratch| match standing {
+                Some(standing) => self.world.is_free_standing(standing, state, scratch),
+                None => self.world.is_free(state, scratch),
+            },
+        )
     }
 
     /// The first colliding pair of the state [`Scene::collision`] describes, as body ids
@@ -277,19 +271,41 @@ impl Scene {
         horizon: f64,
         scratch: &mut SceneScratch,
     ) -> Result<f64, QueryError> {
-        let Some(home) = self.at_home() else {
-            return self.with_configuration(arms, at, scratch, |state, scratch, _| {
-                self.world.free_radius(state, bounds, horizon, scratch)
-            });
-        };
+        self.on_home(
+            arms,
+            at,
+            scratch,
+            |standing, state, scratch| match standing {
+                Some(standing) => self
+                    .world
+                    .free_radius_standing(standing, state, bounds, horizon, scratch),
+                None => self.world.free_radius(state, bounds, horizon, scratch),
+            },
+        )
+    }
+
+    /// Asks `query` about the state [`Scene::with_configuration`] builds, standing on the
+    /// scene's home (what stands at home is not placed: `collision::home`), or with `None`
+    /// when the scene has none, for the plain broad phase.
+    fn on_home<T>(
+        &self,
+        arms: &[(EndEffectorId, &[f64])],
+        at: Placed<'_>,
+        scratch: &mut SceneScratch,
+        query: impl FnOnce(
+            Option<&Standing<'_>>,
+            &Configuration<'_>,
+            &mut CollisionScratch,
+        ) -> Result<T, CollisionError>,
+    ) -> Result<T, QueryError> {
+        let home = self.at_home();
         self.with_configuration(arms, at, scratch, |state, scratch, live| {
-            let standing = Standing {
+            let standing = home.map(|home| Standing {
                 home,
                 live,
                 frozen: None,
-            };
-            self.world
-                .free_radius_standing(&standing, state, bounds, horizon, scratch)
+            });
+            query(standing.as_ref(), state, scratch)
         })
     }
 

@@ -13,14 +13,14 @@
 //!
 //! So the chain is solved once per [`ChainKey`]: the two arms, the grasps' origins (exact
 //! bits), their relative rotation rounded to 2⁻³² (about 2·10⁻¹⁰ rad), and the target
-//! point and box (exact bits; a check draws its targets from a stream of the two arms and
-//! the workspace, not of the grasps, so the checks of one workspace ask about the same
-//! points). The solve is of the key's own problem (the rounded rotation, grasps made of
-//! it) with a generator seeded from the key, so its answer is a function of the key
-//! alone: whichever check asks first, and on whatever thread, the answer is the same, and
-//! the artifact's bytes do not depend on scheduling. Each check then takes the joints only
-//! if they close its own chain to the solver's tolerances ([`closes`]), with its own
-//! grasps; when rounding put a solution just over a tolerance, the check solves its own
+//! point and box (exact bits; a check draws its targets from a stream of its chain, not
+//! of the check, so the checks that are one chain ask about the same points), and where
+//! the solve starts ([`Start`]). The solve is of the key's own problem (the rounded
+//! rotation, grasps made of it) with a generator seeded from the key, so its answer is a
+//! function of the key alone: whichever check asks first, and on whatever thread, the
+//! answer is the same, and the artifact's bytes do not depend on scheduling. Each check
+//! then takes the joints only if they close its own chain to the solver's tolerances
+//! (`closed_chain::closes_at`, on the tips the table keeps), with its own grasps; when rounding put a solution just over a tolerance, the check solves its own
 //! problem (from the same generator), so no witness rests on another problem's closure.
 //! What the object collides with is never shared: every check runs its own state check.
 //!
