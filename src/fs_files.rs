@@ -7,7 +7,10 @@
 //! its kind; then at most one byte more than the budget is read, so a file that grows
 //! between the two steps (or a `/proc` file whose size says 0) is still refused.
 
+use std::collections::HashSet;
 use std::io::Read;
+use std::path::Path;
+use std::sync::Mutex;
 
 use cellc_schema::files::{FileError, Files, SpecialFile, MAX_MESH_BYTES};
 
@@ -36,6 +39,68 @@ impl Files for FsFiles {
     }
 }
 
+/// A file's identity on the file system: its device and inode, the same for every name
+/// (hard link, symbolic link, relative spelling) of the same file.
+#[derive(Clone, Copy, PartialEq, Eq, Hash, Debug)]
+pub struct FileId {
+    device: u64,
+    inode: u64,
+}
+
+impl FileId {
+    /// The identity of what `path` names, symbolic links followed; `None` when nothing
+    /// is there.
+    pub fn of(path: &Path) -> Option<FileId> {
+        std::fs::metadata(path)
+            .ok()
+            .map(|m| FileId::from_metadata(&m))
+    }
+
+    /// The identity recorded in `metadata`.
+    #[cfg(unix)]
+    pub fn from_metadata(metadata: &std::fs::Metadata) -> FileId {
+        use std::os::unix::fs::MetadataExt;
+        FileId {
+            device: metadata.dev(),
+            inode: metadata.ino(),
+        }
+    }
+
+    /// Without inodes, nothing is known to be the same file.
+    #[cfg(not(unix))]
+    pub fn from_metadata(_: &std::fs::Metadata) -> FileId {
+        static NEXT: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(1);
+        FileId {
+            device: 0,
+            inode: NEXT.fetch_add(1, std::sync::atomic::Ordering::Relaxed),
+        }
+    }
+}
+
+/// The identities of the files this process has opened through [`open_at_most`], so an
+/// output is never written over any of them (see [`crate::output`]). A process reads a
+/// cell's files, not millions, but the set is capped so a long-lived service cannot grow
+/// it without bound; past the cap, outputs are still checked against the inputs each
+/// command names.
+static READ: Mutex<Option<HashSet<FileId>>> = Mutex::new(None);
+
+/// How many identities [`READ`] keeps.
+const MAX_REMEMBERED: usize = 1 << 16;
+
+fn remember(id: FileId) {
+    let mut read = READ.lock().unwrap_or_else(|p| p.into_inner());
+    let set = read.get_or_insert_with(HashSet::new);
+    if set.len() < MAX_REMEMBERED {
+        set.insert(id);
+    }
+}
+
+/// Whether this process has read the file of identity `id`.
+pub fn was_read(id: FileId) -> bool {
+    let read = READ.lock().unwrap_or_else(|p| p.into_inner());
+    read.as_ref().is_some_and(|s| s.contains(&id))
+}
+
 /// Opens the regular file at `path` of at most `max_bytes` bytes, with its length: the
 /// path is looked at before it is opened (`metadata` follows symbolic links, so a link
 /// to a FIFO is refused too, and it never opens the file, so it cannot block), and what
@@ -54,6 +119,7 @@ fn open_at_most(path: &str, max_bytes: u64) -> Result<(std::fs::File, u64), File
     let file = std::fs::File::open(path)?;
     let metadata = file.metadata()?;
     check_kind(&metadata)?;
+    remember(FileId::from_metadata(&metadata));
     if metadata.len() > max_bytes {
         return too_large(metadata.len());
     }

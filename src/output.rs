@@ -1,10 +1,25 @@
 //! Writing output files without losing data: never over one of the inputs, and never
-//! half-written (a temporary file beside the target, renamed over it once complete), with
-//! every failure a coded diagnostic.
+//! half-written, with every failure a coded diagnostic.
+//!
+//! A regular file (or a name that does not exist yet) is written to a temporary file in
+//! the target's own folder (a rename across file systems is not atomic), flushed, synced
+//! to disk and renamed over the target, then the folder is synced so the rename itself
+//! survives a power cut; any failure removes the temporary file and leaves the old target
+//! as it was. A target that exists and is not a regular file (`/dev/stdout`, `/dev/null`,
+//! a pipe) is written in place, since renaming over a device would replace it, and every
+//! write to it is checked (`/dev/full` says the disk is full).
+//!
+//! An input is recognised by its identity on the file system (device and inode), not by
+//! its name: a hard link, a symbolic link or `./a/../b` spelling of a URDF the cell reads
+//! is still that URDF. Besides the inputs a command names, every file the process read
+//! through the hardened reader ([`crate::fs_files::was_read`]) is an input.
 
-use std::path::{Path, PathBuf};
+use std::io::Write;
+use std::path::Path;
 
 use cellc_lang::Diagnostic;
+
+use crate::fs_files::FileId;
 
 /// Codes of writing outputs.
 pub mod codes {
@@ -19,43 +34,38 @@ pub mod codes {
     pub const ALL: &[Code] = &[UNWRITABLE, OVERWRITES_INPUT, UNKNOWN_CODE];
 }
 
-/// The same file, as far as the file system can tell (symbolic links and `..` resolved);
-/// a path that does not exist yet is compared by its folder and name.
-fn same_file(a: &Path, b: &Path) -> bool {
-    let canonical = |p: &Path| -> Option<PathBuf> {
-        if let Ok(c) = p.canonicalize() {
-            return Some(c);
-        }
-        let folder = match p.parent() {
-            Some(f) if !f.as_os_str().is_empty() => f.canonicalize().ok()?,
-            _ => std::env::current_dir().ok()?,
-        };
-        Some(folder.join(p.file_name()?))
-    };
-    match (canonical(a), canonical(b)) {
-        (Some(x), Some(y)) => x == y,
-        _ => a == b,
-    }
-}
-
-/// Writes `bytes` to `output`, refusing when `output` is one of `inputs`.
+/// Writes `bytes` to `output`, refusing when `output` is one of `inputs` or any file the
+/// process has read.
 pub fn write<'a>(
     output: &Path,
     bytes: &[u8],
     inputs: impl IntoIterator<Item = &'a Path>,
 ) -> Result<(), Diagnostic> {
-    if let Some(input) = inputs.into_iter().find(|i| same_file(output, i)) {
-        return Err(Diagnostic::error(
-            codes::OVERWRITES_INPUT,
-            format!(
-                "`{}` is an input of this command (`{}`); it is not overwritten",
-                crate::render::escape(&output.to_string_lossy()),
-                crate::render::escape(&input.to_string_lossy())
-            ),
-        )
-        .help("write the output to another file with `-o OUT`"));
+    if let Some(target) = FileId::of(output) {
+        let named = inputs
+            .into_iter()
+            .find(|i| FileId::of(i) == Some(target))
+            .map(|i| i.to_string_lossy().into_owned());
+        let read = || crate::fs_files::was_read(target).then(|| "read by it".to_string());
+        if let Some(input) = named.or_else(read) {
+            return Err(overwrites_input(output, &input));
+        }
     }
     write_whole(output, bytes).map_err(|e| unwritable(output, &e))
+}
+
+/// The diagnostic of an output that is one of the inputs.
+fn overwrites_input(output: &Path, input: &str) -> Diagnostic {
+    let output = output.to_string_lossy();
+    let output = crate::render::escape(&output);
+    let message = if input == "read by it" {
+        format!("`{output}` is a file this command read; it is not overwritten")
+    } else {
+        let input = crate::render::escape(input);
+        format!("`{output}` is an input of this command (`{input}`); it is not overwritten")
+    };
+    Diagnostic::error(codes::OVERWRITES_INPUT, message)
+        .help("write the output to another file with `-o OUT`")
 }
 
 /// The diagnostic of an output that cannot be written.
@@ -81,24 +91,163 @@ fn error_kind(error: &std::io::Error) -> String {
         ErrorKind::NotADirectory => "a file stands where its folder should be".into(),
         ErrorKind::StorageFull => "the disk is full".into(),
         ErrorKind::ReadOnlyFilesystem => "the file system is read-only".into(),
+        ErrorKind::QuotaExceeded => "the disk quota is exceeded".into(),
+        ErrorKind::FileTooLarge => "the file is larger than the file system allows".into(),
         _ => error.to_string(),
     }
 }
 
-/// Writes `bytes` to a temporary file beside `path` and renames it over `path`, so that
-/// `path` is never left half written and a failure leaves the old file as it was.
+/// Writes `bytes` to `path` whole or not at all (see the module's documentation).
 fn write_whole(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
-    if path.is_dir() {
-        return Err(std::io::Error::from(std::io::ErrorKind::IsADirectory));
+    match std::fs::metadata(path) {
+        Ok(m) if m.is_dir() => Err(std::io::ErrorKind::IsADirectory.into()),
+        Ok(m) if !m.is_file() => write_in_place(path, bytes),
+        _ => write_by_rename(path, bytes),
     }
-    let file_name = path
+}
+
+/// Writes to a device or pipe that already exists, checking every write.
+fn write_in_place(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
+    let mut file = std::fs::OpenOptions::new().write(true).open(path)?;
+    file.write_all(bytes)?;
+    file.flush()
+}
+
+/// Writes a temporary file beside `path`, syncs it and renames it over `path`.
+fn write_by_rename(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
+    let name = path
         .file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_default();
-    let temp = path.with_file_name(format!(".{file_name}.cellc-{}", std::process::id()));
-    let result = std::fs::write(&temp, bytes).and_then(|()| std::fs::rename(&temp, path));
-    if result.is_err() {
-        let _ = std::fs::remove_file(&temp);
+        .ok_or_else(|| std::io::Error::from(std::io::ErrorKind::IsADirectory))?
+        .to_string_lossy()
+        .into_owned();
+    let folder = match path.parent() {
+        Some(f) if !f.as_os_str().is_empty() => f.to_path_buf(),
+        _ => Path::new(".").to_path_buf(),
+    };
+    if !std::fs::metadata(&folder)?.is_dir() {
+        return Err(std::io::ErrorKind::NotADirectory.into());
     }
-    result
+    let (temp, mut file) = temporary_beside(&folder, &name)?;
+    let written = (|| {
+        if let Ok(old) = std::fs::metadata(path) {
+            file.set_permissions(old.permissions())?;
+        }
+        file.write_all(bytes)?;
+        file.flush()?;
+        file.sync_all()?;
+        drop(file);
+        std::fs::rename(&temp, path)
+    })();
+    if written.is_err() {
+        let _ = std::fs::remove_file(&temp);
+        return written;
+    }
+    // The rename is durable once the folder's entry is on disk; a file system that cannot
+    // sync a folder (some network ones) has still renamed, so a failure here is not one.
+    if let Ok(dir) = std::fs::File::open(&folder) {
+        let _ = dir.sync_all();
+    }
+    Ok(())
+}
+
+/// Creates a new temporary file in `folder` named after `name`, never reusing one that
+/// exists (another `cellc` may be writing beside it).
+fn temporary_beside(
+    folder: &Path,
+    name: &str,
+) -> std::io::Result<(std::path::PathBuf, std::fs::File)> {
+    static COUNTER: std::sync::atomic::AtomicU32 = std::sync::atomic::AtomicU32::new(0);
+    loop {
+        let n = COUNTER.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+        let temp = folder.join(format!(".{name}.cellc-{}-{n}", std::process::id()));
+        match std::fs::OpenOptions::new()
+            .write(true)
+            .create_new(true)
+            .open(&temp)
+        {
+            Ok(file) => return Ok((temp, file)),
+            Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => continue,
+            Err(e) => return Err(e),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn folder(name: &str) -> std::path::PathBuf {
+        let dir = std::env::temp_dir().join(format!("cellc-output-{name}-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).expect("temp folder");
+        dir
+    }
+
+    #[test]
+    fn a_full_device_is_a_coded_failure() {
+        let d = write(Path::new("/dev/full"), b"artifact", []).expect_err("/dev/full is full");
+        assert_eq!(d.code, codes::UNWRITABLE);
+        assert!(d.message.contains("disk is full"), "{}", d.message);
+        let still = std::fs::metadata("/dev/full").expect("still there");
+        assert!(!still.file_type().is_file(), "the device was replaced");
+    }
+
+    #[test]
+    fn a_failed_write_leaves_the_old_file_and_no_temporary() {
+        let dir = folder("keep");
+        let target = dir.join("out.json");
+        std::fs::write(&target, "old").expect("written");
+        // A folder where the file's folder should be: the write fails before renaming.
+        let d = write(&dir.join("out.json/inner"), b"new", []).expect_err("not a folder");
+        assert_eq!(d.code, codes::UNWRITABLE);
+        write(&dir, b"new", []).expect_err("a folder is no file");
+        assert_eq!(std::fs::read_to_string(&target).expect("readable"), "old");
+        assert_eq!(std::fs::read_dir(&dir).expect("listable").count(), 1);
+        write(&target, b"new", []).expect("writable");
+        assert_eq!(std::fs::read_to_string(&target).expect("readable"), "new");
+        assert_eq!(std::fs::read_dir(&dir).expect("listable").count(), 1);
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn an_input_is_known_by_identity_not_by_name() {
+        let dir = folder("identity");
+        let input = dir.join("robot.urdf");
+        std::fs::write(&input, "<robot/>").expect("written");
+        let link = dir.join("other-name.urdf");
+        std::fs::hard_link(&input, &link).expect("linked");
+        let d = write(&link, b"<html>", [input.as_path()]).expect_err("the same file");
+        assert_eq!(d.code, codes::OVERWRITES_INPUT);
+        let spelled = dir.join("sub").join("..").join("robot.urdf");
+        std::fs::create_dir(dir.join("sub")).expect("folder");
+        write(&spelled, b"<html>", [link.as_path()]).expect_err("the same file");
+        assert_eq!(
+            std::fs::read_to_string(&input).expect("readable"),
+            "<robot/>"
+        );
+    }
+
+    #[test]
+    fn a_file_the_process_read_is_an_input() {
+        use cellc_schema::files::Files;
+        let dir = folder("read");
+        let mesh = dir.join("part.stl");
+        std::fs::write(&mesh, "solid").expect("written");
+        let unread = dir.join("unread.stl");
+        std::fs::write(&unread, "solid").expect("written");
+        crate::fs_files::FsFiles
+            .read(&mesh.to_string_lossy())
+            .expect("readable");
+        let d = write(&mesh, b"<html>", []).expect_err("read by this process");
+        assert_eq!(d.code, codes::OVERWRITES_INPUT);
+        write(&unread, b"new", []).expect("never read");
+    }
+
+    #[test]
+    fn errors_are_in_words_of_their_kind() {
+        let e = std::io::Error::from(std::io::ErrorKind::PermissionDenied);
+        assert_eq!(error_kind(&e), "permission denied");
+        let e = std::io::Error::from_raw_os_error(28);
+        assert_eq!(error_kind(&e), "the disk is full");
+    }
 }
