@@ -164,6 +164,27 @@ fn ui_requests(server: &Server) {
                     assert_eq!((got, first_code(&report)), (status, code.as_str()), "{name}");
                 }));
             }
+            Some(claim) if claim.starts_with("declare=") || claim.starts_with("expect=") => {
+                // Headers declaring a body over the limit, and none of it sent: the answer
+                // must come at once (well before the 10 s body timeout), and a client
+                // that asked `Expect: 100-continue` must not be told to go on.
+                let (word, length) = claim.split_once('=').unwrap();
+                let expect = if word == "expect" {
+                    "Expect: 100-continue\r\n"
+                } else {
+                    ""
+                };
+                let mut stream = TcpStream::connect(&server.addr).unwrap();
+                stream
+                    .set_read_timeout(Some(Duration::from_secs(5)))
+                    .unwrap();
+                let head = format!(
+                    "{method} {target} HTTP/1.1\r\nHost: test\r\nContent-Length: {length}\r\n{expect}Connection: close\r\n\r\n"
+                );
+                stream.write_all(head.as_bytes()).unwrap();
+                let (got, report) = read_answer(&mut stream);
+                assert_eq!((got, first_code(&report)), (status, code), "{name}");
+            }
             Some(repeat) if repeat.starts_with("repeat=") => {
                 let n: usize = repeat["repeat=".len()..].parse().unwrap();
                 let (got, report) = server.call(method, target, body.repeat(n).as_bytes());

@@ -163,6 +163,7 @@ fn router(service: Arc<Service>) -> Router {
         .method_not_allowed_fallback(|method: Method, uri: axum::http::Uri| async move {
             errors::no_endpoint(method.as_str(), uri.path(), true)
         })
+        .layer(axum::middleware::from_fn(refuse_oversize))
         .layer(axum::middleware::from_fn(time_and_log))
         .with_state(service)
 }
@@ -272,6 +273,44 @@ async fn time_and_log(request: Request, next: Next) -> Response {
     response
 }
 
+/// The largest body `method path` accepts: world documents are larger than planning
+/// requests.
+fn body_limit(method: &Method, path: &str) -> usize {
+    if method == Method::PUT && path == "/v1/world" {
+        MAX_WORLD
+    } else {
+        MAX_BODY
+    }
+}
+
+/// Refuses a request whose declared `Content-Length` is over its endpoint's limit before
+/// any of the body is read: the client learns at once instead of after uploading (or
+/// after the body timeout), and since the body is never polled, hyper sends no
+/// `100 Continue` to a client that asked with `Expect: 100-continue`. A body without a
+/// declared length (chunked) is still bounded while it is read.
+async fn refuse_oversize(request: Request, next: Next) -> Response {
+    let limit = body_limit(request.method(), request.uri().path());
+    let declared = request
+        .headers()
+        .get(axum::http::header::CONTENT_LENGTH)
+        .and_then(|v| v.to_str().ok())
+        .and_then(|v| v.trim().parse::<u128>().ok());
+    match declared {
+        Some(length) if length > limit as u128 => too_large(limit, Some(length)).into_response(),
+        _ => next.run(request).await,
+    }
+}
+
+/// The report of a body over `limit` bytes (of `declared` bytes, when the client said).
+fn too_large(limit: usize, declared: Option<u128>) -> ApiError {
+    let size = declared.map_or(String::new(), |d| format!(" ({d} bytes declared)"));
+    ApiError::new(
+        codes::TOO_LARGE,
+        format!("the body is larger than this endpoint's {limit} bytes{size}"),
+        "send a smaller body: planning requests take at most 1 MiB, world documents 4 MiB",
+    )
+}
+
 /// Reads a body of at most `limit` bytes within [`BODY_TIMEOUT`] and parses it as `T`.
 async fn read_json<T: DeserializeOwned>(body: Body, limit: usize) -> Result<T, ApiError> {
     let bytes = read_body(body, limit).await?;
@@ -289,11 +328,7 @@ async fn read_body(body: Body, limit: usize) -> Result<axum::body::Bytes, ApiErr
             ),
             "send the whole body at once",
         )),
-        Ok(Err(e)) if is_length_limit(&e) => Err(ApiError::new(
-            codes::TOO_LARGE,
-            format!("the body is larger than this endpoint's {limit} bytes"),
-            "send a smaller body: planning requests take at most 1 MiB, world documents 4 MiB",
-        )),
+        Ok(Err(e)) if is_length_limit(&e) => Err(too_large(limit, None)),
         Ok(Err(e)) => Err(bad_body(&format!("the body could not be read: {e}"))),
         Ok(Ok(bytes)) => Ok(bytes),
     }
