@@ -255,3 +255,24 @@ fn text(data: &[u8]) -> Option<&str> {
         .then(|| std::str::from_utf8(data).ok())
         .flatten()
 }
+
+/// The language server's input stream: frames read within bounds (no body over the
+/// limit, memory only for what arrives), every body either a message or a refusal, and
+/// the reader always making progress, so a stream of `n` bytes gives at most `n` frames.
+pub fn lsp_frames(data: &[u8]) {
+    use crate::lsp::framing::{Frame, FrameReader, MAX_BODY};
+    let mut frames = FrameReader::new(data);
+    let mut count = 0;
+    loop {
+        match frames.next_frame() {
+            Frame::End => break,
+            Frame::Body(body) => {
+                assert!(body.len() as u64 <= MAX_BODY);
+                let _ = crate::lsp::transport::message(&body);
+            }
+            Frame::Malformed(why) => assert!(!why.is_empty()),
+        }
+        count += 1;
+        assert!(count <= data.len(), "no progress");
+    }
+}

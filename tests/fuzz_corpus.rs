@@ -47,3 +47,8 @@ fn urdf_mesh_corpus() {
 fn world_document_corpus() {
     assert!(replay("world_document", cellc::fuzzing::world_document) >= 5);
 }
+
+#[test]
+fn lsp_frames_corpus() {
+    assert!(replay("lsp_frames", cellc::fuzzing::lsp_frames) >= 7);
+}

@@ -440,6 +440,28 @@ fn completion_symbols_and_formatting() {
 }
 
 #[test]
+fn a_corrupted_stream_never_stops_the_server() {
+    let mut client = Client::start();
+    // Lengths that would allocate a terabyte or overflow, each followed by two bytes.
+    for length in ["1000000000000", "18446744073709551615"] {
+        let frame = format!("Content-Length: {length}\r\n\r\nab");
+        client.stdin.write_all(frame.as_bytes()).expect("write");
+        let error = client.response(Value::Null);
+        assert_eq!(error["error"]["code"], -32700, "{error}");
+        let hover = client.request("cell/teleport", json!({}));
+        assert_eq!(hover["error"]["code"], -32601, "{length}: {hover}");
+    }
+    // A header line of a megabyte with no end, then a valid message.
+    let long = vec![b'x'; 1 << 20];
+    client.stdin.write_all(&long).expect("write");
+    let error = client.response(Value::Null);
+    assert_eq!(error["error"]["code"], -32700, "{error}");
+    let alive = client.request("cell/teleport", json!({}));
+    assert_eq!(alive["error"]["code"], -32601, "{alive}");
+    assert_eq!(client.stop(), Some(0));
+}
+
+#[test]
 fn garbage_never_stops_the_server() {
     let mut client = Client::start();
     client.write_raw("this is not json");

@@ -25,12 +25,13 @@ pub mod complete;
 pub mod diagnostics;
 pub mod documents;
 pub mod format;
+pub(crate) mod framing;
 pub mod hover;
 pub mod index;
 pub mod navigate;
 pub mod position;
 pub mod quantities;
-mod transport;
+pub(crate) mod transport;
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::panic::{catch_unwind, AssertUnwindSafe};

@@ -1,10 +1,14 @@
 //! Messages in and out: `Content-Length` framing on standard input and output.
 //!
 //! `lsp-server`'s own stdio transport ends its reader at the first message that is not
-//! JSON-RPC, which would end the session; here the reader reports such a message and
-//! goes on with the next, so a client's bad message costs one error response.
+//! JSON-RPC, which would end the session, and trusts every announced length; here frames
+//! are read within bounds ([`super::framing`]), and a frame or message that cannot be
+//! taken is reported and the reader goes on with the next, so a client's bad message
+//! costs one error response.
 
-use std::io::{BufReader, ErrorKind, Write};
+use std::io::{BufReader, Write};
+
+use super::framing::{Frame, FrameReader};
 
 use lsp_server::Message;
 use std::sync::mpsc::Receiver;
@@ -22,17 +26,12 @@ pub enum Incoming {
 pub fn spawn_reader() -> Receiver<Incoming> {
     let (sender, receiver) = std::sync::mpsc::channel();
     std::thread::spawn(move || {
-        let mut stdin = BufReader::new(std::io::stdin().lock());
+        let mut frames = FrameReader::new(BufReader::new(std::io::stdin().lock()));
         loop {
-            let incoming = match Message::read(&mut stdin) {
-                Ok(Some(message)) => Incoming::Message(message),
-                Ok(None) => break,
-                // The whole body was read before it was found wrong: the stream is
-                // still at a message boundary.
-                Err(e) if e.kind() == ErrorKind::InvalidData => {
-                    Incoming::Malformed(e.to_string().chars().take(200).collect())
-                }
-                Err(_) => break,
+            let incoming = match frames.next_frame() {
+                Frame::Body(body) => message(&body),
+                Frame::Malformed(why) => Incoming::Malformed(why),
+                Frame::End => break,
             };
             let exit = matches!(&incoming, Incoming::Message(Message::Notification(n)) if n.method == "exit");
             if sender.send(incoming).is_err() || exit {
@@ -41,6 +40,18 @@ pub fn spawn_reader() -> Receiver<Incoming> {
         }
     });
     receiver
+}
+
+/// The message a whole body holds, or why it holds none (the stream is still at a
+/// message boundary).
+pub fn message(body: &[u8]) -> Incoming {
+    match serde_json::from_slice::<Message>(body) {
+        Ok(message) => Incoming::Message(message),
+        Err(e) => Incoming::Malformed(format!(
+            "not a JSON-RPC message: {}",
+            e.to_string().chars().take(200).collect::<String>()
+        )),
+    }
 }
 
 /// Writes one message (a closed output ends nothing here: the next read will).
