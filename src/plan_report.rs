@@ -48,7 +48,7 @@ pub fn plan_error(
     });
     let mut d = match error {
         PlanError::Locate(e) => Diagnostic::error(codes::LOCATE, e.to_string()).help(
-            did_you_mean(e).unwrap_or_else(|| "name a holder, grasp and workspace the cell has, or give a pose that lies in a workspace and matches a grasp".into()),
+            did_you_mean(e).or_else(|| locate_help(e)).unwrap_or_else(|| "name a holder, grasp and workspace the cell has, or give a pose that lies in a workspace and matches a grasp".into()),
         ),
         PlanError::Unreachable(u) => crate::explain_report::unreachable(artifact, u, sources),
         PlanError::TimeBudget { searches } => Diagnostic::error(
@@ -80,6 +80,28 @@ pub fn plan_error(
         }
     }
     d
+}
+
+/// The fix of a cause that names a missing fact of the cell.
+fn locate_help(error: &LocateError) -> Option<String> {
+    Some(match error {
+        LocateError::NotReached { holder, workspace, .. } => format!(
+            "choose a holder that reaches `{workspace}`, or add `{workspace}` to what `{holder}` reaches"
+        ),
+        LocateError::NothingToHoldBy { holder, surface: true, .. } => format!(
+            "add a resting pose of the object `by {holder}` (`grasp NAME by {holder}`), or choose a surface that has one"
+        ),
+        LocateError::NothingToHoldBy { holder, surface: false, .. } => format!(
+            "add a grasp of the object `by {holder}` (`grasp NAME by {holder}`), or choose a hand that has one"
+        ),
+        LocateError::Ungraspable { object } => format!(
+            "give `{object}` a grasp or resting pose (`grasp NAME by HOLDER`) and the transitions between them"
+        ),
+        LocateError::NoStateThere { holder, .. } => format!(
+            "run `cellc build --explain` to see why the states of `{holder}` there were pruned, or add a transition to one of its grasps"
+        ),
+        _ => return None,
+    })
 }
 
 /// "did you mean `x`?" for an unknown name close to a known one.

@@ -284,3 +284,45 @@ fn json_output_is_json_on_every_path() {
         }
     }
 }
+
+/// `HOLDER in WS` names a set of states (`cellc plan --help`: `HOLDER[.GRASP] in WS`): the
+/// plan ends in the cheapest grasp of that hand there, instead of asking which grasp.
+#[test]
+fn a_goal_without_a_grasp_plans_to_the_cheapest_grasp() {
+    let out = cellc(&[
+        "plan",
+        "cells/vito.cell",
+        "--object",
+        "cylinder",
+        "--from",
+        "table at (0.45, 0.45, 1.0)",
+        "--to",
+        "left in ws_left_table",
+        "--no-motions",
+        "--format",
+        "json",
+    ]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    let plan: serde_json::Value = serde_json::from_slice(&out.stdout).expect("JSON");
+    let states = plan["plans"][0]["states"].as_array().expect("states");
+    let last = states.last().expect("a goal state");
+    assert_eq!(last["end_effector"], "left", "{plan}");
+    assert_eq!(last["workspace"], "ws_left_table", "{plan}");
+    // The left hand has more than one grasp of the cylinder there, so one was chosen.
+    for grasp in ["top", "side"] {
+        let to = format!("left.{grasp} in ws_left_table");
+        let named = cellc(&[
+            "plan",
+            "cells/vito.cell",
+            "--object",
+            "cylinder",
+            "--from",
+            "table at (0.45, 0.45, 1.0)",
+            "--to",
+            &to,
+            "--no-motions",
+        ]);
+        assert!(named.status.success(), "{to}");
+    }
+}

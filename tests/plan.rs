@@ -317,7 +317,7 @@ fn plan_ui() {
         insta::assert_snapshot!(format!("{source}\n----- diagnostics -----\n{rendered}"));
         checked += 1;
     });
-    assert_eq!(checked, 7);
+    assert_eq!(checked, 10);
 }
 
 #[test]

@@ -76,12 +76,30 @@ pub enum LocateError {
         /// Nearest workspaces and their distance.
         nearest: Vec<NearMiss>,
     },
-    /// The holder does not reach the workspace the pose is in.
+    /// The holder does not reach the workspace named, or the one the pose is in.
     NotReached {
         /// Holder.
         holder: String,
         /// Workspace.
         workspace: String,
+        /// The workspace is the one a pose of the request lies in (not one it names).
+        from_pose: bool,
+    },
+    /// The holder reaches the workspace and has grasps of the object, but the graph has
+    /// none of its states there: verification pruned them, or no transition or move
+    /// leads to or from them.
+    NoStateThere {
+        /// Holder.
+        holder: String,
+        /// Workspace.
+        workspace: String,
+        /// Its grasps of the object.
+        grasps: Vec<String>,
+    },
+    /// The object has no grasp and no resting pose at all: nothing can hold it.
+    Ungraspable {
+        /// Object.
+        object: String,
     },
     /// The pose matches no grasp or resting pose of the holder.
     NoGrasp {
@@ -160,7 +178,14 @@ impl std::fmt::Display for LocateError {
                 position[2],
                 misses(nearest)
             ),
-            LocateError::NotReached { holder, workspace } => write!(f, "`{holder}` does not reach `{workspace}`, where the pose is"),
+            LocateError::NotReached { holder, workspace, from_pose: true } => write!(f, "`{holder}` does not reach `{workspace}`, the workspace the pose lies in"),
+            LocateError::NotReached { holder, workspace, from_pose: false } => write!(f, "`{holder}` does not reach `{workspace}`"),
+            LocateError::NoStateThere { holder, workspace, grasps } => write!(
+                f,
+                "`{holder}` reaches `{workspace}` and holds the object by {}, but the graph has no such state in `{workspace}` (verification pruned it, or no move or transition reaches it)",
+                list(grasps)
+            ),
+            LocateError::Ungraspable { object } => write!(f, "`{object}` has no grasp and no resting pose: nothing can hold it"),
             LocateError::NoGrasp { holder, workspace, nearest } => write!(
                 f,
                 "the pose matches no grasp or resting pose of `{holder}` in `{workspace}`; nearest: {}",
@@ -287,11 +312,9 @@ pub fn locate(
     let holder_name = || artifact.end_effectors[e.index()].name.clone();
     let grasps = grasps_of(artifact, object, e);
     if grasps.is_empty() {
-        return Err(LocateError::NothingToHoldBy {
-            holder: holder_name(),
-            object: artifact.objects[object.index()].name.clone(),
-            surface: matches!(scene.holders[e.index()], Holder::Surface { .. }),
-        });
+        return Err(nothing_to_hold_by(artifact, object, e, || {
+            matches!(scene.holders[e.index()], Holder::Surface { .. })
+        }));
     }
     let names = |gs: &[GraspId]| -> Vec<String> {
         gs.iter()
@@ -315,6 +338,7 @@ pub fn locate(
         return Err(LocateError::NotReached {
             holder: holder_name(),
             workspace: artifact.workspaces[w.index()].name.clone(),
+            from_pose: placement.workspace.is_none(),
         });
     }
     let node = |g: GraspId| Node {
@@ -394,6 +418,11 @@ pub fn goal_states(
     options: &PlanOptions,
 ) -> Result<Vec<Node>, LocateError> {
     match goal {
+        // `HOLDER in WS` names no pose and no grasp: every state of the holder there is
+        // a goal, and the search picks the cheapest.
+        Goal::Placement(p) if p.pose.is_none() && p.grasp.is_none() => {
+            abstract_states(artifact, object, p)
+        }
         Goal::Placement(p) => match scene {
             Some(scene) => Ok(vec![locate(artifact, scene, object, p, options)?]),
             None => abstract_states(artifact, object, p),
@@ -427,6 +456,17 @@ fn abstract_states(
         });
     };
     let obj = &artifact.objects[object.index()];
+    if grasps_of(artifact, object, e).is_empty() {
+        let surface = || !artifact.end_effectors[e.index()].movable;
+        return Err(nothing_to_hold_by(artifact, object, e, surface));
+    }
+    if !artifact.end_effectors[e.index()].reaches.contains(&w.0) {
+        return Err(LocateError::NotReached {
+            holder: holder_name(),
+            workspace: artifact.workspaces[w.index()].name.clone(),
+            from_pose: false,
+        });
+    }
     let candidates: Vec<Node> = obj
         .graph
         .nodes
@@ -448,11 +488,48 @@ fn abstract_states(
                     .map(|n| obj.grasps[n.grasp.index()].name.clone())
                     .collect(),
             }),
-        None if candidates.is_empty() => Err(LocateError::NotReached {
-            holder: holder_name(),
-            workspace: artifact.workspaces[w.index()].name.clone(),
-        }),
+        None if candidates.is_empty() => Err(no_state(artifact, object, e, w)),
         None => Ok(candidates),
+    }
+}
+
+/// Why holder `e` can hold `object` in no way: the object has no grasps at all, or none
+/// of them is the holder's.
+fn nothing_to_hold_by(
+    artifact: &Artifact,
+    object: ObjectId,
+    e: EndEffectorId,
+    surface: impl Fn() -> bool,
+) -> LocateError {
+    let obj = &artifact.objects[object.index()];
+    if obj.grasps.is_empty() {
+        return LocateError::Ungraspable {
+            object: obj.name.clone(),
+        };
+    }
+    LocateError::NothingToHoldBy {
+        holder: artifact.end_effectors[e.index()].name.clone(),
+        object: obj.name.clone(),
+        surface: surface(),
+    }
+}
+
+/// Why the graph has no state of `e` holding `object` in `w`, when `e` reaches `w` and
+/// has grasps of `object`.
+fn no_state(
+    artifact: &Artifact,
+    object: ObjectId,
+    e: EndEffectorId,
+    w: WorkspaceId,
+) -> LocateError {
+    let obj = &artifact.objects[object.index()];
+    LocateError::NoStateThere {
+        holder: artifact.end_effectors[e.index()].name.clone(),
+        workspace: artifact.workspaces[w.index()].name.clone(),
+        grasps: grasps_of(artifact, object, e)
+            .iter()
+            .map(|g| obj.grasps[g.index()].name.clone())
+            .collect(),
     }
 }
 
