@@ -326,3 +326,19 @@ fn a_goal_without_a_grasp_plans_to_the_cheapest_grasp() {
         assert!(named.status.success(), "{to}");
     }
 }
+
+/// `include "."` from a cell in the current folder names the folder, not the empty name.
+#[test]
+fn an_include_of_the_current_folder_says_it_is_a_folder() {
+    let out = Command::new(env!("CARGO_BIN_EXE_cellc"))
+        .args(["check", "include_dot.cell"])
+        .current_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/ui/cli/support"))
+        .output()
+        .expect("cellc runs");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success());
+    assert!(
+        stderr.contains("cannot read `.`: it is a directory"),
+        "{stderr}"
+    );
+}

@@ -224,7 +224,8 @@ pub fn join(base: &str, relative: &str) -> String {
 }
 
 /// Removes `.` and resolves `..` lexically, so that one file always has one name. A `..`
-/// above the root of an absolute path is dropped; above a relative path it is kept.
+/// above the root of an absolute path is dropped; above a relative path it is kept. A
+/// relative path that names the current folder is `.`, never the empty name.
 pub fn normalize(path: &str) -> String {
     let absolute = path.starts_with('/');
     let mut parts: Vec<&str> = Vec::new();
@@ -244,6 +245,8 @@ pub fn normalize(path: &str) -> String {
     let joined = parts.join("/");
     if absolute {
         format!("/{joined}")
+    } else if joined.is_empty() {
+        ".".to_string()
     } else {
         joined
     }
@@ -266,6 +269,8 @@ mod tests {
         assert_eq!(join("r.urdf", "../a.stl"), "../a.stl");
         assert_eq!(join("/r.urdf", "../a.stl"), "/a.stl");
         assert_eq!(normalize("../../a"), "../../a");
+        assert_eq!(join("a.cell", "."), ".");
+        assert_eq!(join("x/a.cell", ".."), ".");
     }
 
     #[test]
