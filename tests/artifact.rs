@@ -269,5 +269,23 @@ fn damaged_artifacts_ui() {
         insta::assert_snapshot!(rendered);
         checked += 1;
     });
-    assert_eq!(checked, 5);
+    assert_eq!(checked, 7);
+}
+
+/// The same content in another layout (keys reordered, indented, as `json.dumps(indent=2)`
+/// or a formatter writes it) is the same artifact; a changed value is damage, named so,
+/// not a missing checksum.
+#[test]
+fn a_reformatted_artifact_is_accepted_and_a_changed_one_is_damaged() {
+    let artifact = build("cells/fig3.cell");
+    let bytes = artifact.to_bytes(Encoding::Json);
+    let mut value: serde_json::Value = serde_json::from_slice(&bytes).expect("JSON");
+    let pretty = serde_json::to_vec_pretty(&value).expect("serialises");
+    assert!(!pretty.starts_with(b"{\"checksum\""), "the checksum moved");
+    let (read, _) = Artifact::from_bytes(&pretty).expect("the same content");
+    assert_eq!(read.to_bytes(Encoding::Json), bytes);
+    value["cell"] = serde_json::json!("fig4");
+    let changed = serde_json::to_vec_pretty(&value).expect("serialises");
+    let error = Artifact::from_bytes(&changed).expect_err("changed");
+    assert_eq!(error, cellc_schema::ReadError::Damaged);
 }

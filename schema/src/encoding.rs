@@ -119,10 +119,16 @@ impl Artifact {
             let artifact = crate::sections::Sections::open(bytes)?.artifact()?;
             return Ok((artifact, Encoding::Binary));
         }
+        // Each field optional, so that a file that says it is an artifact is judged as
+        // one (a damaged or other version) even when a field has the wrong type.
         #[derive(Deserialize)]
         struct Header {
-            format: String,
-            format_version: u32,
+            #[serde(default)]
+            format: Option<serde_json::Value>,
+            #[serde(default)]
+            format_version: Option<serde_json::Value>,
+            #[serde(default)]
+            checksum: Option<serde_json::Value>,
         }
         // With a checksum, the content is checked before anything is parsed, so a damaged
         // file is reported as damaged whatever the damage did to its syntax.
@@ -148,18 +154,51 @@ impl Artifact {
             Err(e) if content.is_some() => return Err(corrupt(&e.to_string())),
             Err(_) => return Err(ReadError::NotAnArtifact),
         };
-        if header.format != FORMAT {
+        if header.format.as_ref().and_then(|f| f.as_str()) != Some(FORMAT) {
             return Err(ReadError::NotAnArtifact);
         }
-        if header.format_version != FORMAT_VERSION {
-            return Err(ReadError::WrongVersion {
-                found: header.format_version,
-                expected: FORMAT_VERSION,
-            });
+        match header.format_version.as_ref().map(|v| v.as_u64()) {
+            Some(Some(v)) if v == u64::from(FORMAT_VERSION) => {}
+            Some(Some(v)) => {
+                return Err(ReadError::WrongVersion {
+                    found: u32::try_from(v).unwrap_or(u32::MAX),
+                    expected: FORMAT_VERSION,
+                })
+            }
+            Some(None) => return Err(corrupt("`format_version` is not a whole number")),
+            None => return Err(corrupt("`format_version` is missing")),
         }
-        let content = content.ok_or_else(|| corrupt("the checksum is missing"))?;
+        let Some(content) = content else {
+            return Artifact::decode_reformatted(bytes, header.checksum.as_ref());
+        };
         serde_json::from_slice(&content)
             .map(|a| (a, Encoding::Json))
             .map_err(|e| corrupt(&e.to_string()))
+    }
+
+    /// A JSON artifact whose checksum is not its first field: the file was rewritten by
+    /// another tool (`json.dumps(indent=2)`, a formatter, an editor). The checksum is over
+    /// the canonical encoding, so the content is decoded, encoded again and compared: the
+    /// same content in another layout is accepted, a changed one is damaged.
+    fn decode_reformatted(
+        bytes: &[u8],
+        checksum: Option<&serde_json::Value>,
+    ) -> Result<(Artifact, Encoding), ReadError> {
+        let corrupt = |detail: &str| ReadError::Corrupt {
+            detail: detail.to_string(),
+        };
+        let Some(checksum) = checksum else {
+            return Err(corrupt("the checksum is missing"));
+        };
+        let Some(checksum) = checksum.as_str().filter(|c| c.len() == HEX_LEN) else {
+            return Err(corrupt("the checksum is not 64 hexadecimal digits"));
+        };
+        let artifact: Artifact = serde_json::from_slice(bytes).map_err(|_| ReadError::Damaged)?;
+        let canonical = artifact.to_bytes(Encoding::Json);
+        let at = JSON_CHECKSUM.len();
+        if canonical.get(at..at + HEX_LEN) != Some(checksum.to_ascii_lowercase().as_bytes()) {
+            return Err(ReadError::Damaged);
+        }
+        Ok((artifact, Encoding::Json))
     }
 }
