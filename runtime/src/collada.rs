@@ -38,6 +38,9 @@ pub enum ColladaError {
     },
     /// More elements than [`MAX_ELEMENTS`].
     TooManyElements,
+    /// An `<up_axis>` other than `X_UP`, `Y_UP` or `Z_UP`: which way is up is unknown, and
+    /// guessing would turn the mesh on its side.
+    BadUpAxis,
 }
 
 /// The most XML elements a COLLADA file may have. Real meshes have a few per geometry
@@ -51,6 +54,9 @@ impl fmt::Display for ColladaError {
         match self {
             ColladaError::NotCollada => {
                 f.write_str("not a COLLADA file: not XML with a `<COLLADA>` element")
+            }
+            ColladaError::BadUpAxis => {
+                f.write_str("its `<up_axis>` is none of `X_UP`, `Y_UP` and `Z_UP`")
             }
             ColladaError::BadNumber => {
                 f.write_str("a number array or transform holds something that is not a number")
@@ -253,7 +259,8 @@ pub fn positions(bytes: &[u8], max_positions: usize) -> Result<Vec<[f64; 3]>, Co
                         0.0, 0.0, -1.0, 0.0, 0.0, 1.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0,
                         1.0,
                     ),
-                    _ => Matrix4::identity(),
+                    "Z_UP" => Matrix4::identity(),
+                    _ => return Err(ColladaError::BadUpAxis),
                 }
             }
             _ => {}
@@ -431,6 +438,14 @@ mod tests {
         let close = |a: [f64; 3], b: [f64; 3]| a.iter().zip(&b).all(|(x, y)| (x - y).abs() < 1e-12);
         assert!(close(p[3], [1.01, 0.0, 0.01]), "{:?}", p[3]);
         assert!(close(p[4], [1.0, -0.01, 0.0]), "{:?}", p[4]);
+    }
+
+    #[test]
+    fn an_unknown_up_axis_is_refused_and_z_up_is_as_written() {
+        let w_up = CUBE.replace("Y_UP", "W_UP");
+        assert_eq!(positions(w_up.as_bytes(), 100), Err(ColladaError::BadUpAxis));
+        let z_up = positions(CUBE.replace("Y_UP", "Z_UP").as_bytes(), 100).expect("reads");
+        assert!((z_up[3][1] - 0.01).abs() < 1e-12, "{:?}", z_up[3]);
     }
 
     #[test]
