@@ -342,3 +342,30 @@ fn an_include_of_the_current_folder_says_it_is_a_folder() {
         "{stderr}"
     );
 }
+
+/// A robot that does not load is reported once, where it is: the arms built on it are not
+/// also called "not an arm" by every allowed contact that names their links.
+#[test]
+fn a_robot_that_does_not_load_is_not_reported_again_by_contacts() {
+    let dir = std::env::temp_dir().join(format!("cellc-cascade-{}", std::process::id()));
+    let robots = dir.join("robots");
+    std::fs::create_dir_all(&robots).expect("temp folder");
+    std::fs::copy("cells/two_pandas.cell", dir.join("two_pandas.cell")).expect("copied");
+    for entry in std::fs::read_dir("cells/robots").expect("listable") {
+        let path = entry.expect("entry").path();
+        if path.extension().is_some_and(|e| e == "cell") {
+            let text = std::fs::read_to_string(&path).expect("readable");
+            let text = text.replace("at \"example-robot-data\"", "at \"nowhere\"");
+            std::fs::write(robots.join(path.file_name().expect("name")), text).expect("written");
+        }
+    }
+    let cell = dir.join("two_pandas.cell");
+    let out = cellc(&["check", &cell.to_string_lossy(), "--format", "short"]);
+    let stderr = format!(
+        "{}{}",
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(stderr.contains("error[E0401]"), "{stderr}");
+    assert!(!stderr.contains("is not an arm"), "{stderr}");
+}

@@ -443,7 +443,10 @@ mod tests {
     #[test]
     fn an_unknown_up_axis_is_refused_and_z_up_is_as_written() {
         let w_up = CUBE.replace("Y_UP", "W_UP");
-        assert_eq!(positions(w_up.as_bytes(), 100), Err(ColladaError::BadUpAxis));
+        assert_eq!(
+            positions(w_up.as_bytes(), 100),
+            Err(ColladaError::BadUpAxis)
+        );
         let z_up = positions(CUBE.replace("Y_UP", "Z_UP").as_bytes(), 100).expect("reads");
         assert!((z_up[3][1] - 0.01).abs() < 1e-12, "{:?}", z_up[3]);
     }

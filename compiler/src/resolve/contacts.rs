@@ -57,6 +57,9 @@ impl Resolver<'_, '_> {
             Body::Arm {
                 robot: Some(robot), ..
             } => (*robot, self.cell.end_effectors[e].kind),
+            // An arm whose robot did not load: that error is reported where the robot
+            // is; its links are unknown, not missing.
+            Body::Arm { robot: None, .. } => return None,
             _ => {
                 self.diagnostics.push(
                     Diagnostic::error(
