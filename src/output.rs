@@ -54,6 +54,12 @@ pub fn write<'a>(
     write_whole(output, bytes).map_err(|e| unwritable(output, &e))
 }
 
+/// Writes `bytes` over `source`, a file the command read and rewrites on purpose
+/// (`cellc fmt`), whole or not at all.
+pub fn rewrite(source: &Path, bytes: &[u8]) -> Result<(), Diagnostic> {
+    write_whole(source, bytes).map_err(|e| unwritable(source, &e))
+}
+
 /// The diagnostic of an output that is one of the inputs.
 fn overwrites_input(output: &Path, input: &str) -> Diagnostic {
     let output = output.to_string_lossy();
@@ -203,7 +209,9 @@ mod tests {
         write(&dir, b"new", []).expect_err("a folder is no file");
         assert_eq!(std::fs::read_to_string(&target).expect("readable"), "old");
         assert_eq!(std::fs::read_dir(&dir).expect("listable").count(), 1);
-        write(&target, b"new", []).expect("writable");
+        // `write_whole`, not `write`: tests run side by side in one process, and an inode
+        // another test read and deleted may be this file's.
+        write_whole(&target, b"new").expect("writable");
         assert_eq!(std::fs::read_to_string(&target).expect("readable"), "new");
         assert_eq!(std::fs::read_dir(&dir).expect("listable").count(), 1);
     }

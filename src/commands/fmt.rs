@@ -49,7 +49,7 @@ pub fn run(files: &[PathBuf], check: bool) -> ExitCode {
         if check {
             println!("would reformat {display}");
             failed = true;
-        } else if let Err(d) = crate::output::write(path, formatted.as_bytes(), []) {
+        } else if let Err(d) = crate::output::rewrite(path, formatted.as_bytes()) {
             eprint!("{}", render::human(&[d], &SourceMap::new(), Color::Never));
             failed = true;
         }
