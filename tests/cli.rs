@@ -362,4 +362,11 @@ fn a_robot_that_does_not_load_is_not_reported_again_by_contacts() {
     );
     assert!(stderr.contains("error[E0401]"), "{stderr}");
     assert!(!stderr.contains("is not an arm"), "{stderr}");
+    // The workspaces `workspaces from reach` would have derived from the arms' reach are
+    // not "unknown": the arms' robots are.
+    assert!(!stderr.contains("E0101"), "{stderr}");
+    assert!(
+        stderr.contains("a `package` item declares `example-robot-data` at"),
+        "{stderr}"
+    );
 }

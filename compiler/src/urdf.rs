@@ -165,9 +165,16 @@ impl UrdfCache {
                 return None;
             }
             Err(error) => {
-                diagnostics.push(diagnostics::robot_file_unreadable(
-                    what, path, &error, named.file, at.span,
-                ));
+                let package = match package::file_ref(&at.value) {
+                    Ok(package::FileRef::Package { package, .. }) => {
+                        named.packages.declared(package).map(|dir| (package, dir))
+                    }
+                    _ => None,
+                };
+                let d = diagnostics::robot_file_unreadable(
+                    what, path, &error, package, named.file, at.span,
+                );
+                diagnostics.push(d);
                 return None;
             }
         };

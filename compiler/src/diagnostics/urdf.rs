@@ -11,26 +11,36 @@ use super::trust;
 
 /// A URDF that can't be read (one too large or not a regular file has its own code).
 pub fn urdf_unreadable(path: &str, error: &FileError, file: FileId, span: Span) -> Diagnostic {
-    robot_file_unreadable("URDF", path, error, file, span)
+    robot_file_unreadable("URDF", path, error, None, file, span)
 }
 
-/// A robot description file (`URDF` or `SRDF`) that can't be read.
+/// A robot description file (`URDF` or `SRDF`) that can't be read. `package` is the
+/// `package` item's (name, folder) when the file was named `package://NAME/…` through one:
+/// a wrong folder there is the likelier cause than the path inside the package.
 pub fn robot_file_unreadable(
     what: &str,
     path: &str,
     error: &FileError,
+    package: Option<(&str, &str)>,
     file: FileId,
     span: Span,
 ) -> Diagnostic {
     if let Some(refused) = trust::refused_file(what, path, error, Some((file, span))) {
         return refused;
     }
-    Diagnostic::error(
+    let d = Diagnostic::error(
         URDF_UNREADABLE,
         format!("cannot read {what} `{path}`: {error}"),
     )
-    .primary(file, span, "referenced here")
-    .help("check the path: it is relative to the file that declares the robot")
+    .primary(file, span, "referenced here");
+    match package {
+        Some((name, dir)) => d
+            .note(format!("a `package` item declares `{name}` at `{dir}`"))
+            .help(format!(
+                "check that `package {name} at \"…\"` names the package's own folder (the one that holds its `package.xml`)"
+            )),
+        None => d.help("check the path: it is relative to the file that declares the robot"),
+    }
 }
 
 /// A URDF urdf-rs rejects.

@@ -33,6 +33,7 @@ impl Resolver<'_, '_> {
                 ));
                 None
             }
+            None if want == Sort::Workspace && self.workspaces_incomplete => None,
             None => {
                 let names = &self.names;
                 let suggestion = self.suggestions.search(|| {

@@ -106,6 +106,7 @@ pub fn resolve(
         obstacle_names: HashSet::default(),
         request_names: HashMap::default(),
         suggestions: SuggestionBudget::default(),
+        workspaces_incomplete: false,
         urdfs: crate::urdf::UrdfCache::default(),
         diagnostics,
     };
@@ -145,6 +146,11 @@ pub fn resolve(
     r.cell.auto_reach = crate::reach::compute(&mut r.cell, &loaded.sources, reach, r.diagnostics);
     // Workspaces are derived before anything that may name them is resolved.
     crate::workspaces::assign(&mut r.cell, r.diagnostics);
+    r.workspaces_incomplete = r.cell.derive_workspaces.is_some()
+        && r.cell
+            .end_effectors
+            .iter()
+            .any(|(_, e)| e.reach_auto.is_some() && e.reach_boxes.is_empty());
     let derived: Vec<(String, WorkspaceId, Origin)> = r
         .cell
         .workspaces
@@ -208,6 +214,11 @@ struct Resolver<'w, 'd> {
     suggestions: SuggestionBudget,
     /// URDFs read so far, and the budget for reading more.
     urdfs: crate::urdf::UrdfCache,
+    /// Whether `workspaces from reach` ran without the reach of some `reach ARM auto`
+    /// (its robot did not load, or the cell had errors before reach was computed): the
+    /// names it would have derived are then not known, and a reference to one is not
+    /// reported as unknown on top of the error that caused it.
+    workspaces_incomplete: bool,
     diagnostics: &'d mut Vec<Diagnostic>,
 }
 
