@@ -24,6 +24,10 @@ struct Pending {
     lost: BTreeSet<usize>,
     /// Declared transitions the other way: (from grasp, to grasp).
     reverse: BTreeSet<(GraspId, GraspId)>,
+    /// A move's (from, to) workspaces, in the direction the object would go (kept here:
+    /// `workspaces` is a set, and on the way through a hand of neither side no end of
+    /// the move is on the start's side to tell the direction by).
+    ends: Option<(WorkspaceId, WorkspaceId)>,
 }
 
 /// Gaps keyed by (kind, near end-effector, far end-effector or first workspace (its
@@ -144,6 +148,7 @@ impl Ctx<'_> {
             far: vec![(b, BTreeSet::new())],
             lost: BTreeSet::new(),
             reverse: BTreeSet::new(),
+            ends: None,
         });
         gap.near[0].1.extend(near.1);
         gap.far[0].1.extend(far.1);
@@ -175,6 +180,7 @@ impl Ctx<'_> {
                 far: vec![(y.end_effector, BTreeSet::new())],
                 lost: BTreeSet::new(),
                 reverse: BTreeSet::new(),
+                ends: Some((x.workspace, y.workspace)),
             });
         gap.near[0].1.insert(x.grasp);
         gap.far[0].1.insert(y.grasp);
@@ -340,28 +346,12 @@ impl Ctx<'_> {
         }
     }
 
-    /// The two workspaces of a move gap, from the start's side to the goal's.
+    /// The two workspaces of a move gap, in the direction the object would go.
     fn move_ends(&self, g: &Pending) -> (WorkspaceId, WorkspaceId) {
-        let ws: Vec<WorkspaceId> = g.workspaces.iter().copied().collect();
-        let e = g.near.first().map_or(EndEffectorId(0), |(e, _)| *e);
-        let grasp = g.near.first().and_then(|(_, s)| s.iter().next().copied());
-        let in_r = |w: WorkspaceId| {
-            grasp.is_some_and(|grasp| {
-                self.index
-                    .get(&Node {
-                        end_effector: e,
-                        grasp,
-                        workspace: w,
-                    })
-                    .is_some_and(|&i| self.in_r[i as usize])
-            })
-        };
-        match ws.as_slice() {
-            [a, b] if in_r(*b) && !in_r(*a) => (*b, *a),
-            [a, b] => (*a, *b),
-            [a] => (*a, *a),
-            _ => (WorkspaceId(0), WorkspaceId(0)),
-        }
+        g.ends.unwrap_or_else(|| {
+            let first = g.workspaces.first().copied().unwrap_or(WorkspaceId(0));
+            (first, first)
+        })
     }
 
     /// When no two end-effectors of the sides share a workspace where they hold it: a
