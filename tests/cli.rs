@@ -370,3 +370,56 @@ fn a_robot_that_does_not_load_is_not_reported_again_by_contacts() {
         "{stderr}"
     );
 }
+
+/// A folder the user may not write in (EACCES) is E0505 with a non-zero exit, and the
+/// previous output there is left as it was. Tests here may run as root, whom permissions
+/// do not stop: then the command runs as `nobody` (through `setpriv`, util-linux).
+#[test]
+fn a_folder_that_may_not_be_written_is_e0505_and_keeps_the_previous_file() {
+    use std::os::unix::fs::PermissionsExt;
+    let dir = std::env::temp_dir().join(format!("cellc-eacces-{}", std::process::id()));
+    let (inputs, outputs) = (dir.join("in"), dir.join("out"));
+    std::fs::create_dir_all(&inputs).expect("temp folder");
+    std::fs::create_dir_all(&outputs).expect("temp folder");
+    let cell = inputs.join("fig3.cell");
+    std::fs::copy("cells/fig3.cell", &cell).expect("copied");
+    let target = outputs.join("fig3.cellg");
+    std::fs::write(&target, "previous").expect("written");
+    let mode = |path: &std::path::Path, mode: u32| {
+        std::fs::set_permissions(path, std::fs::Permissions::from_mode(mode)).expect("chmod");
+    };
+    for (path, m) in [(&dir, 0o755), (&inputs, 0o755), (&cell, 0o644), (&target, 0o644)] {
+        mode(path, m);
+    }
+    mode(&outputs, 0o555);
+    let args = [
+        "build",
+        &*cell.to_string_lossy(),
+        "-o",
+        &*target.to_string_lossy(),
+    ]
+    .map(str::to_string);
+    let root = Command::new("id").arg("-u").output().expect("id runs").stdout == b"0\n";
+    let out = if root {
+        // A copy of the binary `nobody` may run wherever the checkout is.
+        let binary = dir.join("cellc");
+        std::fs::copy(env!("CARGO_BIN_EXE_cellc"), &binary).expect("copied");
+        mode(&binary, 0o755);
+        Command::new("setpriv")
+            .args(["--reuid=65534", "--regid=65534", "--clear-groups"])
+            .arg(&binary)
+            .args(&args)
+            .output()
+            .expect("setpriv runs")
+    } else {
+        cellc(&args.iter().map(String::as_str).collect::<Vec<_>>())
+    };
+    let stderr = String::from_utf8_lossy(&out.stderr).to_string();
+    mode(&outputs, 0o755);
+    let kept = std::fs::read_to_string(&target).expect("readable");
+    let _ = std::fs::remove_dir_all(&dir);
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    assert!(stderr.contains("error[E0505]"), "{stderr}");
+    assert!(stderr.contains("permission denied"), "{stderr}");
+    assert_eq!(kept, "previous");
+}
