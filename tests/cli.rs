@@ -388,7 +388,12 @@ fn a_folder_that_may_not_be_written_is_e0505_and_keeps_the_previous_file() {
     let mode = |path: &std::path::Path, mode: u32| {
         std::fs::set_permissions(path, std::fs::Permissions::from_mode(mode)).expect("chmod");
     };
-    for (path, m) in [(&dir, 0o755), (&inputs, 0o755), (&cell, 0o644), (&target, 0o644)] {
+    for (path, m) in [
+        (&dir, 0o755),
+        (&inputs, 0o755),
+        (&cell, 0o644),
+        (&target, 0o644),
+    ] {
         mode(path, m);
     }
     mode(&outputs, 0o555);
@@ -399,7 +404,12 @@ fn a_folder_that_may_not_be_written_is_e0505_and_keeps_the_previous_file() {
         &*target.to_string_lossy(),
     ]
     .map(str::to_string);
-    let root = Command::new("id").arg("-u").output().expect("id runs").stdout == b"0\n";
+    let root = Command::new("id")
+        .arg("-u")
+        .output()
+        .expect("id runs")
+        .stdout
+        == b"0\n";
     let out = if root {
         // A copy of the binary `nobody` may run wherever the checkout is.
         let binary = dir.join("cellc");
