@@ -26,7 +26,7 @@ use std::hint::black_box;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use cellc::fs_files::FsFiles;
+use cellc_driver::fs_files::FsFiles;
 use cellc_runtime::motion::{MotionPlanner, MotionProblem, RrtConnect};
 use cellc_runtime::plan::{MotionContext, PlanOptions};
 use cellc_runtime::scene::{Holder, ObjectPlacement, Scene, SceneScratch};
@@ -58,7 +58,7 @@ struct Case {
 
 /// The cell compiled as `cellc` compiles it (its reach is `auto`), verified.
 fn cell() -> Cell {
-    let compilation = cellc::reach::compile(&FsFiles, CELL, &Default::default());
+    let compilation = cellc_driver::reach::compile(&FsFiles, CELL, &Default::default());
     assert!(!compilation.has_errors(), "{CELL} has errors");
     let artifact = cellc_compiler::artifact::lower(
         compilation.cell.as_ref().expect("resolved"),

@@ -14,8 +14,8 @@ use std::alloc::{GlobalAlloc, Layout, System};
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
 
-use cellc::fs_files::FsFiles;
 use cellc_compiler::{compile, MemoryFiles};
+use cellc_driver::fs_files::FsFiles;
 use cellc_runtime::scene::Scene;
 use cellc_runtime::verify::{verify, VerifyOptions};
 use cellc_schema::Artifact;

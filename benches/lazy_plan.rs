@@ -11,8 +11,8 @@
 
 use std::path::PathBuf;
 
-use cellc::fs_files::{FsFiles, PieceFile};
 use cellc_compiler::{compile, MemoryFiles};
+use cellc_driver::fs_files::{FsFiles, PieceFile};
 use cellc_runtime::plan::search::SearchGraph;
 use cellc_runtime::plan::PlanOptions;
 use cellc_runtime::{Cell, ObjectId};

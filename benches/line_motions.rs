@@ -8,8 +8,8 @@
 //! Verification (once per line, outside the timing) prunes what no motion can do; each
 //! iteration plans with the next of 16 seeds.
 
-use cellc::fs_files::FsFiles;
 use cellc_compiler::{compile, MemoryFiles};
+use cellc_driver::fs_files::FsFiles;
 use cellc_runtime::math::Iso;
 use cellc_runtime::plan::planner::Planner;
 use cellc_runtime::plan::{Goal, Placement, PlanOptions, Request};

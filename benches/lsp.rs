@@ -50,7 +50,7 @@ fn benches(c: &mut Criterion) {
                 versions[keystroke % 2].clone(),
             );
             let overlay = documents.overlay();
-            let solver = cellc::reach::RuntimeReach { files: &overlay };
+            let solver = cellc_driver::reach::RuntimeReach { files: &overlay };
             let compilation = cellc_compiler::compile_with(&overlay, &solver, &path, &options);
             let index = Index::build(&compilation.sources, &Fresh);
             std::hint::black_box(index.occurrences.len())

@@ -87,7 +87,7 @@ fn case(c: &mut Criterion, name: &str, a: &Artifact, object: &str) {
 
 /// A geometric cell, verified, with its named requests.
 fn geometric(path: &str) -> Option<(Artifact, cellc_runtime::scene::Scene, Vec<Request>)> {
-    use cellc::fs_files::FsFiles;
+    use cellc_driver::fs_files::FsFiles;
     if !std::path::Path::new(path).exists() {
         return None;
     }

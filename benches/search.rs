@@ -25,7 +25,7 @@ use std::path::Path;
 use std::process::Command;
 use std::time::Instant;
 
-use cellc::fs_files::FsFiles;
+use cellc_driver::fs_files::FsFiles;
 use cellc_runtime::plan::search::{Scratch, SearchGraph};
 use cellc_runtime::plan::ArcRef;
 use cellc_runtime::scene::Scene;

@@ -2,8 +2,8 @@
 //! geometric cells, and of a generated five-arm line (LWR arms with a shared hand kind,
 //! benches between them), on all cores (rayon).
 
-use cellc::fs_files::FsFiles;
 use cellc_compiler::{compile, MemoryFiles};
+use cellc_driver::fs_files::FsFiles;
 use cellc_runtime::scene::Scene;
 use cellc_runtime::verify::{verify, VerifyOptions};
 use cellc_schema::Artifact;

@@ -4,7 +4,7 @@
 //! world updated from it before the next move. One benchmark per seed of the randomized
 //! solvers; docs/performance.md reports the median over seeds and the slowest seed.
 
-use cellc::fs_files::FsFiles;
+use cellc_driver::fs_files::FsFiles;
 use cellc_runtime::plan::PlanOptions;
 use cellc_runtime::{Cell, ExecuteOptions, VerifyOptions};
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};

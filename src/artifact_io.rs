@@ -9,8 +9,8 @@ use cellc_schema::partial::Partial;
 use cellc_schema::sections::{Sections, Source};
 use cellc_schema::{Artifact, ReadError, MAGIC};
 
-use crate::fs_files::{FsFiles, PieceFile};
 use crate::render::{self, Color};
+use cellc_driver::fs_files::{FsFiles, PieceFile};
 
 /// Codes of artifact reading.
 pub mod codes {
@@ -147,7 +147,7 @@ pub fn compiled_cell(
     report: Report,
     options: &cellc_compiler::CompileOptions,
 ) -> Option<(Artifact, cellc_compiler::Compilation)> {
-    let compilation = crate::reach::compile(&FsFiles, path, options);
+    let compilation = cellc_driver::reach::compile(&FsFiles, path, options);
     let errors: Vec<Diagnostic> = compilation
         .diagnostics
         .iter()

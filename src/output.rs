@@ -12,14 +12,14 @@
 //! An input is recognised by its identity on the file system (device and inode), not by
 //! its name: a hard link, a symbolic link or `./a/../b` spelling of a URDF the cell reads
 //! is still that URDF. Besides the inputs a command names, every file the process read
-//! through the hardened reader ([`crate::fs_files::was_read`]) is an input.
+//! through the hardened reader ([`cellc_driver::fs_files::was_read`]) is an input.
 
 use std::io::Write;
 use std::path::Path;
 
 use cellc_lang::Diagnostic;
 
-use crate::fs_files::FileId;
+use cellc_driver::fs_files::FileId;
 
 /// Codes of writing outputs.
 pub mod codes {
@@ -46,7 +46,7 @@ pub fn write<'a>(
             .into_iter()
             .find(|i| FileId::of(i) == Some(target))
             .map(|i| i.to_string_lossy().into_owned());
-        let read = || crate::fs_files::was_read(target).then(|| "read by it".to_string());
+        let read = || cellc_driver::fs_files::was_read(target).then(|| "read by it".to_string());
         if let Some(input) = named.or_else(read) {
             return Err(overwrites_input(output, &input));
         }
@@ -243,7 +243,7 @@ mod tests {
         std::fs::write(&mesh, "solid").expect("written");
         let unread = dir.join("unread.stl");
         std::fs::write(&unread, "solid").expect("written");
-        crate::fs_files::FsFiles
+        cellc_driver::fs_files::FsFiles
             .read(&mesh.to_string_lossy())
             .expect("readable");
         let d = write(&mesh, b"<html>", []).expect_err("read by this process");

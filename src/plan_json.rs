@@ -228,7 +228,7 @@ pub fn plan<'a>(artifact: &'a Artifact, name: &'a str, plan: &'a Plan) -> JsonPl
             .iter()
             .map(|d| JsonDetour {
                 object: artifact.object_name(d.blocker.by),
-                blocked: crate::explain_report::words::blocked(artifact, &d.blocker),
+                blocked: cellc_driver::explain_report::words::blocked(artifact, &d.blocker),
                 around: match d.around {
                     cellc_runtime::plan::Around::OtherPose => "other_pose",
                     _ => "other_path",

@@ -8,7 +8,7 @@ use cellc_runtime::math::Iso;
 use cellc_runtime::plan::{Command, LocateError, Plan, PlanError};
 use cellc_schema::{Artifact, EndEffectorId, GraspId, WorkspaceId};
 
-pub use crate::runtime_codes as codes;
+pub use cellc_driver::runtime_codes as codes;
 
 /// No request to plan: none declared, or none of that name.
 pub fn no_request(artifact: &Artifact, wanted: Option<&str>) -> Diagnostic {
@@ -50,7 +50,7 @@ pub fn plan_error(
         PlanError::Locate(e) => Diagnostic::error(codes::LOCATE, e.to_string()).help(
             did_you_mean(e).or_else(|| locate_help(e)).unwrap_or_else(|| "name a holder, grasp and workspace the cell has, or give a pose that lies in a workspace and matches a grasp".into()),
         ),
-        PlanError::Unreachable(u) => crate::explain_report::unreachable(artifact, u, sources),
+        PlanError::Unreachable(u) => cellc_driver::explain_report::unreachable(artifact, u, sources),
         PlanError::TimeBudget { searches } => Diagnostic::error(
             codes::TIME_BUDGET,
             format!("planning ran out of its time budget after {searches} backtracks"),
@@ -172,7 +172,7 @@ pub fn describe(artifact: &Artifact, name: &str, plan: &Plan) -> String {
         let _ = writeln!(
             out,
             "around: {} ({how})",
-            crate::explain_report::words::blocked(artifact, &d.blocker)
+            cellc_driver::explain_report::words::blocked(artifact, &d.blocker)
         );
     }
     for (i, step) in plan.steps.iter().enumerate() {

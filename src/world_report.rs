@@ -7,8 +7,8 @@ use cellc_runtime::{Cell, World, WorldError};
 use cellc_schema::world::WorldDocumentError;
 use cellc_schema::{Files, WorldDocument};
 
-use crate::fs_files::FsFiles;
 use crate::plan_report::codes;
+use cellc_driver::fs_files::FsFiles;
 
 /// Reads and checks a world document.
 pub fn read_world(cell: &Cell, path: &str, options: &PlanOptions) -> Result<World, Diagnostic> {

@@ -2,7 +2,7 @@
 //! are refused with coded diagnostics (never a panic), and arcs point back at the lines
 //! that made them.
 
-use cellc::fs_files::FsFiles;
+use cellc_driver::fs_files::FsFiles;
 use cellc_schema::{ArcKind, Artifact, Encoding, ReadError};
 
 fn build(path: &str) -> Artifact {

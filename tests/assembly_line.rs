@@ -8,7 +8,7 @@
 //! conveyor carrying the cylinder between arms 4 and 5.
 use std::collections::BTreeMap;
 
-use cellc::fs_files::FsFiles;
+use cellc_driver::fs_files::FsFiles;
 use cellc_runtime::execute::{execute, ExecuteOptions, Simulator};
 use cellc_runtime::plan::planner::Planner;
 use cellc_runtime::plan::{Command, Goal, Plan, PlanOptions, Request};

@@ -2,12 +2,12 @@
 //! the binary compiles it (with the runtime's kinematics for `reach auto`), and the
 //! paper's Fig. 3 cell compiles to the paper's Fig. 6 graph.
 
-use cellc::fs_files::FsFiles;
 use cellc_compiler::{compile, Compilation};
+use cellc_driver::fs_files::FsFiles;
 
 /// A cell compiled as the `cellc` binary compiles it.
 fn compile_as_the_binary(path: &str) -> Compilation {
-    cellc::reach::compile(&FsFiles, path, &Default::default())
+    cellc_driver::reach::compile(&FsFiles, path, &Default::default())
 }
 
 fn shipped_cells() -> Vec<String> {

@@ -12,7 +12,7 @@ mod explain_cells;
 
 use std::collections::BTreeSet;
 
-use cellc::fs_files::FsFiles;
+use cellc_driver::fs_files::FsFiles;
 use cellc_lang::Diagnostic;
 use cellc_runtime::explain::Cause;
 use cellc_runtime::motion::{ChaCha8Rng, MotionError, MotionPlanner, MotionProblem};
@@ -25,7 +25,8 @@ use explain_cells::*;
 /// The diagnostic of an unreachable request, checked as every one must be.
 fn render((d, req): &(Desc, Req)) -> Diagnostic {
     let art = d.build();
-    let diagnostic = cellc::explain_report::unreachable(&art, &unreachable(d, &art, req), None);
+    let diagnostic =
+        cellc_driver::explain_report::unreachable(&art, &unreachable(d, &art, req), None);
     println!("{diagnostic:#?}");
     let message = &diagnostic.message;
     assert!(message.starts_with(|c: char| c.is_lowercase()), "{message}");
@@ -367,7 +368,8 @@ fn vito_with_every_motion_blocked_says_what_failed_never_another_reason() {
     assert_eq!(u.failed.len(), 1);
     let explanation = cell.explain(&u).expect("the states exist");
     assert_eq!(explanation.cause, Cause::Connected);
-    let d = cellc::explain_report::unreachable(cell.artifact(), &u, Some(&compilation.sources));
+    let d =
+        cellc_driver::explain_report::unreachable(cell.artifact(), &u, Some(&compilation.sources));
     println!("{d:#?}");
     assert!(!d.message.contains("another reason"), "{}", d.message);
     assert!(
@@ -394,7 +396,7 @@ fn a_request_outside_the_graph_says_what_does_not_fit() {
     let (d, _) = fig3_connected();
     let art = d.build();
     let mut un = unreachable(&d, &art, &Req::new(st("table", "g1", "w1"), vec![]));
-    let message = |un: &_| cellc::explain_report::unreachable(&art, un, None).message;
+    let message = |un: &_| cellc_driver::explain_report::unreachable(&art, un, None).message;
     assert_eq!(
         message(&un),
         "no goal state of the request is a state of `cylinder`'s graph"

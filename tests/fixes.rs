@@ -1,5 +1,5 @@
 //! Every suggestion of an unreachable goal's explanation, made as the source edit
-//! `cellc::fixes::edit` gives, makes that request plan: for each R0004 case of
+//! `cellc_driver::fixes::edit` gives, makes that request plan: for each R0004 case of
 //! `tests/ui/plan/` and each cell of `runtime/tests/explain_cells/` that can be written as
 //! source (no hand kinds, no arcs pruned or failed by fiat), the request is planned, its
 //! explanation's suggestions are turned into text edits (every one must have an edit),
@@ -12,8 +12,8 @@ mod explain_cells;
 
 use std::collections::BTreeMap;
 
-use cellc::fixes::{self, SourceEdit};
-use cellc::fs_files::FsFiles;
+use cellc_driver::fixes::{self, SourceEdit};
+use cellc_driver::fs_files::FsFiles;
 use cellc_lang::ast::needs_quotes;
 use cellc_lang::phrases::RESERVED;
 use cellc_runtime::plan::{PlanError, PlanOptions};

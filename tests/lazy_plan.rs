@@ -148,7 +148,7 @@ fn a_plan_does_not_read_another_objects_arcs() {
         &sections,
         &[ObjectId(0)],
         Parts::GRAPH,
-        &cellc::fs_files::FsFiles,
+        &cellc_driver::fs_files::FsFiles,
     )
     .expect("loads");
     assert_eq!(cell.parts(ObjectId(0)), Parts::GRAPH);

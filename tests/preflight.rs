@@ -4,7 +4,7 @@
 
 use std::process::Command;
 
-use cellc::fs_files::FsFiles;
+use cellc_driver::fs_files::FsFiles;
 use cellc_runtime::scene::Scene;
 use cellc_runtime::verify::preflight::{preflight, Preflight};
 use cellc_runtime::verify::{verify, VerifyOptions};
@@ -47,7 +47,8 @@ fn a_base_on_its_table_gets_the_allow_contact_line_and_the_line_fixes_it() {
     let path = "tests/ui/cli/support/base_on_table.cell";
     let (compilation, artifact, _, found) = checked(&FsFiles, path);
     assert!(found.blocks_verification());
-    let diagnostics = cellc::scene_report::diagnostics(&artifact, &found, &compilation.sources);
+    let diagnostics =
+        cellc_driver::scene_report::diagnostics(&artifact, &found, &compilation.sources);
     let codes: Vec<&str> = diagnostics.iter().map(|d| d.code.as_str()).collect();
     assert_eq!(codes, ["E0421"], "{diagnostics:?}");
     let line = "allow contact left.lwr_base_link table";
@@ -68,11 +69,12 @@ fn a_base_on_its_table_gets_the_allow_contact_line_and_the_line_fixes_it() {
         diagnostics[0].notes
     );
     // The edit the note describes, made: the contact is gone and the arm's arcs verify.
-    let edit = cellc::fixes::allow_contact(&artifact, line, &compilation.sources).expect("an edit");
+    let edit =
+        cellc_driver::fixes::allow_contact(&artifact, line, &compilation.sources).expect("an edit");
     let text = std::fs::read_to_string(path).expect("readable");
     let fixed = Edited {
         path,
-        text: cellc::fixes::apply(&text, &[&edit]).expect("applies"),
+        text: cellc_driver::fixes::apply(&text, &[&edit]).expect("applies"),
     };
     let (_, mut artifact, scene, found) = checked(&fixed, path);
     assert_eq!(found, Preflight::default());

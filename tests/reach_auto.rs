@@ -5,8 +5,8 @@
 
 use std::time::Duration;
 
-use cellc::fs_files::FsFiles;
 use cellc_compiler::Compilation;
+use cellc_driver::fs_files::FsFiles;
 use cellc_runtime::kinematics::{solve_ik, IkOptions, IkTarget};
 use cellc_runtime::math::{aabb_from_schema, Aabb, Iso, Point, Quat, Vec3};
 use cellc_runtime::plan::PlanOptions;
@@ -56,7 +56,7 @@ impl Files for VitoAuto {
 }
 
 fn compiled(files: &dyn Files, path: &str) -> (Compilation, Artifact) {
-    let compilation = cellc::reach::compile(files, path, &Default::default());
+    let compilation = cellc_driver::reach::compile(files, path, &Default::default());
     let errors: Vec<_> = compilation
         .diagnostics
         .iter()
@@ -345,7 +345,7 @@ fn a_base_on_its_table_is_reported_at_check_time_rather_than_no_reach() {
         ),
     };
     assert_ne!(auto.text, text);
-    let compilation = cellc::reach::compile(&auto, path, &Default::default());
+    let compilation = cellc_driver::reach::compile(&auto, path, &Default::default());
     let codes: Vec<&str> = compilation
         .diagnostics
         .iter()

@@ -8,7 +8,7 @@
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
-use cellc::fs_files::FsFiles;
+use cellc_driver::fs_files::FsFiles;
 use cellc_runtime::execute::SimulatorTolerance;
 use cellc_runtime::plan::PlanOptions;
 use cellc_runtime::robot::Robot;
@@ -137,7 +137,8 @@ fn the_panda_srdf_gives_the_chain_and_the_home() {
 
     // In a cell (compiled as the binary does: its reach is `auto`): the home is the
     // state's arm joints, in chain order.
-    let compilation = cellc::reach::compile(&FsFiles, "cells/two_pandas.cell", &Default::default());
+    let compilation =
+        cellc_driver::reach::compile(&FsFiles, "cells/two_pandas.cell", &Default::default());
     assert!(!compilation.has_errors());
     let cell = compilation.cell.expect("resolves");
     let (_, left) = cell
@@ -279,7 +280,8 @@ fn ur_shelf_builds_verifies_plans_and_runs() {
 /// allowed the simulator refuses the put-down.
 #[test]
 fn a_carton_let_go_just_above_the_shelf_falls_onto_it() {
-    let compilation = cellc::reach::compile(&FsFiles, "cells/ur_shelf.cell", &Default::default());
+    let compilation =
+        cellc_driver::reach::compile(&FsFiles, "cells/ur_shelf.cell", &Default::default());
     assert!(!compilation.has_errors());
     let artifact = cellc_compiler::artifact::lower(
         compilation.cell.as_ref().expect("resolved"),
@@ -475,7 +477,7 @@ fn a_package_item_comes_before_the_search_folders() {
 }
 
 fn verified(path: &str) -> Artifact {
-    let compilation = cellc::reach::compile(&FsFiles, path, &Default::default());
+    let compilation = cellc_driver::reach::compile(&FsFiles, path, &Default::default());
     assert!(!compilation.has_errors(), "{path} has errors");
     let cell = compilation.cell.as_ref().expect("resolved");
     let mut artifact =

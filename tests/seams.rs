@@ -5,7 +5,7 @@
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::Arc;
 
-use cellc::fs_files::FsFiles;
+use cellc_driver::fs_files::FsFiles;
 use cellc_runtime::motion::{ChaCha8Rng, MotionError, MotionPlanner, MotionProblem, RrtConnect};
 use cellc_runtime::plan::planner::Planner;
 use cellc_runtime::plan::{PlanError, PlanOptions, Request, Trajectory};

@@ -2,7 +2,7 @@
 //! found when (and only when) it is read, and a hostile header or table is a diagnostic,
 //! never a panic or an allocation the file's length does not bound.
 
-use cellc::fs_files::FsFiles;
+use cellc_driver::fs_files::FsFiles;
 use cellc_schema::sections::{SectionKind, Sections};
 use cellc_schema::{
     ArmConfiguration, Artifact, Encoding, EndEffectorId, Infeasibility, Pose, PrunedArc, ReadError,

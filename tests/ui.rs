@@ -10,8 +10,8 @@
 
 use std::collections::BTreeSet;
 
-use cellc::fs_files::FsFiles;
 use cellc::render::{self, Color};
+use cellc_driver::fs_files::FsFiles;
 
 fn expected_codes(source: &str) -> Option<BTreeSet<&str>> {
     let codes: BTreeSet<&str> = source
@@ -40,7 +40,7 @@ fn ui() {
             failures.push(format!("{relative}: first line must be `// expect: CODE`"));
             return;
         };
-        let compilation = cellc::reach::compile(&FsFiles, &relative, &Default::default());
+        let compilation = cellc_driver::reach::compile(&FsFiles, &relative, &Default::default());
         let produced: BTreeSet<&str> = compilation
             .diagnostics
             .iter()

@@ -4,7 +4,7 @@
 //! results are the same for a seed, and the runtime's own diagnostics (W0006, R00xx) have
 //! UI tests.
 
-use cellc::fs_files::FsFiles;
+use cellc_driver::fs_files::FsFiles;
 use cellc_runtime::math::{iso_from_schema, Iso, Point};
 use cellc_runtime::scene::{Holder, ObjectPlacement, Scene, SceneScratch};
 use cellc_runtime::verify::{verify, VerifyOptions};
@@ -16,10 +16,14 @@ use cellc_schema::{
 /// The artifact of `path` as `cellc build --no-verify` gives it (with the runtime's
 /// kinematics for `reach auto`).
 fn build(path: &str) -> Artifact {
-    let compilation = cellc::reach::compile(&FsFiles, path, &Default::default());
-    assert!(!compilation.has_errors(), "{path} has errors");
-    let cell = compilation.cell.as_ref().expect("resolved");
-    cellc_compiler::artifact::lower(cell, &compilation.graphs, &compilation.sources)
+    let options = cellc_driver::BuildOptions {
+        no_verify: true,
+        ..Default::default()
+    };
+    let built = cellc_driver::build(&FsFiles, path, &options);
+    built
+        .artifact
+        .unwrap_or_else(|| panic!("{path} has errors"))
 }
 
 fn verified(path: &str, seed: u64) -> (Artifact, Scene) {
@@ -299,7 +303,7 @@ fn runtime_ui() {
             &FsFiles
         };
         let diagnostics = match Scene::load(&artifact, files) {
-            Err(e) => vec![cellc::verify_report::scene_error_at(
+            Err(e) => vec![cellc_driver::verify_report::scene_error_at(
                 &e,
                 &artifact.robots,
                 &artifact.spans,
@@ -308,11 +312,14 @@ fn runtime_ui() {
             // scene is wrong whatever the arc.
             Ok(scene) => {
                 let preflight = cellc_runtime::verify::preflight::preflight(&artifact, &scene);
-                let mut found =
-                    cellc::scene_report::diagnostics(&artifact, &preflight, &compilation.sources);
+                let mut found = cellc_driver::scene_report::diagnostics(
+                    &artifact,
+                    &preflight,
+                    &compilation.sources,
+                );
                 if !preflight.blocks_verification() {
                     verify(&mut artifact, &scene, &VerifyOptions::default(), &|_, _| {});
-                    found.extend(cellc::verify_report::pruned_warnings(&artifact));
+                    found.extend(cellc_driver::verify_report::pruned_warnings(&artifact));
                 }
                 found
             }

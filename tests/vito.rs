@@ -4,7 +4,7 @@
 //! object's pose from its holders' kinematics, so a plan that does not really reach the
 //! object fails there, and every trajectory is re-checked four times finer than planned.
 
-use cellc::fs_files::FsFiles;
+use cellc_driver::fs_files::FsFiles;
 use cellc_runtime::plan::PlanOptions;
 use cellc_runtime::{Cell, Command, ExecuteOptions, ExecutionError, Executor, StepError};
 use cellc_runtime::{Plan, VerifyOptions};

@@ -10,7 +10,7 @@
 mod support;
 
 use cellc::plan_report::plan_error;
-use cellc::runtime_codes;
+use cellc_driver::runtime_codes;
 use cellc_runtime::plan::{Goal, Placement};
 use cellc_runtime::scene::{ObjectPlacement, SceneScratch};
 use cellc_runtime::validity::SceneValidity;

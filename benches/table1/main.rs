@@ -46,7 +46,7 @@ mod report;
 use std::path::Path;
 use std::time::Instant;
 
-use cellc::fs_files::FsFiles;
+use cellc_driver::fs_files::FsFiles;
 use cellc_runtime::plan::planner::Planner;
 use cellc_runtime::scene::Scene;
 use cellc_runtime::verify::{verify, VerifyOptions};

@@ -4,11 +4,10 @@ use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
-use cellc_lang::Diagnostic;
-use cellc_schema::{Artifact, Body, Encoding};
+use cellc_schema::Encoding;
 
-use crate::fs_files::FsFiles;
 use crate::render::{self, Color};
+use cellc_driver::fs_files::FsFiles;
 
 /// What `cellc build` was asked to do.
 #[derive(Clone, Debug)]
@@ -30,39 +29,49 @@ pub struct BuildOptions {
 /// Compiles a cell, verifies its arcs when it has arms, and writes its artifact.
 pub fn run(cell: &Path, output: Option<&Path>, options: &BuildOptions) -> ExitCode {
     let path = cell.to_string_lossy().to_string();
-    let compilation = crate::reach::compile(&FsFiles, &path, &options.compile);
     let color = if std::io::stderr().is_terminal() {
         Color::Always
     } else {
         Color::Never
     };
-    let mut diagnostics = compilation.diagnostics.clone();
-    let mut artifact = match compilation
-        .cell
-        .as_ref()
-        .filter(|_| !compilation.has_errors())
-    {
-        Some(resolved) => Some(cellc_compiler::artifact::lower(
-            resolved,
-            &compilation.graphs,
-            &compilation.sources,
-        )),
-        None => None,
-    };
-    if let Some(artifact) = artifact.as_mut().filter(|a| options.verify && has_arms(a)) {
-        diagnostics.extend(verify(artifact, options.seed, &compilation.sources));
-    }
-    if !diagnostics.is_empty() {
-        eprint!(
-            "{}",
-            render::human(&diagnostics, &compilation.sources, color)
+    let bar = std::io::stderr().is_terminal().then(|| {
+        let bar = indicatif::ProgressBar::new(0);
+        bar.set_style(
+            indicatif::ProgressStyle::with_template(
+                "verifying arcs {bar:30} {pos}/{len} checks ({eta} left)",
+            )
+            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
         );
-        eprintln!("{}", render::summary(&diagnostics));
+        bar
+    });
+    let progress = |done: u64, total: u64| {
+        if let Some(bar) = &bar {
+            bar.set_length(total);
+            bar.set_position(done);
+        }
+    };
+    let built = cellc_driver::build(
+        &FsFiles,
+        &path,
+        &cellc_driver::BuildOptions {
+            compile: options.compile.clone(),
+            no_verify: !options.verify,
+            seed: options.seed,
+            progress: Some(&progress),
+        },
+    );
+    if let Some(bar) = bar {
+        bar.finish_and_clear();
+    }
+    let diagnostics = &built.diagnostics;
+    if !diagnostics.is_empty() {
+        eprint!("{}", render::human(diagnostics, &built.sources, color));
+        eprintln!("{}", render::summary(diagnostics));
     }
     let failed = diagnostics
         .iter()
         .any(|d| d.is_error() || options.deny_warnings);
-    let Some(artifact) = artifact.filter(|_| !failed) else {
+    let Some(artifact) = built.artifact.filter(|_| !failed) else {
         eprintln!("no artifact written");
         return ExitCode::from(1);
     };
@@ -71,7 +80,7 @@ pub fn run(cell: &Path, output: Option<&Path>, options: &BuildOptions) -> ExitCo
         None => default_output(Path::new(&path), options.encoding),
     };
     // Every file the build read is an input: the cell, its includes, robot models, meshes.
-    let mut inputs: Vec<PathBuf> = compilation
+    let mut inputs: Vec<PathBuf> = built
         .sources
         .iter()
         .map(|(_, f)| PathBuf::from(&f.path))
@@ -95,7 +104,7 @@ pub fn run(cell: &Path, output: Option<&Path>, options: &BuildOptions) -> ExitCo
     crate::artifact_io::paths_relative_to_output(&mut artifact, &output);
     let bytes = artifact.to_bytes(options.encoding);
     if let Err(d) = crate::output::write(&output, &bytes, inputs.iter().map(PathBuf::as_path)) {
-        eprint!("{}", render::human(&[d], &compilation.sources, color));
+        eprint!("{}", render::human(&[d], &built.sources, color));
         return ExitCode::from(1);
     }
     if options.explain {
@@ -109,62 +118,6 @@ pub fn run(cell: &Path, output: Option<&Path>, options: &BuildOptions) -> ExitCo
     }
     eprintln!("wrote {}", output.display());
     ExitCode::SUCCESS
-}
-
-/// Whether any end-effector is an arm (the artifact has geometry to verify).
-pub fn has_arms(artifact: &Artifact) -> bool {
-    artifact
-        .end_effectors
-        .iter()
-        .any(|e| matches!(e.body, Body::Arm { .. }))
-}
-
-/// Loads the scene, checks it as a whole (homes, permanent contacts, grasps), then every
-/// arc; pruned arcs come back as warnings. A scene wrong whatever the arc (a home that
-/// collides, a link touching a fixed body in every configuration) is reported and no arc
-/// is checked: each would be pruned for it.
-fn verify(artifact: &mut Artifact, seed: u64, sources: &cellc_lang::SourceMap) -> Vec<Diagnostic> {
-    let scene = match cellc_runtime::scene::Scene::load(artifact, &FsFiles) {
-        Ok(scene) => scene,
-        Err(e) => {
-            return vec![crate::verify_report::scene_error_at(
-                &e,
-                &artifact.robots,
-                &artifact.spans,
-            )]
-        }
-    };
-    let preflight = cellc_runtime::verify::preflight::preflight(artifact, &scene);
-    let mut found = crate::scene_report::diagnostics(artifact, &preflight, sources);
-    if preflight.blocks_verification() {
-        return found;
-    }
-    let options = cellc_runtime::verify::VerifyOptions {
-        seed,
-        ..Default::default()
-    };
-    let bar = std::io::stderr().is_terminal().then(|| {
-        let bar = indicatif::ProgressBar::new(0);
-        bar.set_style(
-            indicatif::ProgressStyle::with_template(
-                "verifying arcs {bar:30} {pos}/{len} checks ({eta} left)",
-            )
-            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
-        );
-        bar
-    });
-    let progress = |done: u64, total: u64| {
-        if let Some(bar) = &bar {
-            bar.set_length(total);
-            bar.set_position(done);
-        }
-    };
-    cellc_runtime::verify::verify(artifact, &scene, &options, &progress);
-    if let Some(bar) = bar {
-        bar.finish_and_clear();
-    }
-    found.extend(crate::verify_report::pruned_warnings(artifact));
-    found
 }
 
 /// `cells/fig3.cell` -> `cells/fig3.artifact.json` (or `.artifact.bin`).

@@ -7,8 +7,8 @@ use std::process::ExitCode;
 use cellc_lang::Diagnostic;
 
 use crate::args::{ColorChoice, ReportFlags};
-use crate::fs_files::FsFiles;
 use crate::render::{self, Color, Format};
+use cellc_driver::fs_files::FsFiles;
 
 /// Checks every file; exit 0 when clean, 1 on errors (or warnings with `--deny-warnings`).
 pub fn run(
@@ -20,7 +20,7 @@ pub fn run(
     let mut failed = false;
     let mut all: Vec<(Vec<Diagnostic>, cellc_lang::SourceMap)> = Vec::new();
     for file in files {
-        let compilation = crate::reach::compile(&FsFiles, &file.to_string_lossy(), options);
+        let compilation = cellc_driver::reach::compile(&FsFiles, &file.to_string_lossy(), options);
         failed |= compilation
             .diagnostics
             .iter()

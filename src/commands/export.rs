@@ -8,7 +8,7 @@ use cellc_lang::Diagnostic;
 use cellc_runtime::plan::{GoalByName, PlanError, PlanOptions, Request};
 use cellc_runtime::ObjectId;
 
-use super::plan::{Loaded, PlanArgs};
+use super::plan::{LoadArgs, Loaded};
 use crate::args::{PddlArgs, PlanFormat};
 use crate::export::pddl::{self, Problem, ProblemError};
 use crate::plan_report;
@@ -22,24 +22,13 @@ struct Selected {
 /// Loads the cell as `cellc plan` does, locates the requests asked for, and writes a
 /// domain per object and a problem per request.
 pub fn run_pddl(args: &PddlArgs) -> ExitCode {
-    let plan_args = PlanArgs {
+    let load_args = LoadArgs {
         input: args.input.to_string_lossy().into_owned(),
-        request: None,
-        object: None,
-        from: None,
-        to: None,
-        format: PlanFormat::Human,
         seed: args.seed,
-        motions: false,
-        weights: None,
-        time_budget: None,
+        format: PlanFormat::Human,
         compile: crate::packages::compile_options(&args.packages),
-        task: None,
-        moves: Vec::new(),
-        world: None,
-        clear: false,
     };
-    let loaded = match super::plan::load(&plan_args) {
+    let loaded = match super::plan::load(&load_args) {
         Ok(loaded) => loaded,
         Err(code) => return code,
     };
@@ -207,7 +196,7 @@ fn problem_diagnostic(loaded: &Loaded, error: &ProblemError, span: Option<u32>) 
     match error {
         ProblemError::Plan(e) => plan_report::plan_error(artifact, e, span, Some(loaded.sources())),
         ProblemError::StartNotInGraph { object, state } => Diagnostic::error(
-            crate::runtime_codes::LOCATE,
+            cellc_driver::runtime_codes::LOCATE,
             format!(
                 "the start of `{}` (`{}` holding it with `{}` in `{}`) is no state of its graph",
                 artifact.object_name(*object),

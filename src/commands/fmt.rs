@@ -8,8 +8,8 @@ use cellc_lang::{FileId, SourceMap};
 use cellc_compiler::load::read_source;
 use cellc_schema::files::MAX_SOURCE_BYTES;
 
-use crate::fs_files::FsFiles;
 use crate::render::{self, Color};
+use cellc_driver::fs_files::FsFiles;
 
 /// Formats files in place, or with `--check` reports those that are not formatted.
 /// A file with syntax errors is never rewritten.

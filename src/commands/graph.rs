@@ -61,7 +61,7 @@ pub fn svg(a: &Artifact, o: &Object) -> String {
         o.graph
             .pruned
             .get(i)
-            .map(|p| crate::explain_report::words::infeasibility(a, &p.reason))
+            .map(|p| cellc_driver::explain_report::words::infeasibility(a, &p.reason))
             .unwrap_or_default()
     };
     crate::graph_svg::svg(a, o, &reason)

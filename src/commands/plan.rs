@@ -7,16 +7,16 @@ use std::sync::OnceLock;
 use cellc_lang::ast::{PlaceSpec, RequestPlacement as AstPlacement};
 use cellc_lang::{Diagnostic, FileId, SourceMap};
 use cellc_runtime::plan::{GoalByName, PlacementByName, PlanError, PlanOptions, Request};
-use cellc_runtime::{Cell, Files, LoadError, ObjectId, VerifyOptions};
+use cellc_runtime::{Cell, Files, LoadError, ObjectId};
 use cellc_schema::partial::{Partial, Parts};
 use cellc_schema::sections::Sections;
 
 use crate::args::PlanFormat;
 use crate::artifact_io::{self, InPart};
-use crate::fs_files::FsFiles;
-use crate::fs_files::PieceFile;
 use crate::plan_report::{self, codes};
 use crate::render::{self, Color};
+use cellc_driver::fs_files::FsFiles;
+use cellc_driver::fs_files::PieceFile;
 
 /// What `cellc plan` was asked.
 #[derive(Clone, Debug)]
@@ -53,7 +53,31 @@ pub struct PlanArgs {
     pub clear: bool,
 }
 
+/// What loading a cell or artifact needs, and no more: the commands that only load one
+/// (`serve`, `export`) say this, not a plan's flags.
+#[derive(Clone, Debug)]
+pub struct LoadArgs {
+    /// Cell or artifact.
+    pub input: String,
+    /// Seed of verification, for a cell compiled now.
+    pub seed: u64,
+    /// How diagnostics are reported.
+    pub format: PlanFormat,
+    /// What a compilation of the cell is told (the package path).
+    pub compile: cellc_compiler::CompileOptions,
+}
+
 impl PlanArgs {
+    /// What loading the cell of this plan needs.
+    pub fn load_args(&self) -> LoadArgs {
+        LoadArgs {
+            input: self.input.clone(),
+            seed: self.seed,
+            format: self.format,
+            compile: self.compile.clone(),
+        }
+    }
+
     /// From the command line's request flags.
     pub fn new(request: &crate::args::RequestArgs) -> PlanArgs {
         PlanArgs {
@@ -230,46 +254,49 @@ pub fn print(diagnostics: &[Diagnostic], sources: &SourceMap) {
 }
 
 /// How much of a sectioned binary artifact [`load_in`] reads.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Scope {
+#[derive(Clone, Copy, Debug)]
+pub enum Scope<'a> {
     /// Every object's graph (commands that show or export the whole cell).
     Whole,
-    /// The graphs of the objects the job of the arguments moves or finds in its world
+    /// The graphs of the objects the job of these arguments moves or finds in its world
     /// ([`super::job::objects`]), and of those their witnesses only when the cell has
     /// arms; pruned arcs and declared transitions are read when a failure is explained
     /// ([`Loaded::read_pruned`]).
-    Job,
+    Job(&'a PlanArgs),
 }
 
 /// Compiles (and verifies) a cell, or reads an artifact, and loads it into the runtime.
-pub fn load(args: &PlanArgs) -> Result<Loaded, ExitCode> {
+pub fn load(args: &LoadArgs) -> Result<Loaded, ExitCode> {
     load_in(args, Scope::Whole)
 }
 
 /// [`load`], reading of a sectioned binary what `scope` says.
-pub fn load_in(args: &PlanArgs, scope: Scope) -> Result<Loaded, ExitCode> {
+pub fn load_in(args: &LoadArgs, scope: Scope<'_>) -> Result<Loaded, ExitCode> {
     let (input, seed, format) = (args.input.as_str(), args.seed, args.format);
     let mut file = None;
     let fail = |d: Diagnostic, sources: &SourceMap| {
         emit(format, &[d], sources);
         ExitCode::from(1)
     };
-    let (partial, sources, fresh) = if input.ends_with(".cell") {
-        let compilation = crate::reach::compile(&FsFiles, input, &args.compile);
-        if compilation.has_errors() || compilation.cell.is_none() {
-            emit(format, &compilation.diagnostics, &compilation.sources);
+    let (partial, sources) = if input.ends_with(".cell") {
+        // Compiled, checked and verified as `cellc build` does; the warnings a build
+        // prints are not a plan's.
+        let built = cellc_driver::build(
+            &FsFiles,
+            input,
+            &cellc_driver::BuildOptions {
+                compile: args.compile.clone(),
+                seed,
+                ..Default::default()
+            },
+        );
+        let Some(artifact) = built.artifact else {
+            emit(format, &built.diagnostics, &built.sources);
             return Err(ExitCode::from(1));
-        }
-        let cell = compilation.cell.as_ref().ok_or(ExitCode::from(1))?;
-        let artifact =
-            cellc_compiler::artifact::lower(cell, &compilation.graphs, &compilation.sources);
+        };
         let partial = Partial::whole(artifact)
-            .map_err(|e| fail(artifact_io::diagnostic(input, &e), &compilation.sources))?;
-        (
-            partial,
-            OnceLock::from((compilation.sources, Vec::new())),
-            true,
-        )
+            .map_err(|e| fail(artifact_io::diagnostic(input, &e), &built.sources))?;
+        (partial, OnceLock::from((built.sources, Vec::new())))
     } else {
         let mut partial = match artifact_io::read_in_part(input) {
             Ok(InPart::Whole(artifact)) => Partial::whole(artifact)
@@ -288,8 +315,8 @@ pub fn load_in(args: &PlanArgs, scope: Scope) -> Result<Loaded, ExitCode> {
                 .any(|e| matches!(e.body, cellc_schema::Body::Arm { .. }));
             let (objects, parts) = match scope {
                 Scope::Whole => (None, Parts::ALL),
-                Scope::Job => (
-                    super::job::objects(args, partial.artifact()),
+                Scope::Job(job) => (
+                    super::job::objects(job, partial.artifact()),
                     // The planner places exchanges at their witnessed poses even without
                     // joint motions, so a cell with arms needs its witnesses.
                     Parts {
@@ -311,7 +338,7 @@ pub fn load_in(args: &PlanArgs, scope: Scope) -> Result<Loaded, ExitCode> {
                     fail(artifact_io::diagnostic(input, &e), &sources)
                 })?;
         }
-        (partial, OnceLock::new(), false)
+        (partial, OnceLock::new())
     };
     let artifact = partial.artifact();
     // Robot spans, to label a model that cannot be loaded.
@@ -319,12 +346,14 @@ pub fn load_in(args: &PlanArgs, scope: Scope) -> Result<Loaded, ExitCode> {
     let spans = artifact.spans.clone();
     let source_files = artifact.sources.clone();
     let sources_now = || &sources.get_or_init(|| sources_of(&source_files)).0;
-    let mut cell = match Cell::from_partial(partial, &FsFiles) {
+    let cell = match Cell::from_partial(partial, &FsFiles) {
         Ok(cell) => cell,
         Err(LoadError::Scene(e)) => {
             emit(
                 format,
-                &[crate::verify_report::scene_error_at(&e, &robots, &spans)],
+                &[cellc_driver::verify_report::scene_error_at(
+                    &e, &robots, &spans,
+                )],
                 sources_now(),
             );
             return Err(ExitCode::from(1));
@@ -338,30 +367,15 @@ pub fn load_in(args: &PlanArgs, scope: Scope) -> Result<Loaded, ExitCode> {
             return Err(ExitCode::from(1));
         }
         Err(e) => {
-            let d = Diagnostic::error(crate::verify_report::codes::MODEL_UNUSABLE, e.to_string())
-                .help("rebuild the artifact with `cellc build` from a cell whose robot files load");
+            let d = Diagnostic::error(
+                cellc_driver::verify_report::codes::MODEL_UNUSABLE,
+                e.to_string(),
+            )
+            .help("rebuild the artifact with `cellc build` from a cell whose robot files load");
             emit(format, &[d], sources_now());
             return Err(ExitCode::from(1));
         }
     };
-    // A cell compiled now is checked as `cellc build` checks it: a scene wrong whatever
-    // the arc is refused before anything is verified or planned.
-    if let Some(scene) = cell.scene().filter(|_| fresh) {
-        let preflight = cellc_runtime::verify::preflight::preflight(cell.artifact(), scene);
-        if preflight.blocks_verification() {
-            let found =
-                crate::scene_report::diagnostics(cell.artifact(), &preflight, sources_now());
-            let errors: Vec<Diagnostic> = found.into_iter().filter(Diagnostic::is_error).collect();
-            emit(format, &errors, sources_now());
-            return Err(ExitCode::from(1));
-        }
-    }
-    if fresh {
-        cell.verify(&VerifyOptions {
-            seed,
-            ..Default::default()
-        });
-    }
     Ok(Loaded {
         cell,
         sources,
@@ -480,7 +494,7 @@ pub fn prepare(args: &PlanArgs, loaded: &Loaded) -> Result<Prepared, ExitCode> {
 /// Plans each move of the job `args` ask for, in the world, and prints the plans: the
 /// world after one move (as its plan leaves it) is where the next is planned.
 pub fn run(args: &PlanArgs) -> ExitCode {
-    let mut loaded = match load_in(args, Scope::Job) {
+    let mut loaded = match load_in(&args.load_args(), Scope::Job(args)) {
         Ok(l) => l,
         Err(code) => return code,
     };

@@ -19,7 +19,7 @@ use crate::plan_report::{codes, describe, plan_error};
 /// Runs the job `args` ask for; `fail_at` makes the motion of that step (1-based) of the
 /// first move fail.
 pub fn run(args: &PlanArgs, fail_at: Option<usize>) -> ExitCode {
-    let loaded = match load(args) {
+    let loaded = match load(&args.load_args()) {
         Ok(l) => l,
         Err(code) => return code,
     };

@@ -303,7 +303,7 @@ pub fn read_dualmanip(path: &Path) -> Result<Database, Vec<Diagnostic>> {
 /// file lazily; the first query is what finds out).
 fn open(path: &Path, display: &str) -> Result<Connection, Diagnostic> {
     // A pipe or a device would make SQLite wait for ever: only regular files are opened.
-    if let Err(e) = crate::fs_files::regular_file(&path.to_string_lossy()) {
+    if let Err(e) = cellc_driver::fs_files::regular_file(&path.to_string_lossy()) {
         return Err(diagnostics::cannot_open(display, &e.to_string()));
     }
     let flags = OpenFlags::SQLITE_OPEN_READ_ONLY | OpenFlags::SQLITE_OPEN_NO_MUTEX;

@@ -21,7 +21,7 @@ use cellc_lang::{ast, Diagnostic, FileId, Parsed, SourceMap};
 use cellc_schema::Artifact;
 
 use super::index::Index;
-use crate::reach::RuntimeReach;
+use cellc_driver::reach::RuntimeReach;
 
 /// Scenes remembered at most; past this the cache starts again.
 const MAX_CACHED_SCENES: usize = 16;

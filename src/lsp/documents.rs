@@ -11,7 +11,7 @@ use std::str::FromStr;
 use cellc_schema::files::{normalize, FileError, Files};
 use lsp_types::Uri;
 
-use crate::fs_files::FsFiles;
+use cellc_driver::fs_files::FsFiles;
 
 /// One open document.
 pub struct Document {

@@ -16,7 +16,7 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 use cellc::export::pddl::{action_cost, Names};
-use cellc::fs_files::FsFiles;
+use cellc_driver::fs_files::FsFiles;
 use cellc_runtime::plan::{GoalByName, PlanOptions, Request};
 use cellc_runtime::Cell;
 use cellc_schema::ObjectId;

@@ -1,21 +1,19 @@
-//! A shipped cell as the tests that plan on it need it: compiled (reach `auto` included,
-//! which `cellc` does and the bare compiler refuses), clean, loaded and verified with the
-//! default options.
+//! A shipped cell as the tests that plan on it need it: built as `cellc build` builds it
+//! (reach `auto` included, the scene checked, every arc verified with the default
+//! options), clean, and loaded.
 
-use cellc::fs_files::FsFiles;
-use cellc_runtime::verify::VerifyOptions;
+use cellc_driver::fs_files::FsFiles;
 use cellc_runtime::Cell;
 
-/// `path` compiled, checked clean, loaded and verified.
+/// `path` built, checked clean (no compiler diagnostic) and loaded.
 pub fn verified_cell(path: &str) -> Cell {
-    let compilation = cellc::reach::compile(&FsFiles, path, &Default::default());
-    assert!(compilation.diagnostics.is_empty(), "{path} is not clean");
-    let artifact = cellc_compiler::artifact::lower(
-        compilation.cell.as_ref().expect("resolved"),
-        &compilation.graphs,
-        &compilation.sources,
+    let built = cellc_driver::build(&FsFiles, path, &Default::default());
+    assert!(
+        built.compilation.diagnostics.is_empty(),
+        "{path} is not clean"
     );
-    let mut cell = Cell::from_artifact(artifact, &FsFiles).expect("loads");
-    cell.verify(&VerifyOptions::default());
-    cell
+    let artifact = built
+        .artifact
+        .unwrap_or_else(|| panic!("{path} has errors"));
+    Cell::from_artifact(artifact, &FsFiles).expect("loads")
 }

@@ -5,7 +5,7 @@
 // Each test binary that includes this module uses some of it.
 #![allow(dead_code)]
 
-use cellc::fs_files::FsFiles;
+use cellc_driver::fs_files::FsFiles;
 use cellc_runtime::motion::{check_trajectory, MotionOptions};
 use cellc_runtime::plan::{MotionContext, PlanOptions};
 use cellc_runtime::scene::SceneScratch;

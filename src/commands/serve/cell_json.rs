@@ -6,7 +6,7 @@ use cellc_runtime::NodeId;
 use cellc_schema::{Aabb, Artifact, Body, Holder, ObjectId};
 use serde_json::{json, Value};
 
-use crate::explain_report::words::Words;
+use cellc_driver::explain_report::words::Words;
 
 /// `GET /v1/cell`: objects (grasps and resting poses), end-effectors, workspaces (boxes),
 /// arms (joints with limits, home), and the cell's named requests and tasks.

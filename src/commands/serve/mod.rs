@@ -29,7 +29,7 @@ use axum::Router;
 use cellc_runtime::World;
 use serde::de::DeserializeOwned;
 
-use super::plan::{load, Loaded, PlanArgs};
+use super::plan::{load, LoadArgs, Loaded};
 use crate::args::PlanFormat;
 use errors::ApiError;
 pub use errors::{codes, worker_failed};
@@ -91,28 +91,22 @@ impl Service {
 /// Loads the cell, binds, prints `listening on http://ADDR` on standard output and serves
 /// until SIGINT or SIGTERM.
 pub fn run(args: &ServeArgs) -> ExitCode {
-    let plan_args = PlanArgs {
+    let load_args = LoadArgs {
         input: args.input.clone(),
-        request: None,
-        object: None,
-        from: None,
-        to: None,
-        format: PlanFormat::Human,
         seed: args.seed,
-        motions: true,
-        weights: None,
-        time_budget: None,
+        format: PlanFormat::Human,
         compile: args.compile.clone(),
-        task: None,
-        moves: Vec::new(),
-        world: None,
-        clear: false,
     };
-    let loaded = match load(&plan_args) {
+    let loaded = match load(&load_args) {
         Ok(l) => l,
         Err(code) => return code,
     };
-    let world = match loaded.cell.initial_world(&plan_args.options()) {
+    let world = match loaded
+        .cell
+        .initial_world(&cellc_runtime::plan::PlanOptions {
+            seed: args.seed,
+            ..Default::default()
+        }) {
         Ok(w) => w,
         Err(e) => {
             loaded.report(&[crate::world_report::world_diagnostic(

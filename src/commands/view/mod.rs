@@ -203,7 +203,7 @@ fn planned(args: &ViewArgs, loaded: &Loaded) -> Result<Planned, ExitCode> {
 pub fn run(args: &ViewArgs) -> ExitCode {
     let mut plan_args = args.plan.clone();
     plan_args.format = PlanFormat::Human;
-    let loaded = match super::plan::load(&plan_args) {
+    let loaded = match super::plan::load(&plan_args.load_args()) {
         Ok(l) => l,
         Err(code) => return code,
     };

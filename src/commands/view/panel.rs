@@ -12,7 +12,7 @@ use serde::Serialize;
 
 use super::geometry::Built;
 use super::timeline::{poses, Poses, Start, Whereabouts};
-use crate::explain_report::words::Words;
+use cellc_driver::explain_report::words::Words;
 
 /// Snapshots (witness configurations) at most in one page; states past it show none.
 pub const MAX_SNAPSHOTS: usize = 4096;

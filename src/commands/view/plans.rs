@@ -12,8 +12,8 @@ use cellc_schema::{Artifact, EndEffectorId, GraspId, Node, ObjectId, WorkspaceId
 use serde::Deserialize;
 
 use super::timeline::{PlanIn, Start, StepIn, Verb, Whereabouts};
-use crate::fs_files::FsFiles;
-use crate::runtime_codes as codes;
+use cellc_driver::fs_files::FsFiles;
+use cellc_driver::runtime_codes as codes;
 
 /// A plan document holds at most this many bytes (a long task's plans with motions are a
 /// few MiB).

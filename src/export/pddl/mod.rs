@@ -180,7 +180,7 @@ fn provenance(artifact: &Artifact, object: ObjectId) -> String {
             "verified with seed {}: every action has a witness; {n_pruned} infeasible arcs left out",
             v.seed
         ),
-        None if crate::commands::build::has_arms(artifact) => {
+        None if cellc_driver::has_arms(artifact) => {
             "not verified (the artifact was built with --no-verify)".to_string()
         }
         None => "an abstract cell: no geometry to verify".to_string(),

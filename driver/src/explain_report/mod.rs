@@ -9,7 +9,7 @@
 
 mod cut;
 pub(crate) mod suggestions;
-pub(crate) mod words;
+pub mod words;
 
 use std::collections::BTreeSet;
 
