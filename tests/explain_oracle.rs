@@ -227,6 +227,12 @@ fn check_explanation(
         |side: &BTreeSet<St>| -> BTreeSet<String> { side.iter().map(|s| s.0.clone()).collect() };
     let places =
         |side: &BTreeSet<St>| -> BTreeSet<String> { side.iter().map(|s| s.2.clone()).collect() };
+    let named = |v: &[cellc_schema::EndEffectorId]| -> BTreeSet<String> {
+        v.iter().map(|&e| ee(e)).collect()
+    };
+    let wnamed = |v: &[cellc_schema::WorkspaceId]| -> BTreeSet<String> {
+        v.iter().map(|&w| ws(w)).collect()
+    };
     let lost_arc = |a: &cellc_runtime::explain::LostArc| {
         let pair = (node_name(art, a.from), node_name(art, a.to));
         let set = if a.failed { failed } else { pruned };
@@ -364,12 +370,6 @@ fn check_explanation(
                 near_workspaces,
                 far_workspaces,
             } => {
-                let named = |v: &[cellc_schema::EndEffectorId]| -> BTreeSet<String> {
-                    v.iter().map(|&e| ee(e)).collect()
-                };
-                let wnamed = |v: &[cellc_schema::WorkspaceId]| -> BTreeSet<String> {
-                    v.iter().map(|&w| ws(w)).collect()
-                };
                 assert_eq!(named(near), holders(&forward));
                 assert_eq!(named(far), holders(&backward));
                 assert!(holders(&forward).iter().all(|e| !movable(d, e)));
@@ -384,9 +384,6 @@ fn check_explanation(
                 shared,
                 ..
             } => {
-                let wnamed = |v: &[cellc_schema::WorkspaceId]| -> BTreeSet<String> {
-                    v.iter().map(|&w| ws(w)).collect()
-                };
                 assert_eq!(wnamed(near_workspaces), places(&forward));
                 assert_eq!(wnamed(far_workspaces), places(&backward));
                 let both: BTreeSet<String> = places(&forward)

@@ -32,19 +32,11 @@ pub struct Built {
     /// The artifact, verified when the cell has arms; `None` when any diagnostic is an
     /// error.
     pub artifact: Option<Artifact>,
-    /// The cell's source files, for rendering the diagnostics.
-    pub sources: SourceMap,
     /// Every diagnostic: the compiler's, then the scene's and verification's.
     pub diagnostics: Vec<Diagnostic>,
-    /// The compilation, for what only it knows (the reach `reach ARM auto` found).
+    /// The compilation: its `sources` are what the diagnostics are rendered against, and
+    /// it keeps what only it knows (the reach `reach ARM auto` found).
     pub compilation: Compilation,
-}
-
-impl Built {
-    /// Whether any diagnostic is an error.
-    pub fn has_errors(&self) -> bool {
-        self.diagnostics.iter().any(Diagnostic::is_error)
-    }
 }
 
 /// Builds the cell at `path`, reading every file through `files`.
@@ -72,7 +64,6 @@ pub fn build(files: &dyn Files, path: &str, options: &BuildOptions<'_>) -> Built
     let failed = diagnostics.iter().any(Diagnostic::is_error);
     Built {
         artifact: artifact.filter(|_| !failed),
-        sources: compilation.sources.clone(),
         diagnostics,
         compilation,
     }

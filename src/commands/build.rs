@@ -65,7 +65,10 @@ pub fn run(cell: &Path, output: Option<&Path>, options: &BuildOptions) -> ExitCo
     }
     let diagnostics = &built.diagnostics;
     if !diagnostics.is_empty() {
-        eprint!("{}", render::human(diagnostics, &built.sources, color));
+        eprint!(
+            "{}",
+            render::human(diagnostics, &built.compilation.sources, color)
+        );
         eprintln!("{}", render::summary(diagnostics));
     }
     let failed = diagnostics
@@ -81,6 +84,7 @@ pub fn run(cell: &Path, output: Option<&Path>, options: &BuildOptions) -> ExitCo
     };
     // Every file the build read is an input: the cell, its includes, robot models, meshes.
     let mut inputs: Vec<PathBuf> = built
+        .compilation
         .sources
         .iter()
         .map(|(_, f)| PathBuf::from(&f.path))
@@ -104,7 +108,7 @@ pub fn run(cell: &Path, output: Option<&Path>, options: &BuildOptions) -> ExitCo
     crate::artifact_io::paths_relative_to_output(&mut artifact, &output);
     let bytes = artifact.to_bytes(options.encoding);
     if let Err(d) = crate::output::write(&output, &bytes, inputs.iter().map(PathBuf::as_path)) {
-        eprint!("{}", render::human(&[d], &built.sources, color));
+        eprint!("{}", render::human(&[d], &built.compilation.sources, color));
         return ExitCode::from(1);
     }
     if options.explain {

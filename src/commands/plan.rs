@@ -291,12 +291,19 @@ pub fn load_in(args: &LoadArgs, scope: Scope<'_>) -> Result<Loaded, ExitCode> {
             },
         );
         let Some(artifact) = built.artifact else {
-            emit(format, &built.diagnostics, &built.sources);
+            emit(format, &built.diagnostics, &built.compilation.sources);
             return Err(ExitCode::from(1));
         };
-        let partial = Partial::whole(artifact)
-            .map_err(|e| fail(artifact_io::diagnostic(input, &e), &built.sources))?;
-        (partial, OnceLock::from((built.sources, Vec::new())))
+        let partial = Partial::whole(artifact).map_err(|e| {
+            fail(
+                artifact_io::diagnostic(input, &e),
+                &built.compilation.sources,
+            )
+        })?;
+        (
+            partial,
+            OnceLock::from((built.compilation.sources, Vec::new())),
+        )
     } else {
         let mut partial = match artifact_io::read_in_part(input) {
             Ok(InPart::Whole(artifact)) => Partial::whole(artifact)
