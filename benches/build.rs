@@ -8,7 +8,7 @@
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::sync::atomic::{AtomicUsize, Ordering};
 
-use cellc_compiler::{compile, MemoryFiles};
+use cellc_compiler::MemoryFiles;
 use cellc_schema::Encoding;
 use criterion::{criterion_group, criterion_main, Criterion};
 
@@ -56,10 +56,9 @@ fn files(main: (&str, String)) -> Vec<(String, String)> {
 
 /// One whole in-memory build; returns the number of arcs (so nothing is optimised away).
 fn build(world: &MemoryFiles, path: &str) -> usize {
-    let compilation = compile(world, path);
-    assert!(!compilation.has_errors(), "{path} has errors");
-    let cell = compilation.cell.as_ref().expect("resolved");
-    let artifact = cellc_compiler::artifact::lower(cell, &compilation.graphs, &compilation.sources);
+    let artifact = cellc_driver::build(world, path, &cellc_driver::BuildOptions::unverified())
+        .artifact
+        .expect("the cell builds");
     let bytes = artifact.to_bytes(Encoding::Binary);
     std::hint::black_box(bytes.len());
     artifact.objects.iter().map(|o| o.graph.arcs.len()).sum()

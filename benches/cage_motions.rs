@@ -32,7 +32,6 @@ use cellc_runtime::plan::{MotionContext, PlanOptions};
 use cellc_runtime::scene::{Holder, ObjectPlacement, Scene, SceneScratch};
 use cellc_runtime::termination::Termination;
 use cellc_runtime::validity::SceneValidity;
-use cellc_runtime::verify::VerifyOptions;
 use cellc_runtime::{Cell, EndEffectorId, ObjectId};
 use cellc_schema::{Artifact, Shape};
 use criterion::{criterion_group, criterion_main, Criterion};
@@ -58,16 +57,11 @@ struct Case {
 
 /// The cell compiled as `cellc` compiles it (its reach is `auto`), verified.
 fn cell() -> Cell {
-    let compilation = cellc_driver::reach::compile(&FsFiles, CELL, &Default::default());
-    assert!(!compilation.has_errors(), "{CELL} has errors");
-    let artifact = cellc_compiler::artifact::lower(
-        compilation.cell.as_ref().expect("resolved"),
-        &compilation.graphs,
-        &compilation.sources,
-    );
-    let mut cell = Cell::from_artifact(artifact, &FsFiles).expect("the cell loads");
-    cell.verify(&VerifyOptions::default());
-    cell
+    let built = cellc_driver::build(&FsFiles, CELL, &Default::default());
+    let artifact = built
+        .artifact
+        .unwrap_or_else(|| panic!("{CELL} has errors"));
+    Cell::from_artifact(artifact, &FsFiles).expect("the cell loads")
 }
 
 /// VAMP's motion, then the motions of the request's plan with seed 0.

@@ -14,7 +14,7 @@ use std::alloc::{GlobalAlloc, Layout, System};
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
 
-use cellc_compiler::{compile, MemoryFiles};
+use cellc_compiler::MemoryFiles;
 use cellc_driver::fs_files::FsFiles;
 use cellc_runtime::scene::Scene;
 use cellc_runtime::verify::{verify, VerifyOptions};
@@ -109,14 +109,13 @@ fn files(n: usize) -> Vec<(String, String)> {
 
 fn build(files: &[(String, String)]) -> Artifact {
     let world = MemoryFiles::new(files.iter().map(|(p, t)| (p.as_str(), t.as_str())));
-    let compilation = compile(&world, "cells/scale.cell");
-    assert!(
-        !compilation.has_errors(),
-        "the scale cell has errors: {:?}",
-        compilation.diagnostics
-    );
-    let cell = compilation.cell.as_ref().expect("resolved");
-    cellc_compiler::artifact::lower(cell, &compilation.graphs, &compilation.sources)
+    cellc_driver::build(
+        &world,
+        "cells/scale.cell",
+        &cellc_driver::BuildOptions::unverified(),
+    )
+    .artifact
+    .expect("the cell builds")
 }
 
 fn benches(c: &mut Criterion) {

@@ -11,7 +11,7 @@
 
 use std::path::PathBuf;
 
-use cellc_compiler::{compile, MemoryFiles};
+use cellc_compiler::MemoryFiles;
 use cellc_driver::fs_files::{FsFiles, PieceFile};
 use cellc_runtime::plan::search::SearchGraph;
 use cellc_runtime::plan::PlanOptions;
@@ -62,13 +62,9 @@ fn a1m() -> (PathBuf, Vec<u8>) {
     let path = "abstract1m.cell";
     let text = abstract_line(50, 100);
     let files = MemoryFiles::new([(path, text.as_str())]);
-    let compilation = compile(&files, path);
-    assert!(!compilation.has_errors(), "the generated cell has errors");
-    let artifact = cellc_compiler::artifact::lower(
-        compilation.cell.as_ref().expect("resolved"),
-        &compilation.graphs,
-        &compilation.sources,
-    );
+    let artifact = cellc_driver::build(&files, path, &cellc_driver::BuildOptions::unverified())
+        .artifact
+        .expect("the cell builds");
     let n_arcs: usize = artifact.objects.iter().map(|o| o.graph.arcs.len()).sum();
     assert!(n_arcs >= 1_000_000, "{n_arcs} arcs");
     let bytes = artifact.to_bytes(Encoding::Binary);

@@ -8,7 +8,7 @@
 //! Verification (once per line, outside the timing) prunes what no motion can do; each
 //! iteration plans with the next of 16 seeds.
 
-use cellc_compiler::{compile, MemoryFiles};
+use cellc_compiler::MemoryFiles;
 use cellc_driver::fs_files::FsFiles;
 use cellc_runtime::math::Iso;
 use cellc_runtime::plan::planner::Planner;
@@ -33,10 +33,9 @@ fn artifact(path: &str, text: String) -> Artifact {
         }
     }
     let world = MemoryFiles::new(files.iter().map(|(p, t)| (p.as_str(), t.as_str())));
-    let compilation = compile(&world, path);
-    assert!(!compilation.has_errors(), "{path} has errors");
-    let cell = compilation.cell.as_ref().expect("resolved");
-    cellc_compiler::artifact::lower(cell, &compilation.graphs, &compilation.sources)
+    cellc_driver::build(&world, path, &cellc_driver::BuildOptions::unverified())
+        .artifact
+        .expect("the cell builds")
 }
 
 /// The part resting on bench `k` (its centre 5 cm above the bench top).

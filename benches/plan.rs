@@ -3,7 +3,7 @@
 //! the original Vito database (`containerA` is the paper's pitcher, `containerB` its
 //! colander), five start/goal pairs each, as in the paper's protocol.
 
-use cellc_compiler::{compile, MemoryFiles};
+use cellc_compiler::MemoryFiles;
 use cellc_runtime::plan::planner::Planner;
 use cellc_runtime::plan::{Goal, Placement, PlanOptions, Request};
 use cellc_schema::{Artifact, Node, ObjectId};
@@ -11,13 +11,9 @@ use criterion::{criterion_group, criterion_main, Criterion};
 
 fn artifact(path: &str, text: &str) -> Artifact {
     let world = MemoryFiles::new([(path, text)]);
-    let compilation = compile(&world, path);
-    assert!(!compilation.has_errors(), "{path} has errors");
-    cellc_compiler::artifact::lower(
-        compilation.cell.as_ref().unwrap(),
-        &compilation.graphs,
-        &compilation.sources,
-    )
+    cellc_driver::build(&world, path, &cellc_driver::BuildOptions::unverified())
+        .artifact
+        .expect("the cell builds")
 }
 
 fn request(object: usize, from: Node, to: Node) -> Request {
@@ -91,15 +87,10 @@ fn geometric(path: &str) -> Option<(Artifact, cellc_runtime::scene::Scene, Vec<R
     if !std::path::Path::new(path).exists() {
         return None;
     }
-    let compilation = compile(&FsFiles, path);
-    assert!(!compilation.has_errors(), "{path} has errors");
-    let mut a = cellc_compiler::artifact::lower(
-        compilation.cell.as_ref().unwrap(),
-        &compilation.graphs,
-        &compilation.sources,
-    );
+    let a = cellc_driver::build(&FsFiles, path, &Default::default())
+        .artifact
+        .expect("the cell builds");
     let scene = cellc_runtime::scene::Scene::load(&a, &FsFiles).expect("scene loads");
-    cellc_runtime::verify::verify(&mut a, &scene, &Default::default(), &|_, _| {});
     let requests = a
         .requests
         .iter()

@@ -28,8 +28,6 @@ use std::time::Instant;
 use cellc_driver::fs_files::FsFiles;
 use cellc_runtime::plan::search::{Scratch, SearchGraph};
 use cellc_runtime::plan::ArcRef;
-use cellc_runtime::scene::Scene;
-use cellc_runtime::verify::{verify, VerifyOptions};
 use cellc_schema::{Artifact, Graph, NodeId};
 use criterion::Criterion;
 use rand::{Rng, SeedableRng};
@@ -46,26 +44,21 @@ struct Row {
 }
 
 fn verified(path: &str) -> Artifact {
-    let compilation = cellc_compiler::compile(&FsFiles, path);
-    assert!(!compilation.has_errors(), "{path} has errors");
-    let cell = compilation.cell.as_ref().expect("resolved");
-    let mut artifact =
-        cellc_compiler::artifact::lower(cell, &compilation.graphs, &compilation.sources);
-    let scene = Scene::load(&artifact, &FsFiles).expect("the cell's geometry loads");
-    verify(&mut artifact, &scene, &VerifyOptions::default(), &|_, _| {});
-    artifact
+    cellc_driver::build(&FsFiles, path, &Default::default())
+        .artifact
+        .expect("the cell builds")
 }
 
 fn imported(path: &str) -> Artifact {
     let imported = cellc::import::dualmanip(Path::new(path)).expect("the database imports");
     let world = cellc_compiler::MemoryFiles::new([("vito_full.cell", imported.text.as_str())]);
-    let compilation = cellc_compiler::compile(&world, "vito_full.cell");
-    assert!(!compilation.has_errors(), "the imported database compiles");
-    cellc_compiler::artifact::lower(
-        compilation.cell.as_ref().expect("resolved"),
-        &compilation.graphs,
-        &compilation.sources,
+    cellc_driver::build(
+        &world,
+        "vito_full.cell",
+        &cellc_driver::BuildOptions::unverified(),
     )
+    .artifact
+    .expect("the cell builds")
 }
 
 /// Up to [`PAIRS`] pairs of distinct states, the goal reachable from the start, drawn

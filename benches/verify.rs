@@ -2,7 +2,7 @@
 //! geometric cells, and of a generated five-arm line (LWR arms with a shared hand kind,
 //! benches between them), on all cores (rayon).
 
-use cellc_compiler::{compile, MemoryFiles};
+use cellc_compiler::MemoryFiles;
 use cellc_driver::fs_files::FsFiles;
 use cellc_runtime::scene::Scene;
 use cellc_runtime::verify::{verify, VerifyOptions};
@@ -24,10 +24,9 @@ fn artifact(path: &str, text: String) -> Artifact {
         }
     }
     let world = MemoryFiles::new(files.iter().map(|(p, t)| (p.as_str(), t.as_str())));
-    let compilation = compile(&world, path);
-    assert!(!compilation.has_errors(), "{path} has errors");
-    let cell = compilation.cell.as_ref().expect("resolved");
-    cellc_compiler::artifact::lower(cell, &compilation.graphs, &compilation.sources)
+    cellc_driver::build(&world, path, &cellc_driver::BuildOptions::unverified())
+        .artifact
+        .expect("the cell builds")
 }
 
 fn case(c: &mut Criterion, name: &str, artifact: Artifact) {

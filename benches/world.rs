@@ -6,20 +6,12 @@
 
 use cellc_driver::fs_files::FsFiles;
 use cellc_runtime::plan::PlanOptions;
-use cellc_runtime::{Cell, ExecuteOptions, VerifyOptions};
+use cellc_runtime::{Cell, ExecuteOptions};
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
 
 fn vito() -> Cell {
-    let compilation = cellc_compiler::compile(&FsFiles, "cells/vito.cell");
-    assert!(!compilation.has_errors(), "vito has errors");
-    let artifact = cellc_compiler::artifact::lower(
-        compilation.cell.as_ref().expect("a cell"),
-        &compilation.graphs,
-        &compilation.sources,
-    );
-    let mut cell = Cell::from_artifact(artifact, &FsFiles).expect("loads");
-    cell.verify(&VerifyOptions::default());
-    cell
+    let built = cellc_driver::build(&FsFiles, "cells/vito.cell", &Default::default());
+    Cell::from_artifact(built.artifact.expect("vito builds"), &FsFiles).expect("loads")
 }
 
 /// Plans and executes every move of `clear_table` from the cell's world; the number of

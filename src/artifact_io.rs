@@ -147,22 +147,24 @@ pub fn compiled_cell(
     report: Report,
     options: &cellc_compiler::CompileOptions,
 ) -> Option<(Artifact, cellc_compiler::Compilation)> {
-    let compilation = cellc_driver::reach::compile(&FsFiles, path, options);
-    let errors: Vec<Diagnostic> = compilation
-        .diagnostics
-        .iter()
-        .filter(|d| d.is_error())
-        .cloned()
-        .collect();
-    let Some(cell) = compilation.cell.as_ref().filter(|_| errors.is_empty()) else {
-        report.emit(&errors, &compilation.sources);
+    let options = cellc_driver::BuildOptions {
+        compile: options.clone(),
+        ..cellc_driver::BuildOptions::unverified()
+    };
+    let built = cellc_driver::build(&FsFiles, path, &options);
+    let Some(artifact) = built.artifact else {
+        let errors: Vec<Diagnostic> = built
+            .diagnostics
+            .into_iter()
+            .filter(Diagnostic::is_error)
+            .collect();
+        report.emit(&errors, &built.compilation.sources);
         if report == Report::Human {
             eprintln!("{}", render::summary(&errors));
         }
         return None;
     };
-    let artifact = cellc_compiler::artifact::lower(cell, &compilation.graphs, &compilation.sources);
-    Some((artifact, compilation))
+    Some((artifact, built.compilation))
 }
 
 /// Applies `f` to every file path an artifact holds (sources, URDFs, SRDFs, meshes).

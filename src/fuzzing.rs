@@ -19,7 +19,12 @@ pub fn parse_check(data: &[u8]) {
         return;
     };
     let files = MemoryFiles::new([("fuzz.cell", text)]);
-    let compilation = cellc_compiler::compile(&files, "fuzz.cell");
+    let built = cellc_driver::build(
+        &files,
+        "fuzz.cell",
+        &cellc_driver::BuildOptions::unverified(),
+    );
+    let compilation = &built.compilation;
     let _ = crate::render::human(
         &compilation.diagnostics,
         &compilation.sources,
@@ -31,11 +36,9 @@ pub fn parse_check(data: &[u8]) {
         serde_json::from_str::<serde_json::Value>(&json).is_ok(),
         "the JSON report is not JSON"
     );
-    if let (Some(cell), false) = (&compilation.cell, compilation.has_errors()) {
-        let artifact =
-            cellc_compiler::artifact::lower(cell, &compilation.graphs, &compilation.sources);
+    if let Some(artifact) = &built.artifact {
         assert!(
-            cellc_schema::validate::validate(&artifact).is_ok(),
+            cellc_schema::validate::validate(artifact).is_ok(),
             "the compiler lowered an artifact that does not validate"
         );
     }
@@ -183,11 +186,12 @@ pub fn world_document(data: &[u8]) {
     static CELL: OnceLock<Option<Cell>> = OnceLock::new();
     let cell = CELL.get_or_init(|| {
         let files = MemoryFiles::new([("tidy.cell", WORLD_CELL)]);
-        let compilation = cellc_compiler::compile(&files, "tidy.cell");
-        let lowered = compilation.cell.as_ref().map(|c| {
-            cellc_compiler::artifact::lower(c, &compilation.graphs, &compilation.sources)
-        })?;
-        Cell::from_artifact(lowered, &files).ok()
+        let built = cellc_driver::build(
+            &files,
+            "tidy.cell",
+            &cellc_driver::BuildOptions::unverified(),
+        );
+        Cell::from_artifact(built.artifact?, &files).ok()
     });
     let Some(cell) = cell else {
         return;

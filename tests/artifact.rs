@@ -3,13 +3,13 @@
 //! that made them.
 
 use cellc_driver::fs_files::FsFiles;
+use cellc_driver::BuildOptions;
 use cellc_schema::{ArcKind, Artifact, Encoding, ReadError};
 
 fn build(path: &str) -> Artifact {
-    let compilation = cellc_compiler::compile(&FsFiles, path);
-    assert!(!compilation.has_errors(), "{path} has errors");
-    let cell = compilation.cell.as_ref().expect("resolved");
-    cellc_compiler::artifact::lower(cell, &compilation.graphs, &compilation.sources)
+    cellc_driver::build(&FsFiles, path, &BuildOptions::unverified())
+        .artifact
+        .unwrap_or_else(|| panic!("{path} has errors"))
 }
 
 #[test]

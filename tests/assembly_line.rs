@@ -9,11 +9,11 @@
 use std::collections::BTreeMap;
 
 use cellc_driver::fs_files::FsFiles;
+use cellc_driver::BuildOptions;
 use cellc_runtime::execute::{execute, ExecuteOptions, Simulator};
 use cellc_runtime::plan::planner::Planner;
 use cellc_runtime::plan::{Command, Goal, Plan, PlanOptions, Request};
 use cellc_runtime::scene::Scene;
-use cellc_runtime::verify::{verify, VerifyOptions};
 use cellc_schema::Artifact;
 
 const CELL: &str = "cells/assembly_line.cell";
@@ -31,19 +31,16 @@ fn verified(seed: u64) -> (Artifact, Scene) {
     verified_cell(CELL, seed)
 }
 
-/// `path` compiled, lowered, and verified with `seed`, with its scene.
+/// `path` built as `cellc build --seed SEED` builds it, with its scene.
 fn verified_cell(path: &str, seed: u64) -> (Artifact, Scene) {
-    let compilation = cellc_compiler::compile(&FsFiles, path);
-    assert!(!compilation.has_errors(), "{path} has errors");
-    let cell = compilation.cell.as_ref().expect("resolved");
-    let mut artifact =
-        cellc_compiler::artifact::lower(cell, &compilation.graphs, &compilation.sources);
-    let scene = Scene::load(&artifact, &FsFiles).expect("scene loads");
-    let options = VerifyOptions {
+    let options = BuildOptions {
         seed,
-        ..VerifyOptions::default()
+        ..BuildOptions::default()
     };
-    verify(&mut artifact, &scene, &options, &|_, _| {});
+    let artifact = cellc_driver::build(&FsFiles, path, &options)
+        .artifact
+        .unwrap_or_else(|| panic!("{path} has errors"));
+    let scene = Scene::load(&artifact, &FsFiles).expect("scene loads");
     (artifact, scene)
 }
 
@@ -89,7 +86,7 @@ fn end_effector(artifact: &Artifact, name: &str) -> cellc_schema::EndEffectorId 
 
 #[test]
 fn the_cell_compiles_clean() {
-    let compilation = cellc_compiler::compile(&FsFiles, CELL);
+    let compilation = cellc_driver::compile(&FsFiles, CELL, &Default::default());
     let rendered = cellc::render::short(&compilation.diagnostics, &compilation.sources);
     assert!(
         compilation.diagnostics.is_empty(),
@@ -113,9 +110,9 @@ fn the_cell_compiles_clean() {
 
 #[test]
 fn nine_workspaces_are_derived_with_the_designed_reachers() {
-    let compilation = cellc_compiler::compile(&FsFiles, CELL);
-    let cell = compilation.cell.as_ref().expect("resolved");
-    let artifact = cellc_compiler::artifact::lower(cell, &compilation.graphs, &compilation.sources);
+    let artifact = cellc_driver::build(&FsFiles, CELL, &BuildOptions::unverified())
+        .artifact
+        .expect("the cell builds");
     let reached: BTreeMap<&str, Vec<&str>> = artifact
         .workspaces
         .iter()
@@ -362,14 +359,8 @@ fn the_line_moves_two_cylinders_one_after_the_other() {
     use cellc_runtime::scene::SceneScratch;
     use cellc_runtime::{Cell, Executor};
 
-    let compilation = cellc_compiler::compile(&FsFiles, CELL);
-    let artifact = cellc_compiler::artifact::lower(
-        compilation.cell.as_ref().expect("resolved"),
-        &compilation.graphs,
-        &compilation.sources,
-    );
-    let mut cell = Cell::from_artifact(artifact, &FsFiles).expect("loads");
-    cell.verify(&VerifyOptions::default());
+    let built = cellc_driver::build(&FsFiles, CELL, &Default::default());
+    let cell = Cell::from_artifact(built.artifact.expect("builds"), &FsFiles).expect("loads");
     let options = PlanOptions::default();
     let mut world = cell.initial_world(&options).expect("the declared world");
     let moves = cell.task("two_cylinders").expect("declared");

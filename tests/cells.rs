@@ -7,7 +7,7 @@ use cellc_driver::fs_files::FsFiles;
 
 /// A cell compiled as the `cellc` binary compiles it.
 fn compile_as_the_binary(path: &str) -> Compilation {
-    cellc_driver::reach::compile(&FsFiles, path, &Default::default())
+    cellc_driver::compile(&FsFiles, path, &Default::default())
 }
 
 fn shipped_cells() -> Vec<String> {

@@ -44,7 +44,7 @@ fn pages_show_real_output() {
             continue;
         };
         let compilation =
-            cellc_driver::reach::compile(&PageFiles { example }, "pick.cell", &Default::default());
+            cellc_driver::compile(&PageFiles { example }, "pick.cell", &Default::default());
         let mut real = cellc::render::human(
             &compilation.diagnostics,
             &compilation.sources,

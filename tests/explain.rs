@@ -19,7 +19,7 @@ use cellc_runtime::motion::{ChaCha8Rng, MotionError, MotionPlanner, MotionProble
 use cellc_runtime::plan::{PlanError, PlanOptions, Trajectory};
 use cellc_runtime::scene::SceneScratch;
 use cellc_runtime::termination::Termination;
-use cellc_runtime::{Cell, VerifyOptions};
+use cellc_runtime::Cell;
 use explain_cells::*;
 
 /// The diagnostic of an unreachable request, checked as every one must be.
@@ -346,12 +346,9 @@ impl MotionPlanner for Blocked {
 
 #[test]
 fn vito_with_every_motion_blocked_says_what_failed_never_another_reason() {
-    let compilation = cellc_compiler::compile(&FsFiles, "cells/vito.cell");
-    let resolved = compilation.cell.as_ref().expect("vito resolves");
-    let artifact =
-        cellc_compiler::artifact::lower(resolved, &compilation.graphs, &compilation.sources);
-    let mut cell = Cell::from_artifact(artifact, &FsFiles).expect("vito loads");
-    cell.verify(&VerifyOptions::default());
+    let built = cellc_driver::build(&FsFiles, "cells/vito.cell", &Default::default());
+    let artifact = built.artifact.expect("vito builds");
+    let cell = Cell::from_artifact(artifact, &FsFiles).expect("vito loads");
     // No backtrack: the first failed step stops the planner while the graph still has
     // other paths (the start's other grasp).
     let options = PlanOptions {
@@ -368,8 +365,11 @@ fn vito_with_every_motion_blocked_says_what_failed_never_another_reason() {
     assert_eq!(u.failed.len(), 1);
     let explanation = cell.explain(&u).expect("the states exist");
     assert_eq!(explanation.cause, Cause::Connected);
-    let d =
-        cellc_driver::explain_report::unreachable(cell.artifact(), &u, Some(&compilation.sources));
+    let d = cellc_driver::explain_report::unreachable(
+        cell.artifact(),
+        &u,
+        Some(&built.compilation.sources),
+    );
     println!("{d:#?}");
     assert!(!d.message.contains("another reason"), "{}", d.message);
     assert!(

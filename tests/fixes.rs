@@ -17,8 +17,8 @@ use cellc_driver::fs_files::FsFiles;
 use cellc_lang::ast::needs_quotes;
 use cellc_lang::phrases::RESERVED;
 use cellc_runtime::plan::{PlanError, PlanOptions};
-use cellc_runtime::{Cell, VerifyOptions};
-use cellc_schema::{Body, FileError, Files, MemoryFiles};
+use cellc_runtime::Cell;
+use cellc_schema::{FileError, Files, MemoryFiles};
 use explain_cells::*;
 
 /// Edited files in memory over the file system (robot models, meshes, includes).
@@ -40,31 +40,18 @@ struct Planned {
     result: Result<cellc_runtime::plan::Plan, PlanError>,
 }
 
-/// Compiles `path`, verifies it when it has arms (as `cellc plan` does) and plans its first
+/// Builds `path` as `cellc plan` does (verified when it has arms) and plans its first
 /// request; `None` when the cell has errors.
 fn plan(files: &dyn Files, path: &str) -> Option<Planned> {
-    let compilation = cellc_compiler::compile(files, path);
-    if compilation.has_errors() {
-        return None;
-    }
-    let resolved = compilation.cell.as_ref()?;
-    let artifact =
-        cellc_compiler::artifact::lower(resolved, &compilation.graphs, &compilation.sources);
-    let geometric = artifact
-        .end_effectors
-        .iter()
-        .any(|e| matches!(e.body, Body::Arm { .. }));
-    let mut cell = Cell::from_artifact(artifact, files).expect("the cell loads");
-    if geometric {
-        cell.verify(&VerifyOptions::default());
-    }
+    let built = cellc_driver::build(files, path, &Default::default());
+    let cell = Cell::from_artifact(built.artifact?, files).expect("the cell loads");
     let named = cell.artifact().requests.first()?.name.clone();
     let request = cell
         .named_request(&named, PlanOptions::default())
         .expect("the request is declared");
     let result = cell.plan(&request);
     Some(Planned {
-        sources: compilation.sources,
+        sources: built.compilation.sources,
         cell,
         result,
     })

@@ -3,23 +3,27 @@
 //! transitions, a motion failure part way leads to a replan from where the object is, and
 //! unreachable requests are refused with the start's reachable set.
 
+#[path = "support/verified.rs"]
+mod verified;
+
 use std::collections::HashSet;
 
 use cellc_driver::fs_files::FsFiles;
+use cellc_driver::BuildOptions;
 use cellc_runtime::execute::{execute, ExecuteOptions, ExecutionError, Executor, Simulator};
 use cellc_runtime::plan::planner::Planner;
 use cellc_runtime::plan::{
     names, Command, Goal, LocateError, PlacementByName, Plan, PlanError, PlanOptions, Request,
 };
-use cellc_runtime::{Cell, VerifyOptions};
+use cellc_runtime::Cell;
 use cellc_schema::{ArcKind, Artifact, Node};
 use proptest::prelude::*;
+use verified::verified_cell;
 
 fn artifact(path: &str) -> Artifact {
-    let compilation = cellc_compiler::compile(&FsFiles, path);
-    assert!(!compilation.has_errors(), "{path} has errors");
-    let cell = compilation.cell.as_ref().expect("resolved");
-    cellc_compiler::artifact::lower(cell, &compilation.graphs, &compilation.sources)
+    cellc_driver::build(&FsFiles, path, &BuildOptions::unverified())
+        .artifact
+        .unwrap_or_else(|| panic!("{path} has errors"))
 }
 
 fn placement(holder: &str, grasp: Option<&str>, workspace: &str) -> PlacementByName {
@@ -273,15 +277,14 @@ fn plan_ui() {
         let name = path.file_name().unwrap().to_string_lossy().to_string();
         let code = name.split('_').next().unwrap_or_default().to_string();
         let relative = format!("tests/ui/plan/{name}");
-        let compilation = cellc_compiler::compile(&FsFiles, &relative);
-        // Warnings may be what the case is about (a transition declared one way only);
-        // only the planner's diagnostic is snapshotted.
-        assert!(!compilation.has_errors(), "{name} must check");
-        let a = cellc_compiler::artifact::lower(
-            compilation.cell.as_ref().unwrap(),
-            &compilation.graphs,
-            &compilation.sources,
-        );
+        // Built as `cellc plan` builds it (verified when it has arms). Warnings may be
+        // what the case is about (a transition declared one way only, arcs pruned); only
+        // the planner's diagnostic is snapshotted.
+        let built = cellc_driver::build(&FsFiles, &relative, &Default::default());
+        let compilation = built.compilation;
+        let a = built
+            .artifact
+            .unwrap_or_else(|| panic!("{name} must build"));
         let diagnostic = match a.requests.first() {
             None => cellc::plan_report::no_request(&a, None),
             Some(named) => {
@@ -294,10 +297,8 @@ fn plan_ui() {
                         ..PlanOptions::default()
                     },
                 );
-                // A cell with arms is verified and planned with its geometry, as `cellc
-                // plan` does.
-                let mut cell = Cell::from_artifact(a.clone(), &FsFiles).expect("loads");
-                cell.verify(&VerifyOptions::default());
+                // A cell with arms is planned with its geometry, as `cellc plan` does.
+                let cell = Cell::from_artifact(a.clone(), &FsFiles).expect("loads");
                 let error = cell.plan(&req).expect_err("the request must fail");
                 cellc::plan_report::plan_error(
                     cell.artifact(),
@@ -343,8 +344,8 @@ fn request_weights_replace_the_cells() {
 /// JSON says so in the shortest decimal.
 #[test]
 fn plan_costs_are_decimal_sums_of_the_weights() {
-    let a = artifact("cells/assembly_line.cell");
-    let named = &a.requests[0].clone();
+    let cell = verified_cell("cells/assembly_line.cell");
+    let named = &cell.artifact().requests[0].clone();
     let request = cellc_runtime::plan::named_request(
         named,
         PlanOptions {
@@ -352,8 +353,6 @@ fn plan_costs_are_decimal_sums_of_the_weights() {
             ..PlanOptions::default()
         },
     );
-    let mut cell = Cell::from_artifact(a, &FsFiles).expect("loads");
-    cell.verify(&VerifyOptions::default());
     let plan = cell.plan(&request).expect("the line plans");
     let graph = &cell.artifact().objects[request.object.index()].graph;
     let mut tenths = 0u64;

@@ -5,6 +5,7 @@
 use std::process::Command;
 
 use cellc_driver::fs_files::FsFiles;
+use cellc_driver::BuildOptions;
 use cellc_runtime::scene::Scene;
 use cellc_runtime::verify::preflight::{preflight, Preflight};
 use cellc_runtime::verify::{verify, VerifyOptions};
@@ -30,13 +31,11 @@ fn checked(
     files: &dyn Files,
     path: &str,
 ) -> (cellc_compiler::Compilation, Artifact, Scene, Preflight) {
-    let compilation = cellc_compiler::compile(files, path);
-    assert!(!compilation.has_errors(), "{:?}", compilation.diagnostics);
-    let artifact = cellc_compiler::artifact::lower(
-        compilation.cell.as_ref().expect("resolved"),
-        &compilation.graphs,
-        &compilation.sources,
-    );
+    let built = cellc_driver::build(files, path, &BuildOptions::unverified());
+    let compilation = built.compilation;
+    let artifact = built
+        .artifact
+        .unwrap_or_else(|| panic!("{:?}", compilation.diagnostics));
     let scene = Scene::load(&artifact, files).expect("loads");
     let found = preflight(&artifact, &scene);
     (compilation, artifact, scene, found)
@@ -113,7 +112,7 @@ fn a_colliding_home_is_refused_naming_the_pair() {
 fn pruning_never_blames_an_arm_standing_by() {
     // Both bases touch the torso; each arm's arcs must be blamed on its own base (or its
     // own links, hand or the object), never on the other arm standing at home.
-    let path = "tests/ui/plan/R0004_contact_not_allowed.cell";
+    let path = "tests/data/preflight/bases_touch_torso.cell";
     let (_, mut artifact, scene, _) = checked(&FsFiles, path);
     verify(&mut artifact, &scene, &VerifyOptions::default(), &|_, _| {});
     let mut collisions = 0;

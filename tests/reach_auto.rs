@@ -56,20 +56,17 @@ impl Files for VitoAuto {
 }
 
 fn compiled(files: &dyn Files, path: &str) -> (Compilation, Artifact) {
-    let compilation = cellc_driver::reach::compile(files, path, &Default::default());
-    let errors: Vec<_> = compilation
+    let built = cellc_driver::build(files, path, &cellc_driver::BuildOptions::unverified());
+    let errors: Vec<_> = built
         .diagnostics
         .iter()
         .filter(|d| d.is_error())
         .map(|d| d.message.clone())
         .collect();
-    assert!(errors.is_empty(), "{path}: {errors:?}");
-    let artifact = cellc_compiler::artifact::lower(
-        compilation.cell.as_ref().expect("resolved"),
-        &compilation.graphs,
-        &compilation.sources,
-    );
-    (compilation, artifact)
+    let artifact = built
+        .artifact
+        .unwrap_or_else(|| panic!("{path}: {errors:?}"));
+    (built.compilation, artifact)
 }
 
 #[test]
@@ -345,7 +342,7 @@ fn a_base_on_its_table_is_reported_at_check_time_rather_than_no_reach() {
         ),
     };
     assert_ne!(auto.text, text);
-    let compilation = cellc_driver::reach::compile(&auto, path, &Default::default());
+    let compilation = cellc_driver::compile(&auto, path, &Default::default());
     let codes: Vec<&str> = compilation
         .diagnostics
         .iter()

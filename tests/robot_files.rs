@@ -12,10 +12,8 @@ use cellc_driver::fs_files::FsFiles;
 use cellc_runtime::execute::SimulatorTolerance;
 use cellc_runtime::plan::PlanOptions;
 use cellc_runtime::robot::Robot;
-use cellc_runtime::scene::Scene;
-use cellc_runtime::verify::{verify, VerifyOptions};
 use cellc_runtime::{Cell, ExecuteOptions, ExecutionError, StepError};
-use cellc_schema::{Artifact, Infeasibility, MeshFile};
+use cellc_schema::MeshFile;
 use cellc_urdf::{package, Description, MeshPaths, PackagePath, Srdf};
 
 const PACKAGES: &str = "cells/robots/example-robot-data";
@@ -137,8 +135,7 @@ fn the_panda_srdf_gives_the_chain_and_the_home() {
 
     // In a cell (compiled as the binary does: its reach is `auto`): the home is the
     // state's arm joints, in chain order.
-    let compilation =
-        cellc_driver::reach::compile(&FsFiles, "cells/two_pandas.cell", &Default::default());
+    let compilation = cellc_driver::compile(&FsFiles, "cells/two_pandas.cell", &Default::default());
     assert!(!compilation.has_errors());
     let cell = compilation.cell.expect("resolves");
     let (_, left) = cell
@@ -280,16 +277,8 @@ fn ur_shelf_builds_verifies_plans_and_runs() {
 /// allowed the simulator refuses the put-down.
 #[test]
 fn a_carton_let_go_just_above_the_shelf_falls_onto_it() {
-    let compilation =
-        cellc_driver::reach::compile(&FsFiles, "cells/ur_shelf.cell", &Default::default());
-    assert!(!compilation.has_errors());
-    let artifact = cellc_compiler::artifact::lower(
-        compilation.cell.as_ref().expect("resolved"),
-        &compilation.graphs,
-        &compilation.sources,
-    );
-    let mut cell = Cell::from_artifact(artifact, &FsFiles).expect("loads");
-    cell.verify(&VerifyOptions::default());
+    let artifact = built("cells/ur_shelf.cell").artifact.expect("builds");
+    let cell = Cell::from_artifact(artifact, &FsFiles).expect("loads");
     let request = cell
         .named_request("table_to_shelf", PlanOptions::default())
         .expect("declared");
@@ -476,43 +465,48 @@ fn a_package_item_comes_before_the_search_folders() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
-fn verified(path: &str) -> Artifact {
-    let compilation = cellc_driver::reach::compile(&FsFiles, path, &Default::default());
-    assert!(!compilation.has_errors(), "{path} has errors");
-    let cell = compilation.cell.as_ref().expect("resolved");
-    let mut artifact =
-        cellc_compiler::artifact::lower(cell, &compilation.graphs, &compilation.sources);
-    let scene = Scene::load(&artifact, &FsFiles).expect("scene loads");
-    verify(&mut artifact, &scene, &VerifyOptions::default(), &|_, _| {});
-    artifact
+fn built(path: &str) -> cellc_driver::Built {
+    cellc_driver::build(&FsFiles, path, &Default::default())
 }
 
 #[test]
 fn an_srdf_disabled_pair_changes_the_verdict() {
-    // The guard on the base touches the upper arm in every configuration.
-    let without = verified("tests/data/srdf/without_srdf.cell");
-    let pruned = &without.objects[0].graph.pruned;
-    assert!(!pruned.is_empty());
+    // The guard on the base touches the upper arm in every configuration: the build
+    // refuses the scene, naming the pair, before any arc.
+    let without = built("tests/data/srdf/without_srdf.cell");
+    assert!(without.artifact.is_none());
+    let codes: Vec<&str> = without
+        .diagnostics
+        .iter()
+        .map(|d| d.code.as_str())
+        .collect();
+    assert_eq!(codes, ["E0420"]);
+    let message = &without.diagnostics[0].message;
     assert!(
-        without.objects[0].graph.arcs.is_empty(),
-        "every arc is pruned"
+        message.contains("shoulder_guard") && message.contains("lwr_link_2"),
+        "{message}"
     );
-    for p in pruned {
-        let Infeasibility::Collision { a, b } = &p.reason else {
-            panic!("pruned for another reason: {:?}", p.reason);
-        };
-        let mut pair = [a.as_str(), b.as_str()];
-        pair.sort_unstable();
-        assert_eq!(pair, ["left/lwr_link_2", "left/shoulder_guard"]);
-    }
-    // Its SRDF disables the pair: the same arcs are kept, with witnesses.
-    let with = verified("tests/data/srdf/with_srdf.cell");
+    // Its SRDF disables the pair: every arc the compiler made is kept, with witnesses.
+    let compiled = cellc_driver::build(
+        &FsFiles,
+        "tests/data/srdf/with_srdf.cell",
+        &cellc_driver::BuildOptions::unverified(),
+    )
+    .artifact
+    .expect("compiles");
+    let with = built("tests/data/srdf/with_srdf.cell")
+        .artifact
+        .expect("builds");
     assert_eq!(
         with.robots[0].disabled_collisions,
         [("shoulder_guard".to_string(), "lwr_link_2".to_string())]
     );
     assert!(with.objects[0].graph.pruned.is_empty());
-    assert_eq!(with.objects[0].graph.arcs.len(), pruned.len());
+    assert!(!with.objects[0].graph.arcs.is_empty());
+    assert_eq!(
+        with.objects[0].graph.arcs.len(),
+        compiled.objects[0].graph.arcs.len()
+    );
     assert!(with.objects[0]
         .graph
         .arcs

@@ -11,17 +11,16 @@ use cellc_runtime::plan::planner::Planner;
 use cellc_runtime::plan::{PlanError, PlanOptions, Request, Trajectory};
 use cellc_runtime::scene::{Scene, SceneScratch};
 use cellc_runtime::termination::Termination;
-use cellc_runtime::verify::{verify, VerifyOptions};
 use cellc_schema::Artifact;
 
 fn vito() -> (Artifact, Scene) {
-    let compilation = cellc_compiler::compile(&FsFiles, "cells/vito.cell");
-    assert!(compilation.diagnostics.is_empty(), "vito.cell is not clean");
-    let cell = compilation.cell.as_ref().expect("resolved");
-    let mut artifact =
-        cellc_compiler::artifact::lower(cell, &compilation.graphs, &compilation.sources);
+    let built = cellc_driver::build(&FsFiles, "cells/vito.cell", &Default::default());
+    assert!(
+        built.compilation.diagnostics.is_empty(),
+        "vito.cell is not clean"
+    );
+    let artifact = built.artifact.expect("vito builds");
     let scene = Scene::load(&artifact, &FsFiles).expect("scene loads");
-    verify(&mut artifact, &scene, &VerifyOptions::default(), &|_, _| {});
     (artifact, scene)
 }
 

@@ -3,6 +3,7 @@
 //! never a panic or an allocation the file's length does not bound.
 
 use cellc_driver::fs_files::FsFiles;
+use cellc_driver::BuildOptions;
 use cellc_schema::sections::{SectionKind, Sections};
 use cellc_schema::{
     ArmConfiguration, Artifact, Encoding, EndEffectorId, Infeasibility, Pose, PrunedArc, ReadError,
@@ -10,10 +11,9 @@ use cellc_schema::{
 };
 
 fn build(path: &str) -> Artifact {
-    let compilation = cellc_compiler::compile(&FsFiles, path);
-    assert!(!compilation.has_errors(), "{path} has errors");
-    let cell = compilation.cell.as_ref().expect("resolved");
-    cellc_compiler::artifact::lower(cell, &compilation.graphs, &compilation.sources)
+    cellc_driver::build(&FsFiles, path, &BuildOptions::unverified())
+        .artifact
+        .unwrap_or_else(|| panic!("{path} has errors"))
 }
 
 /// fig3 with a witness and a pruned arc on its first object, so that every kind of

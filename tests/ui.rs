@@ -40,7 +40,7 @@ fn ui() {
             failures.push(format!("{relative}: first line must be `// expect: CODE`"));
             return;
         };
-        let compilation = cellc_driver::reach::compile(&FsFiles, &relative, &Default::default());
+        let compilation = cellc_driver::compile(&FsFiles, &relative, &Default::default());
         let produced: BTreeSet<&str> = compilation
             .diagnostics
             .iter()

@@ -5,6 +5,7 @@
 //! UI tests.
 
 use cellc_driver::fs_files::FsFiles;
+use cellc_driver::BuildOptions;
 use cellc_runtime::math::{iso_from_schema, Iso, Point};
 use cellc_runtime::scene::{Holder, ObjectPlacement, Scene, SceneScratch};
 use cellc_runtime::verify::{verify, VerifyOptions};
@@ -16,24 +17,21 @@ use cellc_schema::{
 /// The artifact of `path` as `cellc build --no-verify` gives it (with the runtime's
 /// kinematics for `reach auto`).
 fn build(path: &str) -> Artifact {
-    let options = cellc_driver::BuildOptions {
-        no_verify: true,
-        ..Default::default()
-    };
-    let built = cellc_driver::build(&FsFiles, path, &options);
-    built
+    cellc_driver::build(&FsFiles, path, &BuildOptions::unverified())
         .artifact
         .unwrap_or_else(|| panic!("{path} has errors"))
 }
 
+/// `path` built as `cellc build --seed SEED` builds it, with its scene.
 fn verified(path: &str, seed: u64) -> (Artifact, Scene) {
-    let mut artifact = build(path);
-    let scene = Scene::load(&artifact, &FsFiles).expect("scene loads");
-    let options = VerifyOptions {
+    let options = BuildOptions {
         seed,
-        ..VerifyOptions::default()
+        ..BuildOptions::default()
     };
-    verify(&mut artifact, &scene, &options, &|_, _| {});
+    let artifact = cellc_driver::build(&FsFiles, path, &options)
+        .artifact
+        .unwrap_or_else(|| panic!("{path} has errors"));
+    let scene = Scene::load(&artifact, &FsFiles).expect("scene loads");
     (artifact, scene)
 }
 
@@ -282,11 +280,10 @@ fn runtime_ui() {
         let name = path.file_name().unwrap().to_string_lossy().to_string();
         let code = name.split('_').next().unwrap_or_default().to_string();
         let relative = format!("tests/ui/runtime/{name}");
-        let compilation = cellc_compiler::compile(&FsFiles, &relative);
-        assert!(!compilation.has_errors(), "{name} must compile");
-        let cell = compilation.cell.as_ref().expect("resolved");
-        let mut artifact =
-            cellc_compiler::artifact::lower(cell, &compilation.graphs, &compilation.sources);
+        // The scene is loaded first (a stale case against its URDF edited after the
+        // build), as `cellc plan` loads it even for a cell without arms; a scene that
+        // loads is built as `cellc build` builds it (the scene as a whole first, then
+        // every arc unless the scene is wrong whatever the arc).
         struct Changed;
         impl Files for Changed {
             fn read(&self, path: &str) -> Result<Vec<u8>, cellc_runtime::FileError> {
@@ -302,26 +299,24 @@ fn runtime_ui() {
         } else {
             &FsFiles
         };
-        let diagnostics = match Scene::load(&artifact, files) {
-            Err(e) => vec![cellc_driver::verify_report::scene_error_at(
-                &e,
-                &artifact.robots,
-                &artifact.spans,
-            )],
-            // As `cellc build` does: the scene as a whole first, then every arc unless the
-            // scene is wrong whatever the arc.
-            Ok(scene) => {
-                let preflight = cellc_runtime::verify::preflight::preflight(&artifact, &scene);
-                let mut found = cellc_driver::scene_report::diagnostics(
-                    &artifact,
-                    &preflight,
-                    &compilation.sources,
-                );
-                if !preflight.blocks_verification() {
-                    verify(&mut artifact, &scene, &VerifyOptions::default(), &|_, _| {});
-                    found.extend(cellc_driver::verify_report::pruned_warnings(&artifact));
-                }
-                found
+        let compiled = cellc_driver::build(&FsFiles, &relative, &BuildOptions::unverified());
+        let artifact = compiled
+            .artifact
+            .unwrap_or_else(|| panic!("{name} must compile"));
+        let (compilation, diagnostics) = match Scene::load(&artifact, files) {
+            Err(e) => (
+                compiled.compilation,
+                vec![cellc_driver::verify_report::scene_error_at(
+                    &e,
+                    &artifact.robots,
+                    &artifact.spans,
+                )],
+            ),
+            Ok(_) => {
+                let built = cellc_driver::build(&FsFiles, &relative, &Default::default());
+                let compiled = built.compilation.diagnostics.len();
+                let found = built.diagnostics[compiled..].to_vec();
+                (built.compilation, found)
             }
         };
         let codes: Vec<&str> = diagnostics.iter().map(|d| d.code.as_str()).collect();

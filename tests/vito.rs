@@ -4,23 +4,17 @@
 //! object's pose from its holders' kinematics, so a plan that does not really reach the
 //! object fails there, and every trajectory is re-checked four times finer than planned.
 
-use cellc_driver::fs_files::FsFiles;
+#[path = "support/verified.rs"]
+mod verified;
+
 use cellc_runtime::plan::PlanOptions;
+use cellc_runtime::Plan;
 use cellc_runtime::{Cell, Command, ExecuteOptions, ExecutionError, Executor, StepError};
-use cellc_runtime::{Plan, VerifyOptions};
+use verified::verified_cell;
 
 /// A shipped cell compiled, loaded through the front door and verified.
 fn cell(path: &str) -> Cell {
-    let compilation = cellc_compiler::compile(&FsFiles, path);
-    assert!(compilation.diagnostics.is_empty(), "{path} is not clean");
-    let artifact = cellc_compiler::artifact::lower(
-        compilation.cell.as_ref().unwrap(),
-        &compilation.graphs,
-        &compilation.sources,
-    );
-    let mut cell = Cell::from_artifact(artifact, &FsFiles).expect("loads");
-    cell.verify(&VerifyOptions::default());
-    cell
+    verified_cell(path)
 }
 
 fn plan(cell: &Cell, name: &str, seed: u64) -> Plan {

@@ -49,7 +49,6 @@ use std::time::Instant;
 use cellc_driver::fs_files::FsFiles;
 use cellc_runtime::plan::planner::Planner;
 use cellc_runtime::scene::Scene;
-use cellc_runtime::verify::{verify, VerifyOptions};
 use cellc_schema::Artifact;
 
 use measure::{measure, skipped};
@@ -65,21 +64,17 @@ struct Geometric {
 
 fn geometric(path: &str) -> Result<Geometric, String> {
     let t = Instant::now();
-    let compilation = cellc_compiler::compile(&FsFiles, path);
-    if compilation.has_errors() {
-        let first = compilation
+    let built = cellc_driver::build(&FsFiles, path, &Default::default());
+    let Some(artifact) = built.artifact else {
+        let first = built
             .diagnostics
             .iter()
-            .find(|d| d.severity == cellc_lang::Severity::Error)
+            .find(|d| d.is_error())
             .map(|d| d.message.clone())
             .unwrap_or_default();
         return Err(format!("{path} has errors: {first}"));
-    }
-    let cell = compilation.cell.as_ref().ok_or("not resolved")?;
-    let mut artifact =
-        cellc_compiler::artifact::lower(cell, &compilation.graphs, &compilation.sources);
+    };
     let scene = Scene::load(&artifact, &FsFiles).map_err(|e| format!("{path}: {e:?}"))?;
-    verify(&mut artifact, &scene, &VerifyOptions::default(), &|_, _| {});
     Ok(Geometric {
         artifact,
         scene,
@@ -150,13 +145,13 @@ fn main() {
         Ok(imported) => {
             let world =
                 cellc_compiler::MemoryFiles::new([("vito_full.cell", imported.text.as_str())]);
-            let compilation = cellc_compiler::compile(&world, "vito_full.cell");
-            assert!(!compilation.has_errors(), "the imported database compiles");
-            let artifact = cellc_compiler::artifact::lower(
-                compilation.cell.as_ref().expect("resolved"),
-                &compilation.graphs,
-                &compilation.sources,
-            );
+            let artifact = cellc_driver::build(
+                &world,
+                "vito_full.cell",
+                &cellc_driver::BuildOptions::unverified(),
+            )
+            .artifact
+            .expect("the cell builds");
             let planner = Planner::new(&artifact, None);
             for (object, graph) in [("containerA", "pitcher"), ("containerB", "colander")] {
                 let label = format!("vito_full.db {object} ({graph}, abstract)");

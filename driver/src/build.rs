@@ -27,6 +27,17 @@ pub struct BuildOptions<'p> {
     pub progress: Option<&'p (dyn Fn(u64, u64) + Sync)>,
 }
 
+impl BuildOptions<'_> {
+    /// Compile and lower only, the scene and the arcs left unchecked: the artifact
+    /// `cellc build --no-verify` writes, for uses that check or verify it themselves.
+    pub fn unverified() -> Self {
+        BuildOptions {
+            no_verify: true,
+            ..BuildOptions::default()
+        }
+    }
+}
+
 /// What a build gives.
 pub struct Built {
     /// The artifact, verified when the cell has arms; `None` when any diagnostic is an
@@ -94,18 +105,16 @@ fn check_and_verify(
             )]
         }
     };
-    let preflight = cellc_runtime::verify::preflight::preflight(artifact, &scene);
-    let mut found = crate::scene_report::diagnostics(artifact, &preflight, sources);
-    if preflight.blocks_verification() {
-        return found;
-    }
     let verify = VerifyOptions {
         seed: options.seed,
         ..VerifyOptions::default()
     };
     let silent = |_: u64, _: u64| {};
     let progress = options.progress.unwrap_or(&silent);
-    cellc_runtime::verify::verify(artifact, &scene, &verify, progress);
-    found.extend(crate::verify_report::pruned_warnings(artifact));
+    let checked = cellc_runtime::verify::check_and_verify(artifact, &scene, &verify, progress);
+    let mut found = crate::scene_report::diagnostics(artifact, &checked.preflight, sources);
+    if checked.report.is_some() {
+        found.extend(crate::verify_report::pruned_warnings(artifact));
+    }
     found
 }

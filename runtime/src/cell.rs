@@ -21,7 +21,7 @@ use crate::plan::{
     Unreachable,
 };
 use crate::scene::{Scene, SceneError};
-use crate::verify::{VerifyOptions, VerifyReport};
+use crate::verify::{Checked, VerifyOptions};
 use crate::world::{Whereabouts, World, WorldError};
 use crate::Files;
 
@@ -151,13 +151,21 @@ impl Cell {
         self.partial.parts(o)
     }
 
-    /// Checks every arc kinematically (when the artifact was built without) and keeps
-    /// witnesses and pruned arcs, as `cellc build` does.
-    pub fn verify(&mut self, options: &VerifyOptions) -> Option<VerifyReport> {
+    /// Checks the scene as a whole and then every arc kinematically (when the artifact
+    /// was built without), keeping witnesses and pruned arcs, as `cellc build` does: a
+    /// scene wrong whatever the arc (a permanent contact, a colliding home) leaves the
+    /// arcs as they were and says so in [`Checked::preflight`]. `None` for a cell without
+    /// arms (nothing to check).
+    pub fn verify(&mut self, options: &VerifyOptions) -> Option<Checked> {
         let scene = self.scene.as_ref()?;
-        let report = crate::verify::verify(self.partial.artifact_mut(), scene, options, &|_, _| {});
+        let checked = crate::verify::check_and_verify(
+            self.partial.artifact_mut(),
+            scene,
+            options,
+            &|_, _| {},
+        );
         self.search = SearchGraph::for_artifact(self.partial.artifact());
-        Some(report)
+        Some(checked)
     }
 
     /// The artifact.

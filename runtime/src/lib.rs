@@ -63,7 +63,7 @@ pub use plan::{
     PlanError, PlanGoal, PlanOptions, Request, Step, Strategy, Trajectory, Unreachable,
 };
 pub use task::{Executed, TaskError, TaskFailure, TaskOptions, TaskPlans, TaskRun};
-pub use verify::VerifyOptions;
+pub use verify::{Checked, VerifyOptions};
 pub use world::{Whereabouts, World, WorldError};
 
 // The seams: plug in another state checker, motion validator or motion planner, and stop

@@ -20,7 +20,7 @@ pub fn run(
     let mut failed = false;
     let mut all: Vec<(Vec<Diagnostic>, cellc_lang::SourceMap)> = Vec::new();
     for file in files {
-        let compilation = cellc_driver::reach::compile(&FsFiles, &file.to_string_lossy(), options);
+        let compilation = cellc_driver::compile(&FsFiles, &file.to_string_lossy(), options);
         failed |= compilation
             .diagnostics
             .iter()

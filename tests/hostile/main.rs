@@ -187,11 +187,14 @@ fn an_artifact_with_the_wrong_joint_count_is_refused() {
                 .as_str(),
         ),
     ]);
-    let compilation = cellc_compiler::compile(&files, "pick.cell");
-    assert!(!compilation.has_errors(), "{:?}", compilation.diagnostics);
-    let cell = compilation.cell.as_ref().expect("resolved");
-    let mut artifact =
-        cellc_compiler::artifact::lower(cell, &compilation.graphs, &compilation.sources);
+    let built = cellc_driver::build(
+        &files,
+        "pick.cell",
+        &cellc_driver::BuildOptions::unverified(),
+    );
+    let mut artifact = built
+        .artifact
+        .unwrap_or_else(|| panic!("{:?}", built.diagnostics));
     artifact.robots[0].joints.pop();
     match cellc_runtime::scene::Scene::load(&artifact, &files) {
         Err(cellc_runtime::scene::SceneError::JointCount {

@@ -9,21 +9,17 @@ use cellc_driver::fs_files::FsFiles;
 use cellc_runtime::motion::{check_trajectory, MotionOptions};
 use cellc_runtime::plan::{MotionContext, PlanOptions};
 use cellc_runtime::scene::SceneScratch;
-use cellc_runtime::{Cell, Plan, VerifyOptions, World};
+use cellc_runtime::{Cell, Plan, World};
 use cellc_schema::WorldDocument;
 
 /// `cells/vito.cell`, compiled (clean) and verified.
 pub fn vito() -> Cell {
-    let compilation = cellc_compiler::compile(&FsFiles, "cells/vito.cell");
-    assert!(compilation.diagnostics.is_empty(), "vito is not clean");
-    let artifact = cellc_compiler::artifact::lower(
-        compilation.cell.as_ref().unwrap(),
-        &compilation.graphs,
-        &compilation.sources,
+    let built = cellc_driver::build(&FsFiles, "cells/vito.cell", &Default::default());
+    assert!(
+        built.compilation.diagnostics.is_empty(),
+        "vito is not clean"
     );
-    let mut cell = Cell::from_artifact(artifact, &FsFiles).expect("loads");
-    cell.verify(&VerifyOptions::default());
-    cell
+    Cell::from_artifact(built.artifact.expect("vito builds"), &FsFiles).expect("loads")
 }
 
 /// Default options with `seed`.

@@ -143,6 +143,35 @@ enum Check {
     },
 }
 
+/// What [`check_and_verify`] found: the scene as a whole, and the arcs unless the scene
+/// blocked them.
+#[derive(Clone, Debug)]
+pub struct Checked {
+    /// The scene as a whole (homes, permanent contacts, grasps away from their hands).
+    pub preflight: preflight::Preflight,
+    /// The arcs' verification; `None` when the preflight [blocks
+    /// verification](preflight::Preflight::blocks_verification) and the artifact is left
+    /// as it was.
+    pub report: Option<VerifyReport>,
+}
+
+/// The scene as a whole, then, unless it is wrong whatever the arc, every arc: the one
+/// sequence `cellc build` and [`crate::Cell::verify`] both run, so that an embedder gets
+/// the build's answer. A scene with a permanent contact or a colliding home is not
+/// verified arc by arc, since every arc would be pruned for the same reason and the
+/// artifact would read as a cell with no way anywhere.
+pub fn check_and_verify(
+    artifact: &mut Artifact,
+    scene: &Scene,
+    options: &VerifyOptions,
+    progress: &(dyn Fn(u64, u64) + Sync),
+) -> Checked {
+    let preflight = preflight::preflight(artifact, scene);
+    let report =
+        (!preflight.blocks_verification()).then(|| verify(artifact, scene, options, progress));
+    Checked { preflight, report }
+}
+
 /// Verifies every arc of `artifact` in place: feasible arcs get witnesses, infeasible ones
 /// move to `pruned`. `progress` is called with (done, total) as checks finish.
 pub fn verify(
