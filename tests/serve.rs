@@ -78,22 +78,22 @@ impl Server {
         }
         let path = target.split('?').next().unwrap_or(target);
         let endpoint = &self.openapi["paths"][path];
+        let report = json!({"$ref": "#/components/schemas/Report"});
         let name = if endpoint.is_object() {
             let answer = &endpoint[method.to_ascii_lowercase()]["responses"][status.to_string()];
-            let reference = answer["content"]["application/json"]["schema"]["$ref"].as_str();
-            match reference {
-                Some(r) => r.to_string(),
-                // A method the endpoint does not take is S0003 (405).
-                None if status == 405 => "#/components/schemas/Report".to_string(),
-                None => panic!("{method} {path} answered {status}, which the OpenAPI document does not list: {body}"),
+            match &answer["content"]["application/json"]["schema"] {
+                Value::Null if status == 405 => report,
+                Value::Null => panic!("{method} {path} answered {status}, which the OpenAPI document does not list: {body}"),
+                schema => schema.clone(),
             }
         } else {
+            // No endpoint has the path (S0003, 404), or not with this method (405).
             assert!(status == 404 || status == 405, "{method} {path}: {status}");
-            "#/components/schemas/Report".to_string()
+            report
         };
         let schema = json!({
             "$schema": "https://json-schema.org/draft/2020-12/schema",
-            "$ref": name,
+            "allOf": [name],
             "components": self.openapi["components"],
         });
         let validator = jsonschema::validator_for(&schema)
@@ -518,6 +518,26 @@ fn the_service_on_vito() {
             && l.contains(r#""ms":"#)),
         "{log}"
     );
+    // A name the cell lacks: a report, before any explanation.
+    let unknown = json!({"object": "bal", "to": "bin in ws_right_bin"});
+    let (status, report) = server.json("POST", "/v1/explain", unknown);
+    assert_eq!((status, first_code(&report)), (422, "R0003"), "{report}");
+    // Advice names the request's own option, not the command line's flag.
+    let hurried = json!({"object": "ball", "to": "bin in ws_right_bin",
+        "options": {"time_budget_ms": 0, "motions": false}});
+    let (status, planned) = server.json("POST", "/v1/plan", hurried);
+    assert_eq!((status, first_code(&planned)), (503, "R0006"), "{planned}");
+    let help = planned["diagnostics"][0]["help"].as_str().unwrap();
+    assert!(
+        help.contains("`time_budget_ms`") && !help.contains("--"),
+        "{help}"
+    );
+    let (status, report) = server.json(
+        "POST",
+        "/v1/tasks",
+        json!({"moves": [{"object": "bal", "to": "bin in ws_right_bin"}]}),
+    );
+    assert_eq!((status, first_code(&report)), (422, "R0003"), "{report}");
     server.assert_every_endpoint_validated();
     assert!(server.terminate().success());
 }

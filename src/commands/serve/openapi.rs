@@ -54,9 +54,17 @@ fn errors(with_body: bool) -> Map<String, Value> {
     e
 }
 
+/// A JSON response of schema `name` or of a report (a request refused before planning,
+/// e.g. names the cell lacks, is answered with the report alone).
+fn document_or_report(description: &str, name: &str) -> Value {
+    let schema = json!({"anyOf": [schema(name), schema("Report")]});
+    json!({"description": description, "content": {"application/json": {"schema": schema}}})
+}
+
 /// Failures of planning endpoints, answered with `name` (the run document with
-/// `ok: false`, or a report).
+/// `ok: false`) or a report.
 fn plan_failures(name: &str) -> Map<String, Value> {
+    let answer = document_or_report;
     let mut e = Map::new();
     e.insert(
         status(Failure::Conflict),
