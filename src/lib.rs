@@ -14,7 +14,6 @@ pub mod import;
 pub mod lsp;
 pub mod output;
 pub mod packages;
-pub mod plan_json;
 pub mod plan_report;
 pub mod render;
 pub mod snippet;

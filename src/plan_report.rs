@@ -3,6 +3,7 @@
 
 use std::fmt::Write as _;
 
+use cellc_driver::advice::{FrontEnd, PlanOption};
 use cellc_lang::{Diagnostic, FileId, SourceMap};
 use cellc_runtime::math::Iso;
 use cellc_runtime::plan::{Command, LocateError, Plan, PlanError};
@@ -37,6 +38,18 @@ pub fn plan_error(
     span: Option<u32>,
     sources: Option<&SourceMap>,
 ) -> Diagnostic {
+    plan_error_for(FrontEnd::CommandLine, artifact, error, span, sources)
+}
+
+/// [`plan_error`], its advice naming `front_end`'s options (the service's request fields
+/// instead of the command line's flags).
+pub fn plan_error_for(
+    front_end: FrontEnd,
+    artifact: &Artifact,
+    error: &PlanError,
+    span: Option<u32>,
+    sources: Option<&SourceMap>,
+) -> Diagnostic {
     let place = span.and_then(|s| artifact.spans.get(s as usize)).map(|s| {
         (
             FileId(s.file),
@@ -50,19 +63,25 @@ pub fn plan_error(
         PlanError::Locate(e) => Diagnostic::error(codes::LOCATE, e.to_string()).help(
             did_you_mean(e).or_else(|| locate_help(e)).unwrap_or_else(|| "name a holder, grasp and workspace the cell has, or give a pose that lies in a workspace and matches a grasp".into()),
         ),
-        PlanError::Unreachable(u) => cellc_driver::explain_report::unreachable(artifact, u, sources),
+        PlanError::Unreachable(u) => {
+            cellc_driver::explain_report::unreachable_for(front_end, artifact, u, sources)
+        }
         PlanError::TimeBudget { searches } => Diagnostic::error(
             codes::TIME_BUDGET,
             format!("planning ran out of its time budget after {searches} backtracks"),
         )
-        .help("give a larger `--time-budget`, or none; a budget of 0 stops before the first search"),
+        .help(format!(
+            "give a larger {}, or none; a budget of 0 stops before the first search",
+            front_end.option(PlanOption::TimeBudget)
+        )),
         PlanError::GoalOccupied { by } => Diagnostic::error(
             codes::GOAL_OCCUPIED,
             format!("`{}` stands where the goal puts the object", artifact.object_name(*by)),
         )
         .help(format!(
-            "choose a free goal, or move `{}` first (`--clear` does, or a task in order)",
-            artifact.object_name(*by)
+            "choose a free goal, or move `{}` first ({} does, or a task in order)",
+            artifact.object_name(*by),
+            front_end.option(PlanOption::Clear)
         )),
         PlanError::Absent { object } => Diagnostic::error(
             codes::GOAL_OCCUPIED,

@@ -6,7 +6,6 @@ use std::fmt;
 
 use cellc_lang::{Diagnostic, FileId, Severity, SourceMap};
 use miette::{GraphicalReportHandler, GraphicalTheme, LabeledSpan, NamedSource};
-use serde::Serialize;
 
 use crate::grouping;
 use crate::snippet::{Shared, Sources};
@@ -162,118 +161,9 @@ fn notes_suffix(d: &Diagnostic) -> String {
     }
 }
 
-/// The JSON document for a run of `cellc check`.
-#[derive(Serialize)]
-pub struct JsonReport<'a> {
-    /// Schema version; bumped on any incompatible change.
-    pub version: u32,
-    /// Every diagnostic.
-    pub diagnostics: Vec<JsonDiagnostic<'a>>,
-    /// Number of errors.
-    pub errors: usize,
-    /// Number of warnings.
-    pub warnings: usize,
-}
-
-/// One diagnostic in JSON.
-#[derive(Serialize)]
-pub struct JsonDiagnostic<'a> {
-    /// Stable code, e.g. `E0101`.
-    pub code: &'static str,
-    /// `error` or `warning`.
-    pub severity: &'static str,
-    /// The message.
-    pub message: &'a str,
-    /// File of the primary label (null when the problem has no place).
-    pub file: Option<&'a str>,
-    /// 1-based line of the primary label.
-    pub line: Option<usize>,
-    /// 1-based column (in characters) of the primary label.
-    pub column: Option<usize>,
-    /// Byte range of the primary label.
-    pub span: Option<JsonSpan>,
-    /// All labels, primary first.
-    pub labels: Vec<JsonLabel<'a>>,
-    /// The fix.
-    pub help: Option<&'a str>,
-    /// Extra facts.
-    pub notes: &'a [String],
-}
-
-/// A byte range.
-#[derive(Serialize)]
-pub struct JsonSpan {
-    /// First byte.
-    pub start: u32,
-    /// One past the last byte.
-    pub end: u32,
-}
-
-/// A label in JSON.
-#[derive(Serialize)]
-pub struct JsonLabel<'a> {
-    /// File.
-    pub file: &'a str,
-    /// 1-based line.
-    pub line: usize,
-    /// 1-based column.
-    pub column: usize,
-    /// Byte range.
-    pub span: JsonSpan,
-    /// Text of the label.
-    pub message: &'a str,
-    /// Primary or secondary.
-    pub primary: bool,
-}
-
-/// JSON rendering.
+/// JSON rendering: the diagnostics report (`cellc_driver::document::report`).
 pub fn json(diagnostics: &[Diagnostic], sources: &SourceMap) -> String {
-    let diagnostics_json: Vec<JsonDiagnostic> = diagnostics
-        .iter()
-        .map(|d| {
-            let labels: Vec<JsonLabel> = d
-                .labels
-                .iter()
-                .map(|l| {
-                    let file = sources.get(l.file);
-                    let (line, column) = file.line_col(l.span.start);
-                    JsonLabel {
-                        file: &file.path,
-                        line,
-                        column,
-                        span: JsonSpan {
-                            start: l.span.start,
-                            end: l.span.end,
-                        },
-                        message: &l.message,
-                        primary: l.primary,
-                    }
-                })
-                .collect();
-            let primary = labels.iter().find(|l| l.primary);
-            JsonDiagnostic {
-                code: d.code.as_str(),
-                severity: d.severity.as_str(),
-                message: &d.message,
-                file: primary.map(|l| l.file),
-                line: primary.map(|l| l.line),
-                column: primary.map(|l| l.column),
-                span: primary.map(|l| JsonSpan {
-                    start: l.span.start,
-                    end: l.span.end,
-                }),
-                help: d.help.as_deref(),
-                notes: &d.notes,
-                labels,
-            }
-        })
-        .collect();
-    let report = JsonReport {
-        version: 1,
-        errors: diagnostics.iter().filter(|d| d.is_error()).count(),
-        warnings: diagnostics.iter().filter(|d| !d.is_error()).count(),
-        diagnostics: diagnostics_json,
-    };
+    let report = cellc_driver::document::report::Report::new(diagnostics, sources);
     serde_json::to_string_pretty(&report).unwrap_or_else(|e| format!("{{\"error\": \"{e}\"}}"))
         + "\n"
 }

@@ -3,6 +3,7 @@
 //! whole test, since loading and verifying Vito is the slow part; the requests under
 //! `tests/ui/serve/` (one per service code) are sent as they are written.
 
+use std::collections::BTreeSet;
 use std::io::{BufRead, BufReader, Read, Write};
 use std::net::TcpStream;
 use std::process::{Child, Command, Stdio};
@@ -16,6 +17,10 @@ struct Server {
     child: Child,
     addr: String,
     log: Arc<Mutex<String>>,
+    /// The server's own OpenAPI document, every answer is validated against.
+    openapi: Value,
+    /// The (method, path, status) of every answer validated.
+    validated: Mutex<BTreeSet<(String, String, u16)>>,
 }
 
 impl Server {
@@ -50,7 +55,61 @@ impl Server {
                     .push_str(&String::from_utf8_lossy(&buffer[..n]));
             }
         });
-        Server { child, addr, log }
+        let mut server = Server {
+            child,
+            addr,
+            log,
+            openapi: Value::Null,
+            validated: Mutex::new(BTreeSet::new()),
+        };
+        let (status, openapi) = server.call("GET", "/v1/openapi.json", b"");
+        assert_eq!(status, 200, "{openapi}");
+        server.openapi = openapi;
+        server.check("GET", "/v1/openapi.json", status, &server.openapi);
+        server
+    }
+
+    /// Validates an answer against the schema the server's OpenAPI document gives for
+    /// its endpoint and status: an undocumented status, or a body that does not fit its
+    /// schema, fails the test. A path no endpoint has answers with a report.
+    fn check(&self, method: &str, target: &str, status: u16, body: &Value) {
+        if self.openapi.is_null() {
+            return;
+        }
+        let path = target.split('?').next().unwrap_or(target);
+        let endpoint = &self.openapi["paths"][path];
+        let report = json!({"$ref": "#/components/schemas/Report"});
+        let name = if endpoint.is_object() {
+            let answer = &endpoint[method.to_ascii_lowercase()]["responses"][status.to_string()];
+            match &answer["content"]["application/json"]["schema"] {
+                Value::Null if status == 405 => report,
+                Value::Null => panic!("{method} {path} answered {status}, which the OpenAPI document does not list: {body}"),
+                schema => schema.clone(),
+            }
+        } else {
+            // No endpoint has the path (S0003, 404), or not with this method (405).
+            assert!(status == 404 || status == 405, "{method} {path}: {status}");
+            report
+        };
+        let schema = json!({
+            "$schema": "https://json-schema.org/draft/2020-12/schema",
+            "allOf": [name],
+            "components": self.openapi["components"],
+        });
+        let validator = jsonschema::validator_for(&schema)
+            .unwrap_or_else(|e| panic!("the OpenAPI document's schema {name} is not valid: {e}"));
+        let problems: Vec<String> = validator
+            .iter_errors(body)
+            .map(|e| format!("{e} at {}", e.instance_path()))
+            .collect();
+        assert!(
+            problems.is_empty(),
+            "{method} {path} {status}: the answer does not fit {name}: {problems:?}\n{body}"
+        );
+        self.validated
+            .lock()
+            .unwrap()
+            .insert((method.to_string(), path.to_string(), status));
     }
 
     /// Sends one request and reads the whole answer: (status, JSON body).
@@ -67,7 +126,9 @@ impl Server {
         let _ = stream
             .write_all(head.as_bytes())
             .and_then(|()| stream.write_all(body));
-        read_answer(&mut stream)
+        let (status, answer) = read_answer(&mut stream);
+        self.check(method, path, status, &answer);
+        (status, answer)
     }
 
     fn json(&self, method: &str, path: &str, body: Value) -> (u16, Value) {
@@ -81,6 +142,28 @@ impl Server {
             libc::kill(self.child.id() as libc::pid_t, libc::SIGTERM);
         }
         self.child.wait().expect("the server exits")
+    }
+}
+
+impl Server {
+    /// Fails unless every endpoint's answers were validated: a success of each, and a
+    /// failure of each endpoint that takes a body.
+    fn assert_every_endpoint_validated(&self) {
+        let validated = self.validated.lock().unwrap();
+        for (path, methods) in self.openapi["paths"].as_object().unwrap() {
+            for method in methods.as_object().unwrap().keys() {
+                let method = method.to_ascii_uppercase();
+                let seen = |ok: bool| {
+                    validated
+                        .iter()
+                        .any(|(m, p, s)| *m == method && p == path && (*s == 200) == ok)
+                };
+                assert!(seen(true), "no success of {method} {path} was validated");
+                if method != "GET" {
+                    assert!(seen(false), "no failure of {method} {path} was validated");
+                }
+            }
+        }
     }
 }
 
@@ -162,6 +245,7 @@ fn ui_requests(server: &Server) {
                     stream.write_all(head.as_bytes()).unwrap();
                     let (got, report) = read_answer(&mut stream);
                     assert_eq!((got, first_code(&report)), (status, code.as_str()), "{name}");
+                    (method, target, got, report)
                 }));
             }
             Some(claim) if claim.starts_with("declare=") || claim.starts_with("expect=") => {
@@ -183,6 +267,7 @@ fn ui_requests(server: &Server) {
                 );
                 stream.write_all(head.as_bytes()).unwrap();
                 let (got, report) = read_answer(&mut stream);
+                server.check(method, target, got, &report);
                 assert_eq!((got, first_code(&report)), (status, code), "{name}");
             }
             Some(repeat) if repeat.starts_with("repeat=") => {
@@ -197,11 +282,10 @@ fn ui_requests(server: &Server) {
                     .block_on(async { tokio::task::spawn_blocking(|| panic!("a bug")).await })
                     .expect_err("the task panicked");
                 let answer = cellc::commands::serve::worker_failed(&failed);
-                assert_eq!(
-                    (answer.status.as_u16(), first_code(&answer.report)),
-                    (status, code),
-                    "{name}"
-                );
+                let report = serde_json::to_value(&answer.report).unwrap();
+                let got = answer.failure.status().as_u16();
+                server.check("GET", "/v1/health", got, &report);
+                assert_eq!((got, first_code(&report)), (status, code), "{name}");
             }
             _ => {
                 let (got, report) = server.call(method, target, body.as_bytes());
@@ -224,7 +308,8 @@ fn ui_requests(server: &Server) {
         Some(0)
     );
     for t in stalled {
-        t.join().unwrap();
+        let (method, target, got, report) = t.join().unwrap();
+        server.check(&method, &target, got, &report);
     }
 }
 
@@ -433,6 +518,27 @@ fn the_service_on_vito() {
             && l.contains(r#""ms":"#)),
         "{log}"
     );
+    // A name the cell lacks: a report, before any explanation.
+    let unknown = json!({"object": "bal", "to": "bin in ws_right_bin"});
+    let (status, report) = server.json("POST", "/v1/explain", unknown);
+    assert_eq!((status, first_code(&report)), (422, "R0003"), "{report}");
+    // Advice names the request's own option, not the command line's flag.
+    let hurried = json!({"object": "ball", "to": "bin in ws_right_bin",
+        "options": {"time_budget_ms": 0, "motions": false}});
+    let (status, planned) = server.json("POST", "/v1/plan", hurried);
+    assert_eq!((status, first_code(&planned)), (503, "R0006"), "{planned}");
+    let help = planned["diagnostics"][0]["help"].as_str().unwrap();
+    assert!(
+        help.contains("`time_budget_ms`") && !help.contains("--"),
+        "{help}"
+    );
+    let (status, report) = server.json(
+        "POST",
+        "/v1/tasks",
+        json!({"moves": [{"object": "bal", "to": "bin in ws_right_bin"}]}),
+    );
+    assert_eq!((status, first_code(&report)), (422, "R0003"), "{report}");
+    server.assert_every_endpoint_validated();
     assert!(server.terminate().success());
 }
 

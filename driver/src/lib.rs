@@ -11,7 +11,9 @@
 //! be verified, pruned arcs, an unreachable goal's explanation) live here, once, so that
 //! an embedder gets the answer `cellc build` gives. See [`build()`].
 
+pub mod advice;
 pub mod build;
+pub mod document;
 pub mod explain_report;
 pub mod fixes;
 pub mod fs_files;

@@ -384,3 +384,54 @@ class CellInfo:
             requests=names(d.get("requests")),
             tasks=names(d.get("tasks")),
         )
+
+
+# --- the schema these types mirror ----------------------------------------------------
+#
+# The documents are defined once, as Rust types (driver/src/document in the cellc
+# repository), and the service's OpenAPI document (`GET /v1/openapi.json`) carries their
+# schemas. Each class above mirrors one schema, field by field: `MIRRORS` names it, the
+# fields whose JSON property has another name, and the properties deliberately not kept.
+# python/tests/test_client.py holds the table to the live schema, so a field added,
+# renamed or removed in Rust fails that test until the class follows.
+
+MIRRORS: dict[type, tuple[str, dict[str, str], frozenset[str]]] = {
+    Diagnostic: ("Diagnostic", {}, frozenset({"file", "line", "column", "span", "labels"})),
+    Pose: ("Pose", {}, frozenset()),
+    Joints: ("Joints", {"names": "joints"}, frozenset()),
+    State: ("State", {}, frozenset()),
+    Trajectory: ("Trajectory", {}, frozenset()),
+    Step: ("Step", {}, frozenset()),
+    Plan: ("Plan", {}, frozenset()),
+    Placed: ("Placed", {}, frozenset()),
+    World: ("World", {}, frozenset()),
+    Move: ("Move", {}, frozenset()),
+    Run: ("Run", {}, frozenset({"version", "kind", "plans", "errors", "warnings"})),
+    Joint: ("Joint", {}, frozenset()),
+    Arm: ("Arm", {}, frozenset()),
+    EndEffector: ("EndEffector", {}, frozenset()),
+    Workspace: ("Workspace", {}, frozenset()),
+    ObjectInfo: ("Object", {}, frozenset()),
+    CellInfo: ("Cell", {}, frozenset()),
+}
+
+# Schemas with properties that no class mirrors, and how the client gives them instead.
+NOT_MIRRORED: dict[str, str] = {
+    "Report": "read through `diagnostics_of`",
+    "Label": "not kept (a diagnostic's place is for the command line)",
+    "Span": "not kept",
+    "Detour": "kept as a dict in `Plan.detours`",
+    "ArmJoints": "kept as (arm, joints) in `Trajectory.arms`",
+    "Point": "kept as (time, positions) in `Trajectory.points`",
+    "Grasp": "kept by name in `ObjectInfo`",
+    "Box3": "kept as (min, max) in `Workspace.boxes`",
+    "Health": "returned as a dict by `Client.health`",
+    "Explanation": "returned as a dict by `Client.explain`",
+    "CutEntry": "part of the explanation's dict",
+    "Suggestion": "part of the explanation's dict",
+    "Pruned": "part of the explanation's dict",
+    "MoveRequest": "written by `Client.plan`, `execute`, `explain`",
+    "TaskRequest": "written by `Client.task`",
+    "TaskMove": "written by `Client.task`",
+    "Options": "written from the methods' keyword arguments",
+}

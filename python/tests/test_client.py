@@ -136,3 +136,21 @@ def test_the_example_task_planner_clears_the_table(client):
     for name in ("ball", "cylinder"):
         assert world.objects[name].state.end_effector == "bin", out.stdout
     assert world.objects["pitcher"].state.workspace == "ws_right_table", out.stdout
+
+
+def test_types_mirror_the_service_schema(client):
+    """Every dataclass is held to the schema the service generates from its Rust types,
+    field by field, and every document schema is either mirrored or said not to be."""
+    import dataclasses
+
+    from cellc.types import MIRRORS, NOT_MIRRORED
+
+    schemas = client._call("GET", "/openapi.json")["components"]["schemas"]
+    for cls, (name, renamed, not_kept) in MIRRORS.items():
+        properties = set(schemas[name]["properties"])
+        fields = {renamed.get(f.name, f.name) for f in dataclasses.fields(cls)}
+        assert fields == properties - not_kept, (cls.__name__, name, fields ^ (properties - not_kept))
+        assert not_kept <= properties, (cls.__name__, not_kept - properties)
+    mirrored = {name for name, _, _ in MIRRORS.values()}
+    with_properties = {n for n, s in schemas.items() if "properties" in s}
+    assert with_properties == mirrored | set(NOT_MIRRORED), with_properties ^ (mirrored | set(NOT_MIRRORED))

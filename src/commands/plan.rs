@@ -1,5 +1,7 @@
 //! `cellc plan CELL_OR_ARTIFACT [--request NAME | --object O --from P --to P]`
 
+use cellc_driver::document;
+use cellc_driver::document::report::Report;
 use std::io::IsTerminal;
 use std::process::ExitCode;
 use std::sync::OnceLock;
@@ -224,13 +226,12 @@ impl Loaded {
 
     /// The JSON report of `diagnostics` (the schema of `cellc check --format json`) as a
     /// value, to embed in a plan's or run's document.
-    pub fn json_report(&self, diagnostics: &[Diagnostic]) -> serde_json::Value {
-        let text = if diagnostics.is_empty() {
-            render::json(&[], &SourceMap::new())
+    pub fn json_report(&self, diagnostics: &[Diagnostic]) -> Report {
+        if diagnostics.is_empty() {
+            Report::new(&[], &SourceMap::new())
         } else {
-            render::json(&self.shown(diagnostics), self.sources())
-        };
-        serde_json::from_str(&text).unwrap_or(serde_json::Value::Null)
+            Report::new(&self.shown(diagnostics), self.sources())
+        }
     }
 }
 
@@ -575,10 +576,8 @@ pub fn run(args: &PlanArgs) -> ExitCode {
             };
             if human {
                 print!("{}", plan_report::describe(artifact, &label, plan));
-            } else if let Ok(v) =
-                serde_json::to_value(crate::plan_json::plan(artifact, &label, plan))
-            {
-                plans.push(v);
+            } else {
+                plans.push(document::plan::Plan::of(artifact, &label, plan));
             }
         }
     }
@@ -604,16 +603,15 @@ pub fn run(args: &PlanArgs) -> ExitCode {
     if human {
         loaded.report(&diagnostics);
     } else {
-        let document = crate::plan_json::JsonRun {
-            version: crate::plan_json::VERSION,
-            kind: "plan",
+        let document = document::run::Run::new(
+            document::run::Kind::Plan,
             ok,
             plans,
-            moves: Vec::new(),
-            world: Some(crate::plan_json::world(cell, &world)),
-            report: loaded.json_report(&diagnostics),
-        };
-        println!("{}", crate::plan_json::to_text(&document));
+            Vec::new(),
+            Some(document::world::World::of(cell, &world)),
+            loaded.json_report(&diagnostics),
+        );
+        println!("{}", document.to_text());
     }
     if ok {
         ExitCode::SUCCESS

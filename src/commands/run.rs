@@ -13,8 +13,9 @@ use cellc_runtime::{Executed, Execution, ExecutionError, TaskError, TaskFailure,
 use super::job::{job, world_text, Job};
 use super::plan::{load, Loaded, PlanArgs};
 use crate::args::PlanFormat;
-use crate::plan_json::{self, JsonMove, JsonRun};
 use crate::plan_report::{codes, describe, plan_error};
+use cellc_driver::document::run::{Kind, Move, Run};
+use cellc_driver::document::world::World as WorldDocument;
 
 /// Runs the job `args` ask for; `fail_at` makes the motion of that step (1-based) of the
 /// first move fail.
@@ -53,7 +54,7 @@ pub fn run(args: &PlanArgs, fail_at: Option<usize>) -> ExitCode {
                 .to_string()
         }
     };
-    let mut done: Vec<JsonMove> = Vec::new();
+    let mut done: Vec<Move> = Vec::new();
     let mut shown = None;
     for executed in &record {
         let name = artifact.object_name(moves[executed.index].object);
@@ -110,16 +111,15 @@ pub fn run(args: &PlanArgs, fail_at: Option<usize>) -> ExitCode {
         }
         loaded.report(&diagnostics);
     } else {
-        let document = JsonRun {
-            version: plan_json::VERSION,
-            kind: "run",
+        let document = Run::new(
+            Kind::Run,
             ok,
-            plans: Vec::new(),
-            moves: done,
-            world: Some(plan_json::world(cell, &world)),
-            report: loaded.json_report(&diagnostics),
-        };
-        println!("{}", plan_json::to_text(&document));
+            Vec::new(),
+            done,
+            Some(WorldDocument::of(cell, &world)),
+            loaded.json_report(&diagnostics),
+        );
+        println!("{}", document.to_text());
     }
     if ok {
         ExitCode::SUCCESS
@@ -129,7 +129,7 @@ pub fn run(args: &PlanArgs, fail_at: Option<usize>) -> ExitCode {
 }
 
 /// One executed plan: printed (human output) and returned as its JSON record.
-fn report<'a>(loaded: &'a Loaded, executed: &Executed, label: &str) -> JsonMove<'a> {
+fn report(loaded: &Loaded, executed: &Executed, label: &str) -> Move {
     let cell = &loaded.cell;
     let artifact = cell.artifact();
     let human = loaded.format == PlanFormat::Human;
@@ -148,7 +148,7 @@ fn report<'a>(loaded: &'a Loaded, executed: &Executed, label: &str) -> JsonMove<
             println!("  {line}");
         }
     }
-    let record = plan_json::executed(artifact, executed, label);
+    let record = Move::of(artifact, executed, label);
     if let (true, Ok(run)) = (human, &executed.result) {
         print!(
             "{}",

@@ -11,6 +11,7 @@ mod cut;
 pub(crate) mod suggestions;
 pub mod words;
 
+use crate::advice::FrontEnd;
 use std::collections::BTreeSet;
 
 use cellc_lang::{Diagnostic, FileId, SourceMap, Span};
@@ -42,11 +43,21 @@ pub fn unreachable(
     u: &Unreachable,
     sources: Option<&SourceMap>,
 ) -> Diagnostic {
+    unreachable_for(FrontEnd::CommandLine, artifact, u, sources)
+}
+
+/// [`unreachable`], its advice naming `front_end`'s options.
+pub fn unreachable_for(
+    front_end: FrontEnd,
+    artifact: &Artifact,
+    u: &Unreachable,
+    sources: Option<&SourceMap>,
+) -> Diagnostic {
     let object = artifact.objects.get(u.object.index());
     let explained = cellc_runtime::explain::explain(artifact, u);
     let (mut d, labels) = match (&explained, object) {
         (Ok(explanation), Some(obj)) => {
-            let words = Words::new(artifact, obj);
+            let words = Words::new(artifact, obj).for_front_end(front_end);
             let mut message = words.summary(explanation);
             // Another object in the way is named in the message: the notes list every
             // step it blocked.
@@ -76,7 +87,7 @@ pub fn unreachable(
     let (Ok(explanation), Some(obj)) = (&explained, object) else {
         return d;
     };
-    let words = Words::new(artifact, obj);
+    let words = Words::new(artifact, obj).for_front_end(front_end);
     let cut: Vec<String> = explanation
         .cut
         .iter()
@@ -163,7 +174,7 @@ pub fn unreachable(
     // An object in the way is moved before the cell is edited.
     let help = match u.blockers().next() {
         Some((_, blocker)) => {
-            let hint = words::blocked_hint(artifact, blocker);
+            let hint = words::blocked_hint(artifact, blocker, front_end);
             if help.contains(&hint) {
                 help
             } else {

@@ -3,6 +3,7 @@
 
 use std::collections::BTreeSet;
 
+use crate::advice::{FrontEnd, PlanOption};
 use cellc_runtime::explain::{Exchange, HeldWith, Side};
 use cellc_runtime::plan::NO_MOTION;
 use cellc_schema::rules::{Adjacency, CellRules, ObjectRules};
@@ -21,9 +22,16 @@ pub struct Words<'a> {
     pub obj: &'a Object,
     rules: CellRules,
     object_rules: ObjectRules,
+    /// Whose options the advice names.
+    front_end: FrontEnd,
 }
 
 impl<'a> Words<'a> {
+    /// The same words, their advice naming `front_end`'s options.
+    pub fn for_front_end(self, front_end: FrontEnd) -> Words<'a> {
+        Words { front_end, ..self }
+    }
+
     pub fn new(art: &'a Artifact, obj: &'a Object) -> Words<'a> {
         Words {
             art,
@@ -34,6 +42,7 @@ impl<'a> Words<'a> {
                 Adjacency::Derived,
             ),
             object_rules: ObjectRules::from_artifact(art, obj),
+            front_end: FrontEnd::CommandLine,
         }
     }
 
@@ -246,15 +255,17 @@ impl<'a> Words<'a> {
                 b.replace('/', ".")
             ),
             Infeasibility::NoPlacement { detail } if detail.starts_with(NO_MOTION) => {
-                "move what blocks the motion, or the arms' home configurations, or plan again \
-                 with another `--seed`"
-                    .to_string()
+                format!(
+                    "move what blocks the motion, or the arms' home configurations, or plan \
+                     again with another {}",
+                    self.front_end.option(PlanOption::Seed)
+                )
             }
             Infeasibility::NoPlacement { .. } => format!(
                 "extend the surface into {}, or choose another resting pose",
                 self.ws(workspace)
             ),
-            Infeasibility::Blocked(blocker) => blocked_hint(self.art, blocker),
+            Infeasibility::Blocked(blocker) => blocked_hint(self.art, blocker, self.front_end),
             _ => "change the geometry so it becomes feasible".to_string(),
         }
     }
@@ -332,11 +343,12 @@ pub fn infeasibility(art: &Artifact, reason: &Infeasibility) -> String {
 }
 
 /// What to do about another object in the way.
-pub fn blocked_hint(art: &Artifact, blocker: &Blocker) -> String {
+pub fn blocked_hint(art: &Artifact, blocker: &Blocker, front_end: FrontEnd) -> String {
     format!(
-        "move {} out of the way first (a move before this one, or plan with `--clear`), or \
+        "move {} out of the way first (a move before this one, or plan with {}), or \
          choose a goal that leaves room for it",
-        q(art.object_name(blocker.by))
+        q(art.object_name(blocker.by)),
+        front_end.option(PlanOption::Clear)
     )
 }
 

@@ -1,10 +1,15 @@
 //! Errors of the service as HTTP responses: every one is the diagnostics report of
 //! `cellc check --format json` (code, message, help, notes) with a status that says
-//! whose fault it is, never plain text.
+//! whose fault it is, never plain text. The status comes from what failed (a
+//! [`Failure`], chosen where the error is made from a typed error), not from the code's
+//! text.
 
 use axum::http::StatusCode;
 use axum::response::{IntoResponse, Response};
+use cellc_driver::document::report::Report;
 use cellc_lang::{Code, Diagnostic, SourceMap};
+use cellc_runtime::plan::PlanError;
+use cellc_runtime::{ExecutionError, TaskError};
 
 /// Codes of the service: requests it cannot take.
 pub mod codes {
@@ -23,68 +28,112 @@ pub mod codes {
     pub const ALL: &[Code] = &[BAD_BODY, TOO_LARGE, NO_ENDPOINT, TIMED_OUT, INTERNAL];
 }
 
-/// The status a diagnostic's code answers with.
-pub fn status_of(code: Code) -> StatusCode {
-    match code.as_str() {
-        "S0001" | "R0008" => StatusCode::BAD_REQUEST,
-        "S0002" => StatusCode::PAYLOAD_TOO_LARGE,
-        "S0003" => StatusCode::NOT_FOUND,
-        "S0004" => StatusCode::REQUEST_TIMEOUT,
-        "S0005" => StatusCode::INTERNAL_SERVER_ERROR,
-        "R0010" => StatusCode::CONFLICT,
-        "R0006" => StatusCode::SERVICE_UNAVAILABLE,
-        // Names the cell lacks, unreachable goals, worlds that do not fit, failed
-        // executions: the request is well-formed but cannot be done in this cell.
-        _ => StatusCode::UNPROCESSABLE_ENTITY,
+/// What kind of failure a request met, which decides its HTTP status.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Failure {
+    /// The body is not what the endpoint takes (S0001; R0008 for world documents).
+    BadBody,
+    /// The body is too large (S0002).
+    TooLarge,
+    /// No endpoint has this path (S0003).
+    NoEndpoint,
+    /// The endpoint does not take this method (S0003).
+    WrongMethod,
+    /// The request or its body took too long (S0004).
+    TimedOut,
+    /// The service failed (S0005).
+    Internal,
+    /// The goal is taken or the object is absent (R0010).
+    Conflict,
+    /// The planning time budget ran out (R0006).
+    OutOfTime,
+    /// The request is well-formed but cannot be done in this cell: names the cell lacks,
+    /// unreachable goals, worlds that do not fit, failed executions.
+    CannotDo,
+}
+
+impl Failure {
+    /// The HTTP status of this failure.
+    pub fn status(self) -> StatusCode {
+        match self {
+            Failure::BadBody => StatusCode::BAD_REQUEST,
+            Failure::TooLarge => StatusCode::PAYLOAD_TOO_LARGE,
+            Failure::NoEndpoint => StatusCode::NOT_FOUND,
+            Failure::WrongMethod => StatusCode::METHOD_NOT_ALLOWED,
+            Failure::TimedOut => StatusCode::REQUEST_TIMEOUT,
+            Failure::Internal => StatusCode::INTERNAL_SERVER_ERROR,
+            Failure::Conflict => StatusCode::CONFLICT,
+            Failure::OutOfTime => StatusCode::SERVICE_UNAVAILABLE,
+            Failure::CannotDo => StatusCode::UNPROCESSABLE_ENTITY,
+        }
+    }
+
+    /// The failure of a planning error.
+    pub fn of_plan(e: &PlanError) -> Failure {
+        match e {
+            PlanError::TimeBudget { .. } => Failure::OutOfTime,
+            PlanError::GoalOccupied { .. } | PlanError::Absent { .. } => Failure::Conflict,
+            _ => Failure::CannotDo,
+        }
+    }
+
+    /// The failure of a task's move (a replan's failure is its planning error's).
+    pub fn of_task(e: &TaskError) -> Failure {
+        match e {
+            TaskError::Plan(e) | TaskError::Execute(ExecutionError::Replan(e)) => {
+                Failure::of_plan(e)
+            }
+            _ => Failure::CannotDo,
+        }
     }
 }
 
-/// A request that failed: its diagnostic and the sources its labels point into.
+/// A request that failed: what failed, and its diagnostics report.
 pub struct ApiError {
-    /// The status (by default the code's, [`status_of`]).
-    pub status: StatusCode,
+    /// What failed (its status).
+    pub failure: Failure,
     /// The diagnostics report.
-    pub report: serde_json::Value,
+    pub report: Report,
 }
 
 impl ApiError {
     /// An error of the service itself (no source labels).
-    pub fn new(code: Code, message: impl Into<String>, help: impl Into<String>) -> ApiError {
+    pub fn new(
+        failure: Failure,
+        code: Code,
+        message: impl Into<String>,
+        help: impl Into<String>,
+    ) -> ApiError {
         ApiError::from_diagnostic(
+            failure,
             &Diagnostic::error(code, message).help(help),
             &SourceMap::new(),
         )
     }
 
     /// A diagnostic rendered against `sources`.
-    pub fn from_diagnostic(d: &Diagnostic, sources: &SourceMap) -> ApiError {
-        ApiError::with_report(d.code, report(std::slice::from_ref(d), sources))
-    }
-
-    /// A report already rendered, answered with `code`'s status.
-    pub fn with_report(code: Code, report: serde_json::Value) -> ApiError {
+    pub fn from_diagnostic(failure: Failure, d: &Diagnostic, sources: &SourceMap) -> ApiError {
         ApiError {
-            status: status_of(code),
-            report,
+            failure,
+            report: Report::new(std::slice::from_ref(d), sources),
         }
     }
 }
 
-/// The diagnostics report of `diagnostics` as a JSON value.
-pub fn report(diagnostics: &[Diagnostic], sources: &SourceMap) -> serde_json::Value {
-    serde_json::from_str(&crate::render::json(diagnostics, sources))
-        .unwrap_or(serde_json::Value::Null)
-}
-
 impl IntoResponse for ApiError {
     fn into_response(self) -> Response {
-        (self.status, axum::Json(self.report)).into_response()
+        (self.failure.status(), axum::Json(self.report)).into_response()
     }
 }
 
 /// The answer to a path no endpoint has.
 pub fn no_endpoint(method: &str, path: &str, allowed: bool) -> ApiError {
-    let mut e = ApiError::new(
+    ApiError::new(
+        if allowed {
+            Failure::WrongMethod
+        } else {
+            Failure::NoEndpoint
+        },
         codes::NO_ENDPOINT,
         if allowed {
             format!("`{path}` does not take {method}")
@@ -92,16 +141,13 @@ pub fn no_endpoint(method: &str, path: &str, allowed: bool) -> ApiError {
             format!("no endpoint `{}`", crate::render::escape(path))
         },
         "the endpoints are listed in GET /v1/openapi.json (docs/service.md)",
-    );
-    if allowed {
-        e.status = StatusCode::METHOD_NOT_ALLOWED;
-    }
-    e
+    )
 }
 
 /// S0005: a planning worker stopped without an answer (it panicked).
 pub fn worker_failed(e: &tokio::task::JoinError) -> ApiError {
     ApiError::new(
+        Failure::Internal,
         codes::INTERNAL,
         format!(
             "the service failed on this request: {}",
@@ -109,4 +155,20 @@ pub fn worker_failed(e: &tokio::task::JoinError) -> ApiError {
         ),
         "send it again; if it fails again, report it with the request",
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn failures_of_planning_answer_with_their_status() {
+        let budget = PlanError::TimeBudget { searches: 3 };
+        assert_eq!(
+            Failure::of_plan(&budget).status(),
+            StatusCode::SERVICE_UNAVAILABLE
+        );
+        let replan = TaskError::Execute(ExecutionError::Replan(budget));
+        assert_eq!(Failure::of_task(&replan), Failure::OutOfTime);
+    }
 }

@@ -9,12 +9,14 @@ use cellc_lang::Diagnostic;
 use cellc_runtime::plan::Goal;
 use cellc_runtime::{ExecutionError, ObjectId, TaskError, TaskOptions, World};
 
+use super::errors::Failure;
 use super::routes::{
-    blocking, document, locate, plan_error, MoveBody, OptionsBody, Shared, TaskBody,
+    blocking, document, locate, plan_error, task_options, MoveBody, OptionsBody, Shared, TaskBody,
 };
 use super::{read_json, Service, MAX_BODY};
-use crate::plan_json::{self, JsonMove, JsonRun};
 use crate::plan_report::codes;
+use cellc_driver::document::run::{Kind, Move, Run};
+use cellc_driver::document::world::World as WorldDocument;
 
 /// `POST /v1/execute`: plans and executes a move in the simulator, the world updated.
 pub async fn execute(State(service): Shared, body: Body) -> Response {
@@ -30,7 +32,7 @@ pub async fn execute(State(service): Shared, body: Body) -> Response {
             Ok(l) => l,
             Err(e) => return e.into_response(),
         };
-        let options = body.options.task(service, cancel);
+        let options = task_options(&body.options, service, cancel);
         run_moves(
             service,
             &mut world,
@@ -63,7 +65,7 @@ pub async fn tasks(State(service): Shared, body: Body) -> Response {
                 Err(e) => return e.into_response(),
             }
         }
-        let options = body.options.task(service, cancel);
+        let options = task_options(&body.options, service, cancel);
         let start = world.clone();
         run_moves(service, &mut world, start, &moves, &options)
     })
@@ -85,7 +87,7 @@ fn run_moves(
     let run = cell.run_task(&mut simulated, moves, options);
     *world = simulated;
     let several = moves.len() > 1;
-    let done: Vec<JsonMove> = run
+    let done: Vec<Move> = run
         .record
         .iter()
         .map(|executed| {
@@ -95,7 +97,7 @@ fn run_moves(
                 None if several => format!("move {} of {}", executed.index + 1, moves.len()),
                 None => "request".to_string(),
             };
-            plan_json::executed(service.loaded.cell.artifact(), executed, &label)
+            Move::of(artifact, executed, &label)
         })
         .collect();
     let diagnostics: Vec<Diagnostic> = run
@@ -118,16 +120,18 @@ fn run_moves(
         })
         .collect();
     document(
-        JsonRun {
-            version: plan_json::VERSION,
-            kind: "run",
-            ok: diagnostics.is_empty(),
-            plans: Vec::new(),
-            moves: done,
-            world: Some(plan_json::world(cell, world)),
-            report: service.loaded.json_report(&diagnostics),
-        },
-        &diagnostics,
+        Run::new(
+            Kind::Run,
+            diagnostics.is_empty(),
+            Vec::new(),
+            done,
+            Some(WorldDocument::of(cell, world)),
+            service.loaded.json_report(&diagnostics),
+        ),
+        run.failure
+            .iter()
+            .next()
+            .map(|f| Failure::of_task(&f.error)),
     )
 }
 

@@ -8,7 +8,6 @@
 //! reports. HTTP/1.1 only, on loopback unless `--addr` says otherwise; every error is the
 //! diagnostics report (docs/service.md).
 
-mod cell_json;
 mod errors;
 mod execute;
 mod openapi;
@@ -31,8 +30,8 @@ use serde::de::DeserializeOwned;
 
 use super::plan::{load, LoadArgs, Loaded};
 use crate::args::PlanFormat;
-use errors::ApiError;
 pub use errors::{codes, worker_failed};
+use errors::{ApiError, Failure};
 
 /// Largest body of a planning request.
 const MAX_BODY: usize = 1 << 20;
@@ -246,6 +245,7 @@ async fn time_and_log(request: Request, next: Next) -> Response {
     let response = match tokio::time::timeout(REQUEST_TIMEOUT, next.run(request)).await {
         Ok(r) => r,
         Err(_) => ApiError::new(
+            Failure::TimedOut,
             codes::TIMED_OUT,
             format!(
                 "the request took longer than {} s",
@@ -299,6 +299,7 @@ async fn refuse_oversize(request: Request, next: Next) -> Response {
 fn too_large(limit: usize, declared: Option<u128>) -> ApiError {
     let size = declared.map_or(String::new(), |d| format!(" ({d} bytes declared)"));
     ApiError::new(
+        Failure::TooLarge,
         codes::TOO_LARGE,
         format!("the body is larger than this endpoint's {limit} bytes{size}"),
         "send a smaller body: planning requests take at most 1 MiB, world documents 4 MiB",
@@ -315,6 +316,7 @@ async fn read_json<T: DeserializeOwned>(body: Body, limit: usize) -> Result<T, A
 async fn read_body(body: Body, limit: usize) -> Result<axum::body::Bytes, ApiError> {
     match tokio::time::timeout(BODY_TIMEOUT, axum::body::to_bytes(body, limit)).await {
         Err(_) => Err(ApiError::new(
+            Failure::TimedOut,
             codes::TIMED_OUT,
             format!(
                 "the body did not arrive within {} s",
@@ -347,5 +349,5 @@ fn bad_body(detail: &str) -> ApiError {
     )
     .note(crate::render::escape(detail).into_owned())
     .help("send JSON of the endpoint's schema (GET /v1/openapi.json, docs/service.md)");
-    ApiError::from_diagnostic(&d, &cellc_lang::SourceMap::new())
+    ApiError::from_diagnostic(Failure::BadBody, &d, &cellc_lang::SourceMap::new())
 }

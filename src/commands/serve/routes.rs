@@ -14,53 +14,21 @@ use cellc_runtime::plan::{Goal, GoalByName, PlanError, PlanOptions};
 use cellc_runtime::{ObjectId, TaskError, TaskOptions, World};
 use cellc_schema::world::WorldDocumentError;
 use cellc_schema::WorldDocument;
-use serde::Deserialize;
 
-use super::errors::{status_of, ApiError};
+use super::errors::{ApiError, Failure};
 use super::{read_body, read_json, Service, MAX_BODY, MAX_WORLD};
-use crate::plan_json::{self, JsonRun};
 use crate::plan_report::codes;
+use cellc_driver::advice::FrontEnd;
+use cellc_driver::document::explain::{Explained, Explanation};
+use cellc_driver::document::plan::Plan as PlanDocument;
+use cellc_driver::document::run::{Kind, Run};
+use cellc_driver::document::world::World as WorldAnswer;
 
 pub(super) type Shared = State<Arc<Service>>;
 
-/// A move request: the object, where it is (default: where the world has it) and where
-/// it must go, as `cellc plan --from/--to` write placements.
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct MoveBody {
-    pub(super) object: String,
-    pub(super) from: Option<String>,
-    pub(super) to: String,
-    #[serde(default)]
-    pub(super) options: OptionsBody,
-}
-
-/// A task: moves in order.
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct TaskBody {
-    pub(super) moves: Vec<TaskMove>,
-    #[serde(default)]
-    pub(super) options: OptionsBody,
-}
-
-/// One move of a task.
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct TaskMove {
-    pub(super) object: String,
-    pub(super) to: String,
-}
-
-/// Planning options; every field may be left out.
-#[derive(Deserialize, Default)]
-#[serde(deny_unknown_fields)]
-pub struct OptionsBody {
-    seed: Option<u64>,
-    motions: Option<bool>,
-    time_budget_ms: Option<u64>,
-    clear: Option<bool>,
-}
+pub use cellc_driver::document::cell::{
+    MoveRequest as MoveBody, Options as OptionsBody, TaskRequest as TaskBody,
+};
 
 /// Sets a request's cancel flag when the request is dropped (its client went away or
 /// it timed out), so that a plan nobody waits for stops.
@@ -72,22 +40,27 @@ impl Drop for CancelOnDrop {
     }
 }
 
-impl OptionsBody {
-    pub(super) fn task(&self, service: &Service, cancel: &Arc<AtomicBool>) -> TaskOptions {
-        let budget = self
+/// A request's options as the runtime takes them.
+pub(super) fn task_options(
+    body: &OptionsBody,
+    service: &Service,
+    cancel: &Arc<AtomicBool>,
+) -> TaskOptions {
+    {
+        let budget = body
             .time_budget_ms
             .map(std::time::Duration::from_millis)
             .unwrap_or(super::DEFAULT_BUDGET)
             .min(super::MAX_BUDGET);
         TaskOptions {
             plan: PlanOptions {
-                seed: self.seed.unwrap_or(service.seed),
-                motions: self.motions.unwrap_or(true),
+                seed: body.seed.unwrap_or(service.seed),
+                motions: body.motions.unwrap_or(true),
                 time_budget: Some(budget),
                 cancel: Some(cancel.clone()),
                 ..PlanOptions::default()
             },
-            clear: self.clear.unwrap_or(false),
+            clear: body.clear.unwrap_or(false),
             ..TaskOptions::default()
         }
     }
@@ -107,17 +80,20 @@ where
 
 /// `GET /v1/health`.
 pub async fn health(State(service): Shared) -> Response {
-    Json(serde_json::json!({
-        "status": "ok",
-        "cell": service.loaded.cell.artifact().cell,
-        "version": env!("CARGO_PKG_VERSION"),
-    }))
+    Json(cellc_driver::document::cell::Health {
+        status: "ok".to_string(),
+        cell: service.loaded.cell.artifact().cell.clone(),
+        version: env!("CARGO_PKG_VERSION").to_string(),
+    })
     .into_response()
 }
 
 /// `GET /v1/cell`.
 pub async fn cell(State(service): Shared) -> Response {
-    Json(super::cell_json::cell(service.loaded.cell.artifact())).into_response()
+    Json(cellc_driver::document::cell::Cell::of(
+        service.loaded.cell.artifact(),
+    ))
+    .into_response()
 }
 
 /// `GET /v1/openapi.json`.
@@ -131,7 +107,7 @@ pub async fn openapi() -> Response {
 pub async fn get_world(State(service): Shared) -> Response {
     blocking(service, |service, _| {
         let world = service.world_now();
-        Json(plan_json::world(&service.loaded.cell, &world)).into_response()
+        Json(WorldAnswer::of(&service.loaded.cell, &world)).into_response()
     })
     .await
 }
@@ -143,22 +119,24 @@ pub async fn put_world(State(service): Shared, body: Body) -> Response {
         Err(e) => return e.into_response(),
     };
     blocking(service, move |service, _| {
-        let fail = |d: Diagnostic| ApiError::from_diagnostic(&d, service.loaded.sources());
+        let fail = |failure, d: Diagnostic| {
+            ApiError::from_diagnostic(failure, &d, service.loaded.sources())
+        };
         let document = match WorldDocument::from_json(&bytes) {
             Ok(d) => d,
-            Err(e) => return fail(document_error(e)).into_response(),
+            Err(e) => return fail(Failure::BadBody, document_error(e)).into_response(),
         };
         let cell = &service.loaded.cell;
         match cell.world(&document, &PlanOptions::default()) {
             Ok(world) => {
-                let json = serde_json::to_value(plan_json::world(cell, &world));
+                let answer = WorldAnswer::of(cell, &world);
                 *service.lock_world() = world;
-                Json(json.unwrap_or_default()).into_response()
+                Json(answer).into_response()
             }
-            Err(e) => fail(crate::world_report::world_diagnostic(
-                &e,
-                "the world document",
-            ))
+            Err(e) => fail(
+                Failure::CannotDo,
+                crate::world_report::world_diagnostic(&e, "the world document"),
+            )
             .into_response(),
         }
     })
@@ -195,13 +173,17 @@ pub(super) fn plan_error(
     span: Option<u32>,
     sources: Option<&cellc_lang::SourceMap>,
 ) -> Diagnostic {
-    let mut d = crate::plan_report::plan_error(artifact, error, span, sources);
-    if let Some(help) = &mut d.help {
-        *help = help
-            .replace("`--time-budget`", "`time_budget_ms`")
-            .replace("`--clear`", "`\"clear\": true`");
-    }
-    d
+    crate::plan_report::plan_error_for(FrontEnd::Service, artifact, error, span, sources)
+}
+
+/// A planning failure as the service answers it.
+fn plan_failure(service: &Service, error: &PlanError) -> ApiError {
+    let artifact = service.loaded.cell.artifact();
+    ApiError::from_diagnostic(
+        Failure::of_plan(error),
+        &plan_error(artifact, error, None, Some(service.loaded.sources())),
+        service.loaded.sources(),
+    )
 }
 
 /// A move located in the cell and the world it starts in.
@@ -221,6 +203,7 @@ pub(super) fn locate(
     let artifact = cell.artifact();
     let locate_error = |e| {
         ApiError::from_diagnostic(
+            Failure::CannotDo,
             &plan_error(artifact, &PlanError::Locate(e), None, None),
             service.loaded.sources(),
         )
@@ -240,6 +223,7 @@ pub(super) fn locate(
                 .map_err(locate_error)?;
             let world = cell.request_world(world, &request).map_err(|e| {
                 ApiError::from_diagnostic(
+                    Failure::of_plan(&e),
                     &plan_error(artifact, &e, None, None),
                     service.loaded.sources(),
                 )
@@ -267,7 +251,7 @@ pub(super) fn locate(
 fn placement(text: &str, what: &str) -> Result<cellc_runtime::PlacementByName, ApiError> {
     super::super::plan::placement_from_text(text, what).map_err(|failure| {
         let (d, sources) = *failure;
-        ApiError::from_diagnostic(&d, &sources)
+        ApiError::from_diagnostic(Failure::CannotDo, &d, &sources)
     })
 }
 
@@ -283,7 +267,7 @@ pub async fn plan(State(service): Shared, body: Body) -> Response {
             Ok(l) => l,
             Err(e) => return e.into_response(),
         };
-        let options = body.options.task(service, cancel);
+        let options = task_options(&body.options, service, cancel);
         let moves = [(located.object, located.goal)];
         let planned = service
             .loaded
@@ -305,9 +289,9 @@ fn plan_response(service: &Service, planned: &cellc_runtime::TaskPlans) -> Respo
         };
         for plan in clearing {
             let label = format!("clearing for {}", artifact.object_name(own.object));
-            plans.extend(serde_json::to_value(plan_json::plan(artifact, &label, plan)).ok());
+            plans.push(PlanDocument::of(artifact, &label, plan));
         }
-        plans.extend(serde_json::to_value(plan_json::plan(artifact, "request", own)).ok());
+        plans.push(PlanDocument::of(artifact, "request", own));
     }
     let diagnostics: Vec<Diagnostic> = planned
         .failure
@@ -318,28 +302,27 @@ fn plan_response(service: &Service, planned: &cellc_runtime::TaskPlans) -> Respo
         })
         .collect();
     document(
-        JsonRun {
-            version: plan_json::VERSION,
-            kind: "plan",
-            ok: diagnostics.is_empty(),
+        Run::new(
+            Kind::Plan,
+            diagnostics.is_empty(),
             plans,
-            moves: Vec::new(),
-            world: Some(plan_json::world(cell, &planned.world)),
-            report: service.loaded.json_report(&diagnostics),
-        },
-        &diagnostics,
+            Vec::new(),
+            Some(WorldAnswer::of(cell, &planned.world)),
+            service.loaded.json_report(&diagnostics),
+        ),
+        planned
+            .failure
+            .iter()
+            .next()
+            .map(|f| Failure::of_task(&f.error)),
     )
 }
 
-/// A plan or run document, answered 200 when it is ok and with its first error's
+/// A plan or run document, answered 200 when nothing failed and with its failure's
 /// status otherwise.
-pub(super) fn document(document: JsonRun, diagnostics: &[Diagnostic]) -> Response {
-    let status = diagnostics
-        .first()
-        .map_or(StatusCode::OK, |d| status_of(d.code));
-    let value: serde_json::Value =
-        serde_json::from_str(&plan_json::to_text(&document)).unwrap_or_default();
-    (status, Json(value)).into_response()
+pub(super) fn document(document: Run, failure: Option<Failure>) -> Response {
+    let status = failure.map_or(StatusCode::OK, Failure::status);
+    (status, Json(document)).into_response()
 }
 
 /// `POST /v1/explain`: why a move has no plan, or the plan when it has one.
@@ -354,14 +337,14 @@ pub async fn explain(State(service): Shared, body: Body) -> Response {
             Ok(l) => l,
             Err(e) => return e.into_response(),
         };
-        let options = body.options.task(service, cancel).plan;
+        let options = task_options(&body.options, service, cancel).plan;
         let cell = &service.loaded.cell;
         let artifact = cell.artifact();
         match cell.plan_in(&located.world, located.object, &located.goal, &options) {
-            Ok(plan) => Json(serde_json::json!({
-                "reachable": true,
-                "plan": plan_json::plan(artifact, "request", &plan),
-            }))
+            Ok(plan) => Json(Explained::Reachable {
+                reachable: true,
+                plan: PlanDocument::of(artifact, "request", &plan),
+            })
             .into_response(),
             Err(PlanError::Unreachable(u)) => {
                 let d = plan_error(
@@ -373,19 +356,15 @@ pub async fn explain(State(service): Shared, body: Body) -> Response {
                 let explanation = cell
                     .explain(&u)
                     .ok()
-                    .map(|e| super::cell_json::explanation(artifact, &e));
-                Json(serde_json::json!({
-                    "reachable": false,
-                    "explanation": explanation,
-                    "diagnostic": service.loaded.json_report(&[d]),
-                }))
+                    .and_then(|e| Explanation::of(artifact, &e, FrontEnd::Service));
+                Json(Explained::Unreachable {
+                    reachable: false,
+                    explanation,
+                    diagnostic: service.loaded.json_report(&[d]),
+                })
                 .into_response()
             }
-            Err(e) => ApiError::from_diagnostic(
-                &plan_error(artifact, &e, None, Some(service.loaded.sources())),
-                service.loaded.sources(),
-            )
-            .into_response(),
+            Err(e) => plan_failure(service, &e).into_response(),
         }
     })
     .await

@@ -3,13 +3,14 @@
 //! `cellc plan --format json` (`--plan FILE`, untrusted: every name is looked up in the
 //! cell, every joint vector checked against its arm, every number finite and bounded).
 
+use cellc_driver::document::plan::{Plan as PlanDoc, Pose as PoseDoc, StepCommand};
+use cellc_driver::document::run::{Kind, Run};
 use cellc_lang::Diagnostic;
 use cellc_runtime::math::{Iso, Quat, Vec3};
 use cellc_runtime::plan::{Command, Plan};
 use cellc_runtime::scene::{Holder, Scene};
 use cellc_runtime::{Files, World};
 use cellc_schema::{Artifact, EndEffectorId, GraspId, Node, ObjectId, WorkspaceId};
-use serde::Deserialize;
 
 use super::timeline::{PlanIn, Start, StepIn, Verb, Whereabouts};
 use cellc_driver::fs_files::FsFiles;
@@ -152,68 +153,6 @@ pub fn from_plan(artifact: &Artifact, label: &str, plan: &Plan) -> PlanIn {
     }
 }
 
-/// A plan document as `cellc plan --format json` writes it (only what is drawn).
-#[derive(Deserialize)]
-struct DocIn {
-    kind: String,
-    plans: Vec<PlanDoc>,
-}
-
-#[derive(Deserialize)]
-struct PlanDoc {
-    request: String,
-    object: String,
-    states: Vec<StateDoc>,
-    steps: Vec<StepDoc>,
-}
-
-#[derive(Deserialize)]
-struct StateDoc {
-    end_effector: String,
-    grasp: String,
-    workspace: String,
-}
-
-#[derive(Deserialize)]
-struct PoseDoc {
-    position: [f64; 3],
-    rotation: [f64; 4],
-}
-
-#[derive(Deserialize)]
-struct JointsDoc {
-    arm: String,
-    positions: Vec<f64>,
-}
-
-#[derive(Deserialize)]
-struct ArmDoc {
-    arm: String,
-}
-
-#[derive(Deserialize)]
-struct PointDoc {
-    time: f64,
-    positions: Vec<f64>,
-}
-
-#[derive(Deserialize)]
-struct MotionDoc {
-    arms: Vec<ArmDoc>,
-    points: Vec<PointDoc>,
-}
-
-#[derive(Deserialize)]
-struct StepDoc {
-    command: String,
-    end_effector: String,
-    grasp: Option<String>,
-    workspace: String,
-    object: Option<PoseDoc>,
-    configurations: Vec<JointsDoc>,
-    motion: Option<MotionDoc>,
-}
-
 /// Why a plan document is refused, as an R0011 diagnostic.
 fn refused(path: &str, what: String) -> Diagnostic {
     Diagnostic::error(
@@ -235,7 +174,7 @@ pub fn read(
     let bytes = FsFiles
         .read_at_most(path, MAX_PLAN_BYTES)
         .map_err(|e| refused(path, format!("cannot be read: {e}")))?;
-    let doc: DocIn = serde_json::from_slice(&bytes).map_err(|e| {
+    let doc: Run = serde_json::from_slice(&bytes).map_err(|e| {
         refused(
             path,
             format!(
@@ -244,13 +183,10 @@ pub fn read(
             ),
         )
     })?;
-    if doc.kind != "plan" {
+    if doc.kind != Kind::Plan {
         return Err(refused(
             path,
-            format!(
-                "a document of kind `{}`, not `plan`",
-                crate::render::escape(&doc.kind)
-            ),
+            "a document of kind `run`, not `plan`".to_string(),
         ));
     }
     if doc.plans.is_empty() {
@@ -360,16 +296,10 @@ fn plan_of(
     let mut start_arms: Vec<Option<Vec<f64>>> = vec![None; artifact.end_effectors.len()];
     for (k, s) in p.steps.iter().enumerate() {
         let at = |e: String| format!("step {}: {e}", k + 1);
-        let verb = match s.command.as_str() {
-            "move" => Verb::Move,
-            "grasp" => Verb::Grasp,
-            "ungrasp" => Verb::Ungrasp,
-            other => {
-                return Err(at(format!(
-                    "command `{}` is none of move, grasp, ungrasp",
-                    crate::render::escape(other)
-                )))
-            }
+        let verb = match s.command {
+            StepCommand::Move => Verb::Move,
+            StepCommand::Grasp => Verb::Grasp,
+            StepCommand::Ungrasp => Verb::Ungrasp,
         };
         let holder = ee_of(artifact, &s.end_effector).map_err(at)?;
         let grasp = match &s.grasp {
