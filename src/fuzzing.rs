@@ -1,5 +1,5 @@
 //! The bodies of the fuzz targets (`fuzz/fuzz_targets/*.rs`), here so that `cargo test`
-//! replays every committed corpus entry through exactly the code the fuzzer ran
+//! replays every committed seed and finding through exactly the code the fuzzer ran
 //! (`tests/fuzz_corpus.rs`). Each function takes arbitrary bytes and must return without
 //! panicking; a violated property (a formatter that is not idempotent, a validated
 //! artifact the planner cannot index) panics on purpose, which the fuzzer reports.

@@ -73,36 +73,43 @@ fn certified_segments_are_free_at_any_resolution() {
     );
 }
 
-proptest::proptest! {
-    // Regressions are kept next to this file (`soundness.proptest-regressions`), not under
-    // `tests/proptest-regressions/` where proptest would put them, having found `main.rs`.
-    #![proptest_config(proptest::prelude::ProptestConfig {
-        cases: 8,
-        failure_persistence: Some(Box::new(
-            proptest::test_runner::FileFailurePersistence::WithSource("proptest-regressions"),
-        )),
-        ..Default::default()
-    })]
+/// The seeds of `random_motions_are_valid`: twelve fixed ones, and 665296, which proptest
+/// once shrank a failure to (it was run as a property test before; the cases are fixed now
+/// so the test can say how many of them planned).
+const MOTION_SEEDS: [u64; 13] = [0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 665_296];
 
-    /// Random collision-free start and goal around the pillar: every trajectory point is
-    /// within limits and collision-free, and so is every configuration between them at
-    /// the planner's resolution. Random pairs can be hard (an arm folded around the
-    /// pillar): not finding a path in time is allowed, a wrong path is not.
-    #[test]
-    fn random_motions_are_valid(seed in 0u64..1_000_000) {
-        let scene = scene(&[ARM], &[PILLAR]);
-        let Holder::Arm { robot, .. } = &scene.holders[0] else {
-            panic!("end-effector 0 is an arm");
-        };
-        let robot = &scene.robots[*robot];
+/// How many of `MOTION_SEEDS` plan (measured with this planner and its default options).
+const PLANNED: usize = 13;
+
+/// Random collision-free start and goal around the pillar: every trajectory point is
+/// within limits and collision-free, and so is every configuration between them at the
+/// planner's resolution. Random pairs can be hard (an arm folded around the pillar), so
+/// the planner may answer that it found no path, never with a wrong one; but the cases
+/// must plan as many as they do today (all of them), or the checks would run on fewer
+/// trajectories, down to none, and still pass.
+#[test]
+fn random_motions_are_valid() {
+    let scene = scene(&[ARM], &[PILLAR]);
+    let Holder::Arm { robot, .. } = &scene.holders[0] else {
+        panic!("end-effector 0 is an arm");
+    };
+    let robot = &scene.robots[*robot];
+    let mut scratch = SceneScratch::default();
+    let free = |q: &[f64], scratch: &mut SceneScratch| {
+        scene
+            .collision(
+                &[(EndEffectorId(0), q)],
+                ObjectId(0),
+                ObjectPlacement::Absent,
+                &[],
+                scratch,
+            )
+            .expect("the query is well formed")
+            .is_none()
+    };
+    let mut planned = Vec::new();
+    for seed in MOTION_SEEDS {
         let mut rng = ChaCha8Rng::seed_from_u64(seed);
-        let mut scratch = SceneScratch::default();
-        let free = |q: &[f64], scratch: &mut SceneScratch| {
-            scene
-                .collision(&[(EndEffectorId(0), q)], ObjectId(0), ObjectPlacement::Absent, &[], scratch)
-                .expect("the query is well formed")
-                .is_none()
-        };
         let mut random_free = || loop {
             let mut q = vec![0.0; 7];
             robot.sample_configuration(&mut rng, &mut q);
@@ -116,12 +123,12 @@ proptest::proptest! {
         let mut rng = ChaCha8Rng::seed_from_u64(seed);
         let t = match p.solve(&options, &mut rng, &Termination::never()) {
             Ok(t) => t,
-            Err(MotionError::NoPath { .. }) => return Ok(()),
-            Err(e) => panic!("{e}"),
+            Err(MotionError::NoPath { .. }) => continue,
+            Err(e) => panic!("seed {seed}: {e}"),
         };
         for (time, q) in &t.points {
-            proptest::prop_assert!(robot.within_limits(q), "at {time} s: {q:?}");
-            proptest::prop_assert!(free(q, &mut scratch), "at {time} s: {q:?}");
+            assert!(robot.within_limits(q), "seed {seed}, at {time} s: {q:?}");
+            assert!(free(q, &mut scratch), "seed {seed}, at {time} s: {q:?}");
         }
         let checked = check_trajectory(
             &scene,
@@ -135,6 +142,15 @@ proptest::proptest! {
             options.collision_resolution,
             &mut scratch,
         );
-        proptest::prop_assert_eq!(checked, Ok(()));
+        assert_eq!(checked, Ok(()), "seed {seed}");
+        planned.push(seed);
     }
+    // How many of the fixed cases plan today: fewer means the planner gives up on pairs it
+    // used to solve, and the checks above ran on fewer trajectories.
+    assert!(
+        planned.len() >= PLANNED,
+        "{} of {} planned: {planned:?}",
+        planned.len(),
+        MOTION_SEEDS.len()
+    );
 }
