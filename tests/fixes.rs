@@ -14,8 +14,7 @@ use std::collections::BTreeMap;
 
 use cellc_driver::fixes::{self, SourceEdit};
 use cellc_driver::fs_files::FsFiles;
-use cellc_lang::ast::needs_quotes;
-use cellc_lang::phrases::RESERVED;
+use cellc_lang::written_name as name;
 use cellc_runtime::plan::{PlanError, PlanOptions};
 use cellc_runtime::Cell;
 use cellc_schema::{FileError, Files, MemoryFiles};
@@ -100,15 +99,6 @@ fn check(files: &dyn Files, path: &str) -> usize {
         );
     }
     explanation.suggestions.len()
-}
-
-/// A name as the language writes it.
-fn name(text: &str) -> String {
-    if needs_quotes(text) || RESERVED.contains(&text) {
-        format!("`{text}`")
-    } else {
-        text.to_string()
-    }
 }
 
 /// A cell description and its request as source, when the language can say it: no hand

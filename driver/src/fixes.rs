@@ -12,7 +12,7 @@
 
 use cellc_compiler::units::{Eval, FileUnits};
 use cellc_lang::ast;
-use cellc_lang::{FileId, SourceMap, Span};
+use cellc_lang::{written_name, FileId, SourceMap, Span};
 use cellc_runtime::explain::{BodyName, Change};
 use cellc_schema::{Aabb, Artifact, ObjectId};
 
@@ -300,16 +300,6 @@ impl<'a> Places<'a> {
                 same.then_some((file, written.span, units))
             })
         })
-    }
-}
-
-/// A name as the language writes it: quoted when it is not a plain identifier or is a
-/// reserved word.
-pub fn written_name(text: &str) -> String {
-    if ast::needs_quotes(text) || cellc_lang::phrases::RESERVED.contains(&text) {
-        format!("`{text}`")
-    } else {
-        text.to_string()
     }
 }
 

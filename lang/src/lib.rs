@@ -9,6 +9,7 @@ pub mod ast;
 pub mod diagnostic;
 pub mod format;
 mod grammar;
+pub mod keywords;
 mod parser;
 pub mod phrases;
 pub mod screen;
@@ -16,6 +17,7 @@ pub mod span;
 
 pub use diagnostic::{Code, Diagnostic, Label, Severity};
 pub use format::format;
+pub use keywords::written_name;
 pub use parser::{parse_placement, Parsed};
 pub use screen::{not_a_cell, NotACell, MAX_NESTING};
 pub use span::{FileId, SourceFile, SourceMap, Span};

@@ -10,6 +10,7 @@ use pest::error::{Error, ErrorVariant, InputLocation};
 
 use crate::diagnostic::{did_you_mean, Diagnostic};
 use crate::grammar::Rule;
+use crate::keywords::{is_reserved, Keyword, ITEM_KEYWORDS, MEMBER_KEYWORDS};
 use crate::span::{FileId, Span};
 
 /// Codes of the syntax phase.
@@ -26,73 +27,6 @@ pub mod codes {
     /// Every code of this phase.
     pub const ALL: &[Code] = &[SYNTAX, TOO_DEEP, INTEGER_TOO_LARGE, CONTROL_CHARACTER];
 }
-
-/// Item keywords: when pest expected several of these, the message says "an item" rather
-/// than listing them all.
-const ITEM_STARTS: &[Rule] = &[
-    Rule::kw_units,
-    Rule::kw_weights,
-    Rule::kw_include,
-    Rule::kw_package,
-    Rule::kw_workspaces,
-    Rule::kw_workspace,
-    Rule::kw_adjacent,
-    Rule::kw_fixed,
-    Rule::kw_movable,
-    Rule::kw_hand,
-    Rule::kw_support,
-    Rule::kw_robot,
-    Rule::kw_arm,
-    Rule::kw_surface,
-    Rule::kw_reach,
-    Rule::kw_object,
-    Rule::kw_expect,
-    Rule::kw_allow,
-    Rule::kw_request,
-    Rule::kw_obstacle,
-    Rule::kw_world,
-    Rule::kw_task,
-];
-
-const MEMBER_STARTS: &[Rule] = &[
-    Rule::kw_shape,
-    Rule::kw_symmetry,
-    Rule::kw_grasp,
-    Rule::kw_rest,
-    Rule::kw_transition,
-];
-
-/// Words that cannot be plain names (they start items and object members); the grammar's
-/// `reserved` rule lists the same words.
-pub const RESERVED: &[&str] = &[
-    "units",
-    "weights",
-    "include",
-    "package",
-    "workspaces",
-    "workspace",
-    "adjacent",
-    "fixed",
-    "movable",
-    "hand",
-    "support",
-    "robot",
-    "arm",
-    "surface",
-    "reach",
-    "object",
-    "expect",
-    "allow",
-    "request",
-    "obstacle",
-    "shape",
-    "symmetry",
-    "grasp",
-    "rest",
-    "transition",
-    "world",
-    "task",
-];
 
 /// Punctuation worth naming in "expected ..." (comment openers, quotes and `_` are
 /// technically expected almost everywhere and would only be noise).
@@ -339,7 +273,7 @@ pub(crate) fn syntax_error(
         ErrorVariant::CustomError { .. } => Vec::new(),
     };
     let suggestion = found.and_then(|word| did_you_mean(word, keywords.iter().copied()));
-    let reserved = found.filter(|word| RESERVED.contains(word) && expected.contains("a name"));
+    let reserved = found.filter(|word| is_reserved(word) && expected.contains("a name"));
     let help = match (reserved, suggestion) {
         (Some(word), _) => {
             format!("`{word}` is a reserved word: write `` `{word}` `` to use it as a name")
@@ -404,10 +338,10 @@ fn expected_keywords(positives: &[Rule]) -> Vec<&'static str> {
     for rule in positives {
         match rule {
             Rule::item_probe | Rule::item_line | Rule::item | Rule::recover => {
-                keywords.extend(ITEM_STARTS.iter().map(|r| keyword_text(*r)))
+                keywords.extend(ITEM_KEYWORDS.iter().map(|k| k.word))
             }
             Rule::member_probe | Rule::member_line | Rule::object_member => {
-                keywords.extend(MEMBER_STARTS.iter().map(|r| keyword_text(*r)))
+                keywords.extend(MEMBER_KEYWORDS.iter().map(|k| k.word))
             }
             other => keywords.push(keyword_text(*other)),
         }
@@ -425,12 +359,20 @@ fn keyword_text(rule: Rule) -> &'static str {
     }
 }
 
+/// True when `rule` matches one of `keywords`.
+fn starts(keywords: &[Keyword], rule: &Rule) -> bool {
+    keywords.iter().any(|k| k.rule == *rule)
+}
+
 fn describe_expected(positives: &[Rule], literals: &[String]) -> String {
     let mut phrases: BTreeSet<&str> = BTreeSet::new();
-    let n_items = positives.iter().filter(|r| ITEM_STARTS.contains(r)).count();
+    let n_items = positives
+        .iter()
+        .filter(|r| starts(ITEM_KEYWORDS, r))
+        .count();
     let n_members = positives
         .iter()
-        .filter(|r| MEMBER_STARTS.contains(r))
+        .filter(|r| starts(MEMBER_KEYWORDS, r))
         .count();
     let mut extra: Vec<String> = Vec::new();
     if n_items >= 3 {
@@ -441,8 +383,8 @@ fn describe_expected(positives: &[Rule], literals: &[String]) -> String {
             .push("an object member (`shape`, `symmetry`, `grasp`, `rest` or `transition`)".into());
     }
     for rule in positives {
-        if (n_items >= 3 && ITEM_STARTS.contains(rule))
-            || (n_members >= 3 && MEMBER_STARTS.contains(rule))
+        if (n_items >= 3 && starts(ITEM_KEYWORDS, rule))
+            || (n_members >= 3 && starts(MEMBER_KEYWORDS, rule))
         {
             continue;
         }

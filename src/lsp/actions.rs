@@ -18,6 +18,7 @@
 
 use std::collections::BTreeMap;
 
+use cellc_lang::written_name;
 use lsp_types::{
     CodeAction, CodeActionKind, CodeActionOrCommand, CodeActionParams, Range, TextEdit,
     WorkspaceEdit,
@@ -68,7 +69,7 @@ pub fn code_actions(
         let Some((sort, name)) = unknown(&d.message) else {
             continue;
         };
-        let written = written(name);
+        let written = written_name(name);
         let line = match sort {
             "workspace" => format!("workspace {written}"),
             "holder kind" => match word_before(text, d.range) {
@@ -76,7 +77,7 @@ pub fn code_actions(
                 _ => format!("support {written}"),
             },
             "end-effector" => match &workspace {
-                Some(w) => format!("movable {written} reaches {}", self::written(w)),
+                Some(w) => format!("movable {written} reaches {}", written_name(w)),
                 None => continue,
             },
             "object" => format!("object {written} {{}}"),
@@ -87,16 +88,6 @@ pub fn code_actions(
         }
     }
     Some(actions)
-}
-
-/// `name` as the formatter writes it: plain, or in backticks when it is not a plain
-/// identifier or is a reserved word.
-fn written(name: &str) -> String {
-    if cellc_lang::ast::needs_quotes(name) || cellc_lang::phrases::RESERVED.contains(&name) {
-        format!("`{name}`")
-    } else {
-        name.to_string()
-    }
 }
 
 /// The word before `range` in `text` (`with` in `with softhnd`).

@@ -11,6 +11,7 @@
 use std::collections::BTreeMap;
 
 use cellc_lang::ast::{GraspKeyword, Item, ObjectMember};
+use cellc_lang::keywords;
 use lsp_types::{CompletionItem, CompletionItemKind, CompletionParams, CompletionResponse};
 
 use super::analysis::Analysis;
@@ -18,35 +19,6 @@ use super::analysis_for;
 use super::documents::{path_of, Documents};
 use super::index::{Key, Kind};
 use super::position::Lines;
-
-/// Words that start an item (the grammar's `item` rule).
-const ITEM_KEYWORDS: &[&str] = &[
-    "units",
-    "weights",
-    "include",
-    "package",
-    "workspaces from reach",
-    "workspace",
-    "adjacent",
-    "fixed",
-    "movable",
-    "hand",
-    "support",
-    "robot",
-    "arm",
-    "surface",
-    "reach",
-    "object",
-    "expect",
-    "allow contact",
-    "request",
-    "obstacle",
-    "world",
-    "task",
-];
-
-/// Words that start an object's member.
-const MEMBER_KEYWORDS: &[&str] = &["shape", "symmetry", "grasp", "rest", "transition"];
 
 /// What may follow the cursor.
 pub fn complete(
@@ -67,14 +39,14 @@ pub fn complete(
             - text[..line_start].matches('}').count() as i64;
         let in_object = depth >= 2 && enclosing_block(&text[..line_start]) == Some("object");
         let words = if in_object {
-            MEMBER_KEYWORDS
+            keywords::MEMBER_KEYWORDS
         } else {
-            ITEM_KEYWORDS
+            keywords::ITEM_KEYWORDS
         };
         words
             .iter()
-            .map(|w| CompletionItem {
-                label: w.to_string(),
+            .map(|k| CompletionItem {
+                label: k.completion.to_string(),
                 kind: Some(CompletionItemKind::KEYWORD),
                 ..CompletionItem::default()
             })

@@ -24,11 +24,7 @@ fn assert_grasp_comments(path: &str, imported: &Imported) {
             .expect("grasp line has its id");
         let id: i64 = id.parse().unwrap();
         let (_, grasp) = &imported.grasps[&id];
-        let written = if cellc_lang::ast::needs_quotes(grasp) {
-            format!("grasp `{grasp}` ")
-        } else {
-            format!("grasp {grasp} ")
-        };
+        let written = format!("grasp {} ", cellc_lang::written_name(grasp));
         assert!(line.starts_with(&written), "{line}: not grasp {grasp}");
         let label = format!("\"{}\"", names[&id]);
         assert!(line.contains(&label), "{line}: label is not {label}");

@@ -30,19 +30,9 @@ pub fn finger_on_chain(
     )
     .help(format!(
         "end the chain above the fingers, at `tip {}`, and describe the gripper as a `hand` kind with its solids",
-        written(parent)
+        cellc_lang::written_name(parent)
     ))
     .note("a finger is not an axis of the arm: planning would slide it to reach poses")
-}
-
-/// A name as the language writes it: quoted when it is not a plain identifier or is a
-/// reserved word.
-fn written(name: &str) -> String {
-    if cellc_lang::ast::needs_quotes(name) || cellc_lang::phrases::RESERVED.contains(&name) {
-        format!("`{name}`")
-    } else {
-        name.to_string()
-    }
 }
 
 /// Why `reach auto` gives no box for an arm.

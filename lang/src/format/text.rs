@@ -2,16 +2,12 @@
 //! printer in the parent module places them and their comments).
 
 use crate::ast::*;
-// Words that start items or members: the grammar refuses them as plain names, so a name
-// spelled like one was quoted in the source and must be quoted again.
-use crate::phrases::RESERVED;
+use crate::keywords::written_name;
 
+/// A name where the grammar refuses reserved words as plain names, so a name spelled like
+/// one was quoted in the source and must be quoted again.
 pub(super) fn name(name: &Name) -> String {
-    if name.needs_quotes() || RESERVED.contains(&name.text.as_str()) {
-        format!("`{}`", name.text)
-    } else {
-        name.text.clone()
-    }
+    written_name(&name.text)
 }
 
 /// A name an SRDF gives: reserved words need no quotes after `group` and `home`.

@@ -51,15 +51,6 @@ fn unique(entries: &[(String, String)]) -> Vec<String> {
         .collect()
 }
 
-/// A name as cell text: plain when it can be, else in backticks.
-pub(super) fn name(text: &str) -> String {
-    if cellc_lang::ast::needs_quotes(text) || cellc_lang::phrases::RESERVED.contains(&text) {
-        format!("`{text}`")
-    } else {
-        text.to_string()
-    }
-}
-
 /// A string literal, escaped as the formatter writes it.
 pub(super) fn string(text: &str) -> String {
     cellc_lang::format::string_literal(text)

@@ -3,9 +3,10 @@
 
 use std::collections::{BTreeMap, BTreeSet, HashMap};
 
-use super::names::{comment_text, name, names, string};
+use super::names::{comment_text, names, string};
 use super::Converted;
 use crate::import::{Database, GraspRow};
+use cellc_lang::written_name as name;
 
 /// Transition lines are filled up to this width (the formatter never wraps lines, so the
 /// import keeps them readable itself).
