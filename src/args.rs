@@ -4,12 +4,16 @@ use std::path::PathBuf;
 
 use clap::{Parser, Subcommand, ValueEnum};
 
-use crate::render::Format;
+use crate::render::{Color, Format};
 
 /// cellc: describe a robot manipulation cell, check it, compile it, plan in it.
 #[derive(Parser, Debug)]
 #[command(name = "cellc", version, about, propagate_version = true)]
 pub struct Args {
+    /// Colour in human output: `auto` colours when standard error is a terminal and
+    /// `NO_COLOR` is unset or empty (https://no-color.org; `CLICOLOR_FORCE=1` forces it).
+    #[arg(long, global = true, value_enum, default_value = "auto")]
+    pub color: ColorChoice,
     /// What to do.
     #[command(subcommand)]
     pub command: Command,
@@ -18,17 +22,35 @@ pub struct Args {
 /// When to colour human output.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum ColorChoice {
-    /// When standard error is a terminal.
+    /// When standard error is a terminal, unless `NO_COLOR` says otherwise.
     Auto,
-    /// Always.
+    /// Always, whatever `NO_COLOR` and the terminal say.
     Always,
     /// Never.
     Never,
 }
 
+impl ColorChoice {
+    /// Whether diagnostics on standard error are coloured: the one place the process
+    /// decides it, once, in [`crate::dispatch`]. `auto` follows anstream (the crate clap
+    /// colours its own help with), so `NO_COLOR`, `CLICOLOR`, `CLICOLOR_FORCE` and
+    /// `TERM=dumb` mean for cellc what they mean for clap and cargo; an explicit choice
+    /// wins over all of them, as no-color.org asks.
+    pub fn decide(self) -> Color {
+        match self {
+            ColorChoice::Always => Color::Always,
+            ColorChoice::Never => Color::Never,
+            ColorChoice::Auto => match anstream::AutoStream::choice(&std::io::stderr()) {
+                anstream::ColorChoice::Never => Color::Never,
+                _ => Color::Always,
+            },
+        }
+    }
+}
+
 /// Artifact encodings.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-pub enum ArtifactFormat {
+pub enum ArtifactEncoding {
     /// JSON (readable, the default).
     Json,
     /// Compact binary.
@@ -49,6 +71,7 @@ pub struct PackageArgs {
 #[derive(clap::Args, Debug, Clone)]
 pub struct RequestArgs {
     /// A `.cell` file (compiled and verified now) or an artifact.
+    #[arg(value_name = "INPUT")]
     pub input: PathBuf,
     /// Where ROS packages are.
     #[command(flatten)]
@@ -96,9 +119,10 @@ pub struct RequestArgs {
     /// moves, then the move itself.
     #[arg(long)]
     pub clear: bool,
-    /// Output format.
+    /// Output style: `human` numbered steps (diagnostics on standard error), `short` one
+    /// line per plan, step and diagnostic, `json` one document (docs/plan-json.md).
     #[arg(long, value_enum, default_value = "human")]
-    pub format: PlanFormat,
+    pub format: Format,
 }
 
 fn parse_weights(text: &str) -> Result<(f64, f64), String> {
@@ -118,12 +142,10 @@ fn parse_weights(text: &str) -> Result<(f64, f64), String> {
 /// Flags shared by the commands that report diagnostics.
 #[derive(clap::Args, Debug, Clone)]
 pub struct ReportFlags {
-    /// Output style for diagnostics.
+    /// Output style for diagnostics: `human` snippets on standard error, `short` one line
+    /// each or `json` one document (docs/diagnostics/README.md), on standard output.
     #[arg(long, value_enum, default_value = "human")]
     pub format: Format,
-    /// Colour in human output.
-    #[arg(long, value_enum, default_value = "auto")]
-    pub color: ColorChoice,
 }
 
 /// Subcommands.
@@ -132,7 +154,7 @@ pub enum Command {
     /// Check cells and report every problem (exit 1 on errors).
     Check {
         /// Cell files.
-        #[arg(required = true)]
+        #[arg(required = true, value_name = "INPUT")]
         files: Vec<PathBuf>,
         /// Treat warnings as errors.
         #[arg(long)]
@@ -147,7 +169,7 @@ pub enum Command {
     /// Format cell files in the canonical layout.
     Fmt {
         /// Cell files.
-        #[arg(required = true)]
+        #[arg(required = true, value_name = "INPUT")]
         files: Vec<PathBuf>,
         /// Do not write; exit 1 if any file is not formatted.
         #[arg(long)]
@@ -156,14 +178,19 @@ pub enum Command {
     /// Compile a cell into an artifact (the object-state graphs and the resolved cell).
     Build {
         /// The cell.
+        #[arg(value_name = "INPUT")]
         cell: PathBuf,
         /// Output file (default: the cell's path with `.artifact.json` or `.artifact.bin`).
         #[arg(short, long)]
         output: Option<PathBuf>,
         /// Artifact encoding.
         #[arg(long, value_enum, default_value = "json")]
-        format: ArtifactFormat,
-        /// Also print the workspaces, their boxes and who reaches them.
+        encoding: ArtifactEncoding,
+        /// Output flags.
+        #[command(flatten)]
+        report: ReportFlags,
+        /// Also print the workspaces, their boxes and who reaches them (human output only:
+        /// with `--format short` or `json`, standard output is the diagnostics').
         #[arg(long)]
         explain: bool,
         /// Skip the kinematic check of every arc (done by default when the cell has arms).
@@ -182,6 +209,7 @@ pub enum Command {
     /// Summarise a cell or an artifact: workspaces, end-effectors, graph sizes per object.
     Info {
         /// A `.cell` file or an artifact.
+        #[arg(value_name = "INPUT")]
         file: PathBuf,
         /// Where ROS packages are.
         #[command(flatten)]
@@ -190,13 +218,15 @@ pub enum Command {
     /// Print the object-state graph of one object.
     Graph {
         /// A `.cell` file or an artifact.
+        #[arg(value_name = "INPUT")]
         file: PathBuf,
         /// The object.
         #[arg(long)]
         object: String,
-        /// Output format.
+        /// What to write: the graph as DOT, JSON or SVG (`--format` is kept, in every
+        /// command, for how diagnostics are written).
         #[arg(long, value_enum, default_value = "dot")]
-        format: GraphFormat,
+        emit: GraphFormat,
         /// Where ROS packages are.
         #[command(flatten)]
         packages: PackageArgs,
@@ -206,6 +236,7 @@ pub enum Command {
     /// a task or a plan file, the plan animated on a timeline (docs/view.md).
     View {
         /// A `.cell` file (compiled and verified now) or an artifact.
+        #[arg(value_name = "INPUT")]
         input: PathBuf,
         /// Where ROS packages are.
         #[command(flatten)]
@@ -253,15 +284,17 @@ pub enum Command {
         /// The request.
         #[command(flatten)]
         request: RequestArgs,
-        /// Make the motion of this step (1-based, over the whole run) fail, to see
-        /// recovery.
-        #[arg(long)]
+        /// Make the motion of step N (1-based) of the first plan executed fail in the
+        /// simulator, to see recovery; N is from 1 to that plan's number of steps
+        /// (anything else is refused, E0509).
+        #[arg(long, value_name = "N")]
         fail_at: Option<usize>,
     },
     /// Serve the cell over HTTP (JSON, docs/service.md): load and verify it once, then
     /// plan, execute and explain requests against a world it keeps.
     Serve {
         /// A `.cell` file (compiled and verified now) or an artifact.
+        #[arg(value_name = "INPUT")]
         input: PathBuf,
         /// Where to listen (loopback unless told otherwise; port 0 picks a free one).
         #[arg(long, default_value = "127.0.0.1:7878")]
@@ -306,10 +339,14 @@ pub enum ImportSource {
     /// abstract-form cell; run `cellc check` on the output to see its warnings.
     Dualmanip {
         /// The database file.
+        #[arg(value_name = "INPUT")]
         db: PathBuf,
         /// The cell file to write (written only when the import succeeds).
         #[arg(short, long)]
         output: PathBuf,
+        /// Output flags.
+        #[command(flatten)]
+        report: ReportFlags,
     },
 }
 
@@ -326,6 +363,7 @@ pub enum ExportFormat {
 #[derive(clap::Args, Debug, Clone)]
 pub struct PddlArgs {
     /// A `.cell` file (compiled and verified now) or an artifact.
+    #[arg(value_name = "INPUT")]
     pub input: PathBuf,
     /// Only this object: its domain and a problem per request of it.
     #[arg(long)]
@@ -362,13 +400,4 @@ pub enum GraphFormat {
     /// SVG laid out by cellc (no Graphviz needed): a column per workspace, a row per
     /// end-effector, pruned arcs grey with their reasons as tooltips.
     Svg,
-}
-
-/// Output style of `cellc plan`.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
-pub enum PlanFormat {
-    /// Numbered steps.
-    Human,
-    /// A JSON document.
-    Json,
 }

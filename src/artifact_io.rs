@@ -9,7 +9,7 @@ use cellc_schema::partial::Partial;
 use cellc_schema::sections::{Sections, Source};
 use cellc_schema::{Artifact, ReadError, MAGIC};
 
-use crate::render::{self, Color};
+use crate::render::{self, Style};
 use cellc_driver::fs_files::{FsFiles, PieceFile};
 
 /// Codes of artifact reading.
@@ -95,36 +95,12 @@ pub fn read_in_part(path: &str) -> Result<InPart, Diagnostic> {
     Ok(InPart::Sections { sections, partial })
 }
 
-/// The artifact of a `.cell` file (compiled now) or of an artifact file. On failure the
-/// diagnostics are already printed to standard error.
-pub fn cell_or_artifact(path: &str, options: &cellc_compiler::CompileOptions) -> Option<Artifact> {
-    cell_or_artifact_reporting(path, Report::Human, options)
-}
-
-/// How [`cell_or_artifact_reporting`] reports failures.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Report {
-    /// Human text on standard error.
-    Human,
-    /// The JSON diagnostics report on standard output (for commands whose output is JSON,
-    /// so that it stays JSON on every path).
-    Json,
-}
-
-impl Report {
-    /// Writes `diagnostics` where this report goes (plain text, no colour).
-    pub fn emit(self, diagnostics: &[Diagnostic], sources: &SourceMap) {
-        match self {
-            Report::Human => eprint!("{}", render::human(diagnostics, sources, Color::Never)),
-            Report::Json => print!("{}", render::json(diagnostics, sources)),
-        }
-    }
-}
-
-/// [`cell_or_artifact`], reporting failures as `report` says.
-pub fn cell_or_artifact_reporting(
+/// The artifact of a `.cell` file (compiled now) or of an artifact file, or `None` after
+/// reporting why not as `report` says ([`render::emit`]: human text on standard error,
+/// short lines or the JSON report on standard output, so JSON output stays JSON).
+pub fn cell_or_artifact(
     path: &str,
-    report: Report,
+    report: Style,
     options: &cellc_compiler::CompileOptions,
 ) -> Option<Artifact> {
     if path.ends_with(".cell") {
@@ -133,7 +109,7 @@ pub fn cell_or_artifact_reporting(
     match read(path) {
         Ok(artifact) => Some(artifact),
         Err(d) => {
-            report.emit(&[d], &SourceMap::new());
+            render::emit(report, &[d], &SourceMap::new());
             None
         }
     }
@@ -144,7 +120,7 @@ pub fn cell_or_artifact_reporting(
 /// says (human text ends with a summary line).
 pub fn compiled_cell(
     path: &str,
-    report: Report,
+    report: Style,
     options: &cellc_compiler::CompileOptions,
 ) -> Option<(Artifact, cellc_compiler::Compilation)> {
     let options = cellc_driver::BuildOptions {
@@ -158,8 +134,8 @@ pub fn compiled_cell(
             .into_iter()
             .filter(Diagnostic::is_error)
             .collect();
-        report.emit(&errors, &built.compilation.sources);
-        if report == Report::Human {
+        render::emit(report, &errors, &built.compilation.sources);
+        if report.is_human() {
             eprintln!("{}", render::summary(&errors));
         }
         return None;

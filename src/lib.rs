@@ -52,6 +52,12 @@ pub fn dispatch() -> ExitCode {
             };
         }
     };
+    // Colour is decided here, once, and passed to whatever renders diagnostics.
+    let color = args.color.decide();
+    let style = |report: &args::ReportFlags| render::Style {
+        format: report.format,
+        color,
+    };
     match &args.command {
         args::Command::Check {
             files,
@@ -61,27 +67,36 @@ pub fn dispatch() -> ExitCode {
         } => commands::check::run(
             files,
             *deny_warnings,
-            report,
+            style(report),
             &packages::compile_options(packages),
         ),
         args::Command::Fmt { files, check } => commands::fmt::run(files, *check),
-        args::Command::Explain { code } => commands::explain::run(code),
+        args::Command::Explain { code } => commands::explain::run(code, color),
         args::Command::Build {
             cell,
             output,
-            format,
+            encoding,
+            report,
             explain,
             deny_warnings,
             no_verify,
             seed,
             packages,
         } => {
-            let encoding = match format {
-                args::ArtifactFormat::Json => cellc_schema::Encoding::Json,
-                args::ArtifactFormat::Bin => cellc_schema::Encoding::Binary,
+            let encoding = match encoding {
+                args::ArtifactEncoding::Json => cellc_schema::Encoding::Json,
+                args::ArtifactEncoding::Bin => cellc_schema::Encoding::Binary,
             };
+            if *explain && report.format != render::Format::Human {
+                return usage_error(
+                    clap::error::ErrorKind::ArgumentConflict,
+                    "`--explain` prints text on standard output, which `--format short` and \
+                     `--format json` keep for diagnostics: use `cellc info` for the explanation",
+                );
+            }
             let options = commands::build::BuildOptions {
                 encoding,
+                style: style(report),
                 explain: *explain,
                 deny_warnings: *deny_warnings,
                 verify: !*no_verify,
@@ -92,23 +107,25 @@ pub fn dispatch() -> ExitCode {
         }
         args::Command::Info { file, packages } => commands::info::run(
             &file.to_string_lossy(),
+            color,
             &packages::compile_options(packages),
         ),
         args::Command::Run { request, fail_at } => {
-            commands::run::run(&commands::plan::PlanArgs::new(request), *fail_at)
+            commands::run::run(&commands::plan::PlanArgs::new(request, color), *fail_at)
         }
         args::Command::Plan { request } => {
-            commands::plan::run(&commands::plan::PlanArgs::new(request))
+            commands::plan::run(&commands::plan::PlanArgs::new(request, color))
         }
         args::Command::Graph {
             file,
             object,
-            format,
+            emit,
             packages,
         } => commands::graph::run(
             &file.to_string_lossy(),
             object,
-            *format,
+            *emit,
+            color,
             &packages::compile_options(packages),
         ),
         args::Command::View {
@@ -130,7 +147,10 @@ pub fn dispatch() -> ExitCode {
                 object: object.clone(),
                 from: from.clone(),
                 to: to.clone(),
-                format: args::PlanFormat::Human,
+                style: render::Style {
+                    format: render::Format::Human,
+                    color,
+                },
                 seed: *seed,
                 motions: true,
                 weights: None,
@@ -154,11 +174,24 @@ pub fn dispatch() -> ExitCode {
             addr: *addr,
             seed: *seed,
             compile: packages::compile_options(packages),
+            color,
         }),
-        args::Command::Import { source } => commands::import::run(source),
+        args::Command::Import { source } => match source {
+            args::ImportSource::Dualmanip { db, output, report } => {
+                commands::import::dualmanip(db, output, style(report))
+            }
+        },
         args::Command::Export { format } => match format {
-            args::ExportFormat::Pddl(pddl) => commands::export::run_pddl(pddl),
+            args::ExportFormat::Pddl(pddl) => commands::export::run_pddl(pddl, color),
         },
         args::Command::Lsp { packages } => commands::lsp::run(packages),
     }
+}
+
+/// A usage error found after parsing (two flags that cannot go together however they are
+/// spelt), printed as clap prints its own, with exit status 2.
+fn usage_error(kind: clap::error::ErrorKind, message: &str) -> ExitCode {
+    use clap::CommandFactory;
+    let _ = args::Args::command().error(kind, message).print();
+    ExitCode::from(2)
 }

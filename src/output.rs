@@ -30,8 +30,16 @@ pub mod codes {
     pub const OVERWRITES_INPUT: Code = Code("E0506");
     /// `cellc explain` was asked about a code that does not exist.
     pub const UNKNOWN_CODE: Code = Code("E0507");
+    /// `cellc run --fail-at N` names no step of the first plan executed (0, or past its
+    /// last step).
+    pub const FAIL_AT_OUT_OF_RANGE: Code = Code("E0509");
     /// Every code of this phase.
-    pub const ALL: &[Code] = &[UNWRITABLE, OVERWRITES_INPUT, UNKNOWN_CODE];
+    pub const ALL: &[Code] = &[
+        UNWRITABLE,
+        OVERWRITES_INPUT,
+        UNKNOWN_CODE,
+        FAIL_AT_OUT_OF_RANGE,
+    ];
 }
 
 /// Writes `bytes` to `output`, refusing when `output` is one of `inputs` or any file the

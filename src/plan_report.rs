@@ -156,22 +156,8 @@ fn pose_text(p: &Option<Iso>) -> String {
 
 /// The plan as numbered steps.
 pub fn describe(artifact: &Artifact, name: &str, plan: &Plan) -> String {
-    let object = &artifact.objects[plan.object.index()];
-    let grasp = |g: GraspId| artifact.grasp_name(plan.object, g);
     let mut out = String::new();
-    let _ = writeln!(
-        out,
-        "plan `{name}` for `{}`: {} (cost {:.2}, {} steps{})",
-        object.name,
-        plan.strategy,
-        plan.cost,
-        plan.steps.len(),
-        if plan.backtracks > 0 {
-            format!(", {} backtracks", plan.backtracks)
-        } else {
-            String::new()
-        }
-    );
+    let _ = writeln!(out, "{}", headline(artifact, name, plan));
     let holders: Vec<&str> = {
         let mut v: Vec<&str> = Vec::new();
         for s in &plan.states {
@@ -195,49 +181,93 @@ pub fn describe(artifact: &Artifact, name: &str, plan: &Plan) -> String {
         );
     }
     for (i, step) in plan.steps.iter().enumerate() {
-        let line = match &step.command {
-            Command::Move {
-                holder,
-                workspace,
-                object: pose,
-                ..
-            } => format!(
-                "move     `{}` carries it to `{}`{}",
+        let (verb, text) = step_text(artifact, plan, step);
+        let _ = writeln!(out, "{:>3}. {verb:<8} {text}", i + 1);
+    }
+    out
+}
+
+/// The plan in `--format short`: its headline, then one line per step, each line naming
+/// the plan so that lines of several plans can be told apart (and grepped) on their own.
+pub fn short(artifact: &Artifact, name: &str, plan: &Plan) -> String {
+    let mut out = String::new();
+    let _ = writeln!(out, "{}", headline(artifact, name, plan));
+    for (i, step) in plan.steps.iter().enumerate() {
+        let (verb, text) = step_text(artifact, plan, step);
+        let _ = writeln!(out, "plan `{name}` step {}: {verb} {text}", i + 1);
+    }
+    out
+}
+
+/// `plan `NAME` for `OBJECT`: STRATEGY (cost C, N steps)`.
+fn headline(artifact: &Artifact, name: &str, plan: &Plan) -> String {
+    let object = &artifact.objects[plan.object.index()];
+    format!(
+        "plan `{name}` for `{}`: {} (cost {:.2}, {} steps{})",
+        object.name,
+        plan.strategy,
+        plan.cost,
+        plan.steps.len(),
+        if plan.backtracks > 0 {
+            format!(", {} backtracks", plan.backtracks)
+        } else {
+            String::new()
+        }
+    )
+}
+
+/// One step: its command's verb, and the rest (who, where the object goes, how long its
+/// joint motion takes).
+fn step_text(
+    artifact: &Artifact,
+    plan: &Plan,
+    step: &cellc_runtime::plan::Step,
+) -> (&'static str, String) {
+    let grasp = |g: GraspId| artifact.grasp_name(plan.object, g);
+    let (verb, line) = match &step.command {
+        Command::Move {
+            holder,
+            workspace,
+            object: pose,
+            ..
+        } => (
+            "move",
+            format!(
+                "`{}` carries it to `{}`{}",
                 ee(artifact, *holder),
                 ws(artifact, *workspace),
                 pose_text(pose)
             ),
-            Command::Grasp {
-                holder,
-                grasp: g,
-                workspace,
-                object: pose,
-                ..
-            } => format!(
-                "grasp    `{}` takes it with `{}` in `{}`{}",
+        ),
+        Command::Grasp {
+            holder,
+            grasp: g,
+            workspace,
+            object: pose,
+            ..
+        } => (
+            "grasp",
+            format!(
+                "`{}` takes it with `{}` in `{}`{}",
                 ee(artifact, *holder),
                 grasp(*g),
                 ws(artifact, *workspace),
                 pose_text(pose)
             ),
-            Command::Ungrasp {
-                holder, grasp: g, ..
-            } => {
-                format!(
-                    "ungrasp  `{}` lets go of `{}`",
-                    ee(artifact, *holder),
-                    grasp(*g)
-                )
-            }
-        };
-        let motion = match &step.motion {
-            Some(t) => format!(
-                " [{:.2} s motion]",
-                t.points.last().map_or(0.0, |p| p.0).max(0.0)
-            ),
-            None => String::new(),
-        };
-        let _ = writeln!(out, "{:>3}. {line}{motion}", i + 1);
-    }
-    out
+        ),
+        Command::Ungrasp {
+            holder, grasp: g, ..
+        } => (
+            "ungrasp",
+            format!("`{}` lets go of `{}`", ee(artifact, *holder), grasp(*g)),
+        ),
+    };
+    let motion = match &step.motion {
+        Some(t) => format!(
+            " [{:.2} s motion]",
+            t.points.last().map_or(0.0, |p| p.0).max(0.0)
+        ),
+        None => String::new(),
+    };
+    (verb, format!("{line}{motion}"))
 }

@@ -30,6 +30,48 @@ pub enum Color {
     Never,
 }
 
+/// How a command reports its diagnostics: the `--format` it was given and the colour the
+/// process decided once ([`crate::args::ColorChoice::decide`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Style {
+    /// Human, short or JSON.
+    pub format: Format,
+    /// Colour of the human form.
+    pub color: Color,
+}
+
+impl Style {
+    /// Human and uncoloured: what a library caller or a test gets unless it asks.
+    pub const PLAIN: Style = Style {
+        format: Format::Human,
+        color: Color::Never,
+    };
+
+    /// Whether this is the human form.
+    pub fn is_human(self) -> bool {
+        self.format == Format::Human
+    }
+}
+
+/// Writes diagnostics where `style` puts them: the human form on standard error (no
+/// summary line: a command that wants one adds it), the short form (one line each) and
+/// the JSON report on standard output, so a program reads only what it asked for. Output
+/// errors (a closed pipe) are ignored: the exit status still tells the result.
+pub fn emit(style: Style, diagnostics: &[Diagnostic], sources: &SourceMap) {
+    use std::io::Write;
+    let _ = match style.format {
+        Format::Human => std::io::stderr()
+            .lock()
+            .write_all(human(diagnostics, sources, style.color).as_bytes()),
+        Format::Short => std::io::stdout()
+            .lock()
+            .write_all(short(diagnostics, sources).as_bytes()),
+        Format::Json => std::io::stdout()
+            .lock()
+            .write_all(json(diagnostics, sources).as_bytes()),
+    };
+}
+
 /// Characters that could drive a terminal or reorder what it shows: C0 controls but tab
 /// and newline, DEL, C1 controls, and the bidirectional embeddings and overrides.
 fn is_hostile(c: char) -> bool {

@@ -55,7 +55,7 @@ fn folder(name: &str) -> PathBuf {
     dir
 }
 
-/// The cell built as `cellc build --format bin` writes it, in a folder of its own.
+/// The cell built as `cellc build --encoding bin` writes it, in a folder of its own.
 fn built(name: &str) -> (PathBuf, Vec<u8>) {
     let dir = folder(name);
     let cell = dir.join("two_parts.cell");
@@ -64,7 +64,7 @@ fn built(name: &str) -> (PathBuf, Vec<u8>) {
     let out = cellc(&[
         "build",
         cell.to_str().unwrap(),
-        "--format",
+        "--encoding",
         "bin",
         "-o",
         bin.to_str().unwrap(),

@@ -54,7 +54,7 @@ fn every_shipped_cell_round_trips_through_the_sections() {
         // As `cellc build` compiles it (`reach auto` cells need the compile options).
         let (artifact, _) = cellc::artifact_io::compiled_cell(
             &cell.to_string_lossy(),
-            cellc::artifact_io::Report::Human,
+            cellc::render::Style::PLAIN,
             &cellc_compiler::CompileOptions::default(),
         )
         .expect("compiles");

@@ -1,4 +1,4 @@
-//! `cellc view` and `cellc graph --format svg` without a browser: what the page's
+//! `cellc view` and `cellc graph --emit svg` without a browser: what the page's
 //! document says (read back from the written HTML), that it follows the plan and the
 //! graph, that the same input gives the same bytes, and that bad plan files are refused.
 
@@ -50,7 +50,7 @@ fn svg_draws_every_state_and_arc_pair() {
         "cells/fig3.cell",
         "--object",
         "cylinder",
-        "--format",
+        "--emit",
         "svg",
     ]);
     assert!(out.status.success());
@@ -60,7 +60,7 @@ fn svg_draws_every_state_and_arc_pair() {
         "cells/fig3.cell",
         "--object",
         "cylinder",
-        "--format",
+        "--emit",
         "json",
     ]);
     let graph: serde_json::Value = serde_json::from_slice(&json.stdout).unwrap();

@@ -1,4 +1,5 @@
-//! `cellc build CELL [-o OUT] [--format json|bin] [--explain] [--no-verify] [--seed N]`
+//! `cellc build INPUT [-o OUT] [--encoding json|bin] [--format human|short|json] [--explain]
+//! [--no-verify] [--seed N]``
 
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
@@ -6,14 +7,17 @@ use std::process::ExitCode;
 
 use cellc_schema::Encoding;
 
-use crate::render::{self, Color};
+use crate::render::{self, Format, Style};
 use cellc_driver::fs_files::FsFiles;
+use cellc_lang::Diagnostic;
 
 /// What `cellc build` was asked to do.
 #[derive(Clone, Debug)]
 pub struct BuildOptions {
     /// Artifact encoding.
     pub encoding: Encoding,
+    /// How diagnostics are reported.
+    pub style: Style,
     /// Print the workspaces and who reaches them.
     pub explain: bool,
     /// Warnings fail the build.
@@ -29,11 +33,7 @@ pub struct BuildOptions {
 /// Compiles a cell, verifies its arcs when it has arms, and writes its artifact.
 pub fn run(cell: &Path, output: Option<&Path>, options: &BuildOptions) -> ExitCode {
     let path = cell.to_string_lossy().to_string();
-    let color = if std::io::stderr().is_terminal() {
-        Color::Always
-    } else {
-        Color::Never
-    };
+    let style = options.style;
     let bar = std::io::stderr().is_terminal().then(|| {
         let bar = indicatif::ProgressBar::new(0);
         bar.set_style(
@@ -64,17 +64,28 @@ pub fn run(cell: &Path, output: Option<&Path>, options: &BuildOptions) -> ExitCo
         bar.finish_and_clear();
     }
     let diagnostics = &built.diagnostics;
-    if !diagnostics.is_empty() {
-        eprint!(
-            "{}",
-            render::human(diagnostics, &built.compilation.sources, color)
-        );
+    let sources = &built.compilation.sources;
+    // Human and short diagnostics are written as soon as they are known; the JSON report
+    // once, as the build ends, with all of them (a failure to write the artifact too), so
+    // a program reads exactly one document on every path.
+    let json = style.format == Format::Json;
+    if !json {
+        render::emit(style, diagnostics, sources);
+    }
+    if style.is_human() && !diagnostics.is_empty() {
         eprintln!("{}", render::summary(diagnostics));
     }
+    let report_json = |more: Option<Diagnostic>| {
+        if json {
+            let all: Vec<Diagnostic> = diagnostics.iter().cloned().chain(more).collect();
+            render::emit(style, &all, sources);
+        }
+    };
     let failed = diagnostics
         .iter()
         .any(|d| d.is_error() || options.deny_warnings);
     let Some(artifact) = built.artifact.filter(|_| !failed) else {
+        report_json(None);
         eprintln!("no artifact written");
         return ExitCode::from(1);
     };
@@ -108,9 +119,14 @@ pub fn run(cell: &Path, output: Option<&Path>, options: &BuildOptions) -> ExitCo
     crate::artifact_io::paths_relative_to_output(&mut artifact, &output);
     let bytes = artifact.to_bytes(options.encoding);
     if let Err(d) = crate::output::write(&output, &bytes, inputs.iter().map(PathBuf::as_path)) {
-        eprint!("{}", render::human(&[d], &built.compilation.sources, color));
+        if json {
+            report_json(Some(d));
+        } else {
+            render::emit(style, &[d], sources);
+        }
         return ExitCode::from(1);
     }
+    report_json(None);
     if options.explain {
         print!("{}", crate::commands::info::describe(&artifact));
     }

@@ -1,20 +1,19 @@
 //! `cellc check FILE...`
 
-use std::io::{IsTerminal, Write};
+use std::io::Write;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
 use cellc_lang::Diagnostic;
 
-use crate::args::{ColorChoice, ReportFlags};
-use crate::render::{self, Color, Format};
+use crate::render::{self, Format, Style};
 use cellc_driver::fs_files::FsFiles;
 
 /// Checks every file; exit 0 when clean, 1 on errors (or warnings with `--deny-warnings`).
 pub fn run(
     files: &[PathBuf],
     deny_warnings: bool,
-    report: &ReportFlags,
+    style: Style,
     options: &cellc_compiler::CompileOptions,
 ) -> ExitCode {
     let mut failed = false;
@@ -27,16 +26,10 @@ pub fn run(
             .any(|d| d.is_error() || deny_warnings);
         all.push((compilation.diagnostics, compilation.sources));
     }
-    let color = match report.color {
-        ColorChoice::Always => Color::Always,
-        ColorChoice::Never => Color::Never,
-        ColorChoice::Auto if std::io::stderr().is_terminal() => Color::Always,
-        ColorChoice::Auto => Color::Never,
-    };
     let mut stdout = std::io::stdout().lock();
     let mut stderr = std::io::stderr().lock();
     // Output errors (a closed pipe) must not panic; the exit code still tells the result.
-    let _ = match report.format {
+    let _ = match style.format {
         Format::Json => {
             // One document for all files, so programs parse one value.
             let mut merged = Vec::new();
@@ -67,7 +60,7 @@ pub fn run(
             let mut text = String::new();
             let mut total = Vec::new();
             for (diagnostics, sources) in &all {
-                text.push_str(&render::human(diagnostics, sources, color));
+                text.push_str(&render::human(diagnostics, sources, style.color));
                 total.extend(diagnostics.iter().cloned());
             }
             if !total.is_empty() {

@@ -3,7 +3,7 @@
 use std::process::ExitCode;
 
 /// Prints the documentation page of a diagnostic code.
-pub fn run(code: &str) -> ExitCode {
+pub fn run(code: &str, color: crate::render::Color) -> ExitCode {
     let wanted = code.trim().to_ascii_uppercase();
     match crate::docs::page(&wanted) {
         Some(page) => {
@@ -16,7 +16,11 @@ pub fn run(code: &str) -> ExitCode {
                 format!("`{code}` is not a cellc diagnostic code"),
             )
             .help("codes look like `E0101` or `W0001`; docs/diagnostics/ has a page for each");
-            crate::commands::plan::print(&[d], &cellc_lang::SourceMap::new());
+            let style = crate::render::Style {
+                format: crate::render::Format::Human,
+                color,
+            };
+            crate::render::emit(style, &[d], &cellc_lang::SourceMap::new());
             ExitCode::from(2)
         }
     }

@@ -9,7 +9,7 @@ use cellc_runtime::plan::{GoalByName, PlanError, PlanOptions, Request};
 use cellc_runtime::ObjectId;
 
 use super::plan::{LoadArgs, Loaded};
-use crate::args::{PddlArgs, PlanFormat};
+use crate::args::PddlArgs;
 use crate::export::pddl::{self, Problem, ProblemError};
 use crate::plan_report;
 
@@ -21,11 +21,14 @@ struct Selected {
 
 /// Loads the cell as `cellc plan` does, locates the requests asked for, and writes a
 /// domain per object and a problem per request.
-pub fn run_pddl(args: &PddlArgs) -> ExitCode {
+pub fn run_pddl(args: &PddlArgs, color: crate::render::Color) -> ExitCode {
     let load_args = LoadArgs {
         input: args.input.to_string_lossy().into_owned(),
         seed: args.seed,
-        format: PlanFormat::Human,
+        style: crate::render::Style {
+            format: crate::render::Format::Human,
+            color,
+        },
         compile: crate::packages::compile_options(&args.packages),
     };
     let loaded = match super::plan::load(&load_args) {
@@ -175,7 +178,7 @@ fn given_request(
         Ok(placements) => placements,
         Err(failure) => {
             let (d, sources) = *failure;
-            super::plan::print(&[d], &sources);
+            crate::render::emit(loaded.style, &[d], &sources);
             return Err(ExitCode::from(2));
         }
     };

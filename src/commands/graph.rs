@@ -1,4 +1,4 @@
-//! `cellc graph CELL_OR_ARTIFACT --object O --format dot|json|svg`
+//! `cellc graph INPUT --object O [--emit dot|json|svg]`
 
 use std::fmt::Write;
 use std::process::ExitCode;
@@ -13,14 +13,18 @@ pub fn run(
     path: &str,
     object: &str,
     format: GraphFormat,
+    color: crate::render::Color,
     options: &cellc_compiler::CompileOptions,
 ) -> ExitCode {
-    let report = match format {
-        GraphFormat::Dot | GraphFormat::Svg => crate::artifact_io::Report::Human,
-        GraphFormat::Json => crate::artifact_io::Report::Json,
+    // A JSON graph has JSON diagnostics, so standard output stays JSON on every path.
+    let report = crate::render::Style {
+        format: match format {
+            GraphFormat::Dot | GraphFormat::Svg => crate::render::Format::Human,
+            GraphFormat::Json => crate::render::Format::Json,
+        },
+        color,
     };
-    let Some(artifact) = crate::artifact_io::cell_or_artifact_reporting(path, report, options)
-    else {
+    let Some(artifact) = crate::artifact_io::cell_or_artifact(path, report, options) else {
         return ExitCode::from(1);
     };
     let Some(obj) = artifact.objects.iter().find(|o| o.name == object) else {
@@ -34,17 +38,7 @@ pub fn run(
             format!("unknown object `{object}`"),
         )
         .help(help);
-        match format {
-            GraphFormat::Dot | GraphFormat::Svg => {
-                crate::commands::plan::print(&[d], &cellc_lang::SourceMap::new())
-            }
-            GraphFormat::Json => {
-                print!(
-                    "{}",
-                    crate::render::json(&[d], &cellc_lang::SourceMap::new())
-                )
-            }
-        }
+        crate::render::emit(report, &[d], &cellc_lang::SourceMap::new());
         return ExitCode::from(1);
     };
     match format {

@@ -1,4 +1,4 @@
-//! `cellc info CELL_OR_ARTIFACT`: what a compiled cell holds.
+//! `cellc info INPUT`: what a compiled cell holds.
 
 use std::fmt::Write;
 use std::process::ExitCode;
@@ -7,14 +7,18 @@ use cellc_schema::{
     Artifact, Body, EndEffectorId, Holder, ObjectId, RequestPlacement, WorkspaceId,
 };
 
-use crate::artifact_io::Report;
+use crate::render::{Color, Format, Style};
 
 /// Prints the summary of a cell (compiled now, with what `reach auto` computed and how
 /// long it took) or of an artifact file.
-pub fn run(path: &str, options: &cellc_compiler::CompileOptions) -> ExitCode {
+pub fn run(path: &str, color: Color, options: &cellc_compiler::CompileOptions) -> ExitCode {
+    let report = Style {
+        format: Format::Human,
+        color,
+    };
     if path.ends_with(".cell") {
         let Some((artifact, compilation)) =
-            crate::artifact_io::compiled_cell(path, Report::Human, options)
+            crate::artifact_io::compiled_cell(path, report, options)
         else {
             return ExitCode::from(1);
         };
@@ -24,7 +28,7 @@ pub fn run(path: &str, options: &cellc_compiler::CompileOptions) -> ExitCode {
         }
         return ExitCode::SUCCESS;
     }
-    match crate::artifact_io::cell_or_artifact(path, options) {
+    match crate::artifact_io::cell_or_artifact(path, report, options) {
         Some(artifact) => {
             print!("{}", describe(&artifact));
             ExitCode::SUCCESS

@@ -155,7 +155,7 @@ fn parse_move(args: &PlanArgs, loaded: &Loaded, text: &str) -> Result<Move, Exit
     };
     let placement = placement_from_text(to.trim(), "move").map_err(|failure| {
         let (d, sources) = *failure;
-        super::plan::emit(args.format, &[d], &sources);
+        crate::render::emit(args.style, &[d], &sources);
         ExitCode::from(2)
     })?;
     let object = object.trim();

@@ -2,7 +2,6 @@
 
 use cellc_driver::document;
 use cellc_driver::document::report::Report;
-use std::io::IsTerminal;
 use std::process::ExitCode;
 use std::sync::OnceLock;
 
@@ -13,10 +12,9 @@ use cellc_runtime::{Cell, Files, LoadError, ObjectId};
 use cellc_schema::partial::{Partial, Parts};
 use cellc_schema::sections::Sections;
 
-use crate::args::PlanFormat;
 use crate::artifact_io::{self, InPart};
 use crate::plan_report::{self, codes};
-use crate::render::{self, Color};
+use crate::render::{self, Format, Style};
 use cellc_driver::fs_files::FsFiles;
 use cellc_driver::fs_files::PieceFile;
 
@@ -33,8 +31,8 @@ pub struct PlanArgs {
     pub from: Option<String>,
     /// Goal placement text.
     pub to: Option<String>,
-    /// Output.
-    pub format: PlanFormat,
+    /// Output style and colour.
+    pub style: Style,
     /// Seed.
     pub seed: u64,
     /// Plan joint motions too.
@@ -64,7 +62,7 @@ pub struct LoadArgs {
     /// Seed of verification, for a cell compiled now.
     pub seed: u64,
     /// How diagnostics are reported.
-    pub format: PlanFormat,
+    pub style: Style,
     /// What a compilation of the cell is told (the package path).
     pub compile: cellc_compiler::CompileOptions,
 }
@@ -75,20 +73,23 @@ impl PlanArgs {
         LoadArgs {
             input: self.input.clone(),
             seed: self.seed,
-            format: self.format,
+            style: self.style,
             compile: self.compile.clone(),
         }
     }
 
-    /// From the command line's request flags.
-    pub fn new(request: &crate::args::RequestArgs) -> PlanArgs {
+    /// From the command line's request flags, with the colour the process decided.
+    pub fn new(request: &crate::args::RequestArgs, color: render::Color) -> PlanArgs {
         PlanArgs {
             input: request.input.to_string_lossy().to_string(),
             request: request.request.clone(),
             object: request.object.clone(),
             from: request.from.clone(),
             to: request.to.clone(),
-            format: request.format,
+            style: Style {
+                format: request.format,
+                color,
+            },
             seed: request.seed,
             motions: !request.no_motions,
             weights: request.weights,
@@ -125,9 +126,9 @@ pub struct Loaded {
     /// an artifact they are read when a diagnostic is first shown: a plan that succeeds
     /// never needs them, and a 10^6-arc cell's source is megabytes to read and hash.
     sources: OnceLock<(SourceMap, Vec<FileId>)>,
-    /// How diagnostics are reported: human text on standard error, or (with JSON output)
-    /// the JSON report on standard output, so that output stays JSON on every path.
-    pub format: PlanFormat,
+    /// How diagnostics are reported: human text on standard error, or (with short or
+    /// JSON output) on standard output, so that output stays in its form on every path.
+    pub style: Style,
     /// A sectioned binary artifact read in part, to read more of it later.
     pub sections: Option<Sections<PieceFile>>,
 }
@@ -193,10 +194,10 @@ impl Loaded {
         // No diagnostic, no label: the sources are not read (hashing them is a few
         // milliseconds of a plan on a large artifact).
         if diagnostics.is_empty() {
-            emit(self.format, &[], &SourceMap::new());
+            render::emit(self.style, &[], &SourceMap::new());
             return;
         }
-        emit(self.format, &self.shown(diagnostics), self.sources());
+        render::emit(self.style, &self.shown(diagnostics), self.sources());
     }
 
     /// The diagnostics as they are shown: labels in files that changed since the build
@@ -235,25 +236,6 @@ impl Loaded {
     }
 }
 
-/// Reports diagnostics as `format` asks: human text on standard error, or the JSON
-/// report (the schema of `cellc check --format json`) on standard output.
-pub fn emit(format: PlanFormat, diagnostics: &[Diagnostic], sources: &SourceMap) {
-    match format {
-        PlanFormat::Human => print(diagnostics, sources),
-        PlanFormat::Json => print!("{}", render::json(diagnostics, sources)),
-    }
-}
-
-/// Prints diagnostics to standard error.
-pub fn print(diagnostics: &[Diagnostic], sources: &SourceMap) {
-    let color = if std::io::stderr().is_terminal() {
-        Color::Always
-    } else {
-        Color::Never
-    };
-    eprint!("{}", render::human(diagnostics, sources, color));
-}
-
 /// How much of a sectioned binary artifact [`load_in`] reads.
 #[derive(Clone, Copy, Debug)]
 pub enum Scope<'a> {
@@ -273,10 +255,10 @@ pub fn load(args: &LoadArgs) -> Result<Loaded, ExitCode> {
 
 /// [`load`], reading of a sectioned binary what `scope` says.
 pub fn load_in(args: &LoadArgs, scope: Scope<'_>) -> Result<Loaded, ExitCode> {
-    let (input, seed, format) = (args.input.as_str(), args.seed, args.format);
+    let (input, seed, style) = (args.input.as_str(), args.seed, args.style);
     let mut file = None;
     let fail = |d: Diagnostic, sources: &SourceMap| {
-        emit(format, &[d], sources);
+        render::emit(style, &[d], sources);
         ExitCode::from(1)
     };
     let (partial, sources) = if input.ends_with(".cell") {
@@ -292,7 +274,7 @@ pub fn load_in(args: &LoadArgs, scope: Scope<'_>) -> Result<Loaded, ExitCode> {
             },
         );
         let Some(artifact) = built.artifact else {
-            emit(format, &built.diagnostics, &built.compilation.sources);
+            render::emit(style, &built.diagnostics, &built.compilation.sources);
             return Err(ExitCode::from(1));
         };
         let partial = Partial::whole(artifact).map_err(|e| {
@@ -357,8 +339,8 @@ pub fn load_in(args: &LoadArgs, scope: Scope<'_>) -> Result<Loaded, ExitCode> {
     let cell = match Cell::from_partial(partial, &FsFiles) {
         Ok(cell) => cell,
         Err(LoadError::Scene(e)) => {
-            emit(
-                format,
+            render::emit(
+                style,
                 &[cellc_driver::verify_report::scene_error_at(
                     &e, &robots, &spans,
                 )],
@@ -367,8 +349,8 @@ pub fn load_in(args: &LoadArgs, scope: Scope<'_>) -> Result<Loaded, ExitCode> {
             return Err(ExitCode::from(1));
         }
         Err(LoadError::Artifact(e)) => {
-            emit(
-                format,
+            render::emit(
+                style,
                 &[crate::artifact_io::diagnostic(input, &e)],
                 sources_now(),
             );
@@ -380,14 +362,14 @@ pub fn load_in(args: &LoadArgs, scope: Scope<'_>) -> Result<Loaded, ExitCode> {
                 e.to_string(),
             )
             .help("rebuild the artifact with `cellc build` from a cell whose robot files load");
-            emit(format, &[d], sources_now());
+            render::emit(style, &[d], sources_now());
             return Err(ExitCode::from(1));
         }
     };
     Ok(Loaded {
         cell,
         sources,
-        format,
+        style,
         sections: file,
     })
 }
@@ -459,7 +441,7 @@ pub fn prepare(args: &PlanArgs, loaded: &Loaded) -> Result<Prepared, ExitCode> {
                 Ok(placements) => placements,
                 Err(failure) => {
                     let (d, sources) = *failure;
-                    emit(args.format, &[d], &sources);
+                    render::emit(args.style, &[d], &sources);
                     return Err(ExitCode::from(2));
                 }
             };
@@ -514,7 +496,8 @@ pub fn run(args: &PlanArgs) -> ExitCode {
         Ok(j) => j,
         Err(code) => return code,
     };
-    let human = args.format == PlanFormat::Human;
+    let format = args.style.format;
+    let human = format == Format::Human;
     let single = moves.len() == 1 && title.starts_with("request");
     let options = cellc_runtime::TaskOptions {
         plan: args.options(),
@@ -574,10 +557,10 @@ pub fn run(args: &PlanArgs) -> ExitCode {
             } else {
                 label(i)
             };
-            if human {
-                print!("{}", plan_report::describe(artifact, &label, plan));
-            } else {
-                plans.push(document::plan::Plan::of(artifact, &label, plan));
+            match format {
+                Format::Human => print!("{}", plan_report::describe(artifact, &label, plan)),
+                Format::Short => print!("{}", plan_report::short(artifact, &label, plan)),
+                Format::Json => plans.push(document::plan::Plan::of(artifact, &label, plan)),
             }
         }
     }
@@ -600,7 +583,7 @@ pub fn run(args: &PlanArgs) -> ExitCode {
     });
     let ok = failure.is_none();
     let diagnostics: Vec<Diagnostic> = failure.into_iter().collect();
-    if human {
+    if format != Format::Json {
         loaded.report(&diagnostics);
     } else {
         let document = document::run::Run::new(

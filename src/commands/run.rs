@@ -12,14 +12,23 @@ use cellc_runtime::{Executed, Execution, ExecutionError, TaskError, TaskFailure,
 
 use super::job::{job, world_text, Job};
 use super::plan::{load, Loaded, PlanArgs};
-use crate::args::PlanFormat;
-use crate::plan_report::{codes, describe, plan_error};
+use crate::plan_report::{self, codes, describe, plan_error};
+use crate::render::Format;
 use cellc_driver::document::run::{Kind, Move, Run};
 use cellc_driver::document::world::World as WorldDocument;
 
 /// Runs the job `args` ask for; `fail_at` makes the motion of that step (1-based) of the
-/// first move fail.
+/// first plan executed fail.
 pub fn run(args: &PlanArgs, fail_at: Option<usize>) -> ExitCode {
+    // Step 0 does not exist whatever the cell: refused before the cell is read.
+    if fail_at == Some(0) {
+        crate::render::emit(
+            args.style,
+            &[fail_at_out_of_range(0, None)],
+            &Default::default(),
+        );
+        return ExitCode::from(2);
+    }
     let loaded = match load(&args.load_args()) {
         Ok(l) => l,
         Err(code) => return code,
@@ -34,7 +43,7 @@ pub fn run(args: &PlanArgs, fail_at: Option<usize>) -> ExitCode {
     };
     let cell = &loaded.cell;
     let artifact = cell.artifact();
-    let human = args.format == PlanFormat::Human;
+    let human = args.style.is_human();
     let several = moves.len() > 1 || !title.starts_with("request");
     let options = TaskOptions {
         plan: args.options(),
@@ -44,6 +53,15 @@ pub fn run(args: &PlanArgs, fail_at: Option<usize>) -> ExitCode {
     };
     let list: Vec<_> = moves.iter().map(|m| (m.object, m.goal.clone())).collect();
     let cellc_runtime::TaskRun { record, failure } = cell.run_task(&mut world, &list, &options);
+    // The first plan executed is known only once it is planned; a step past its end was
+    // never failed, so what ran is not what was asked: nothing of it is shown.
+    if let (Some(n), Some(first)) = (fail_at, record.first()) {
+        if n > first.plan.steps.len() {
+            let d = fail_at_out_of_range(n, Some(first.plan.steps.len()));
+            crate::render::emit(args.style, &[d], &Default::default());
+            return ExitCode::from(2);
+        }
+    }
     let label = |index: usize| {
         if several {
             format!("move {} of {}", index + 1, moves.len())
@@ -103,10 +121,10 @@ pub fn run(args: &PlanArgs, fail_at: Option<usize>) -> ExitCode {
         })
         .collect();
     let ok = diagnostics.is_empty();
-    if human {
+    if args.style.format != Format::Json {
         // A lone request's world is the request itself; a world given or several moves
         // are worth showing as they end.
-        if several || args.world.is_some() {
+        if human && (several || args.world.is_some()) {
             print!("{}", world_text(cell, &world));
         }
         loaded.report(&diagnostics);
@@ -128,13 +146,19 @@ pub fn run(args: &PlanArgs, fail_at: Option<usize>) -> ExitCode {
     }
 }
 
-/// One executed plan: printed (human output) and returned as its JSON record.
+/// One executed plan: printed (human and short output) and returned as its JSON record.
 fn report(loaded: &Loaded, executed: &Executed, label: &str) -> Move {
     let cell = &loaded.cell;
     let artifact = cell.artifact();
-    let human = loaded.format == PlanFormat::Human;
+    let format = loaded.style.format;
+    let human = format == Format::Human;
     let plan = &executed.plan;
     let object = plan.object;
+    let record = Move::of(artifact, executed, label);
+    if format == Format::Short {
+        print!("{}", short(loaded, executed, label, &record));
+        return record;
+    }
     if human {
         if executed.clears.is_some() {
             println!(
@@ -148,7 +172,6 @@ fn report(loaded: &Loaded, executed: &Executed, label: &str) -> Move {
             println!("  {line}");
         }
     }
-    let record = Move::of(artifact, executed, label);
     if let (true, Ok(run)) = (human, &executed.result) {
         print!(
             "{}",
@@ -209,6 +232,63 @@ fn done_text(
         }
     }
     out
+}
+
+/// One executed plan in `--format short`: the plan's lines, the simulator's log, each
+/// replan's lines and the outcome, every line naming the plan.
+fn short(loaded: &Loaded, executed: &Executed, label: &str, record: &Move) -> String {
+    use std::fmt::Write as _;
+    let artifact = loaded.cell.artifact();
+    let mut out = plan_report::short(artifact, label, &executed.plan);
+    for line in &executed.log {
+        let _ = writeln!(out, "plan `{label}` simulation: {line}");
+    }
+    let Ok(run) = &executed.result else {
+        return out;
+    };
+    for (i, replan) in run.plans.iter().enumerate().skip(1) {
+        out.push_str(&plan_report::short(
+            artifact,
+            &format!("{label}, replan {i}"),
+            replan,
+        ));
+    }
+    let s = run.final_state;
+    let object = run.plans[0].object;
+    let _ = write!(
+        out,
+        "plan `{label}` done: `{}` held by `{}` with `{}` in `{}`",
+        artifact.object_name(object),
+        artifact.end_effector_name(s.end_effector),
+        artifact.grasp_name(object, s.grasp),
+        artifact.workspace_name(s.workspace)
+    );
+    if let Some((p, r)) = record.position_error.zip(record.rotation_error) {
+        let _ = write!(
+            out,
+            "; error {:.2} mm, {:.3} deg from the goal",
+            p * 1000.0,
+            r.to_degrees()
+        );
+    }
+    out.push('\n');
+    out
+}
+
+/// `--fail-at N` names no step of the first plan executed (`steps`, when it is known).
+fn fail_at_out_of_range(n: usize, steps: Option<usize>) -> Diagnostic {
+    let message = match steps {
+        Some(steps) => format!(
+            "`--fail-at {n}` is past the end of the first plan executed, which has {steps} steps"
+        ),
+        None => "`--fail-at 0` names no step: steps are counted from 1".to_string(),
+    };
+    let help = match steps {
+        Some(0) => "this plan has no steps to fail: leave out `--fail-at`".to_string(),
+        Some(steps) => format!("give a step from 1 to {steps}, or leave out `--fail-at`"),
+        None => "give a step from 1 (the first) to the plan's number of steps".to_string(),
+    };
+    Diagnostic::error(crate::output::codes::FAIL_AT_OUT_OF_RANGE, message).help(help)
 }
 
 /// An execution failure as a diagnostic.

@@ -127,7 +127,7 @@ fn table_one_figures_from_cellc_info() {
     run(&[
         "build",
         cell.to_str().unwrap(),
-        "--format",
+        "--encoding",
         "bin",
         "-o",
         artifact.to_str().unwrap(),

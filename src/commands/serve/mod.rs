@@ -29,7 +29,6 @@ use cellc_runtime::World;
 use serde::de::DeserializeOwned;
 
 use super::plan::{load, LoadArgs, Loaded};
-use crate::args::PlanFormat;
 pub use errors::{codes, worker_failed};
 use errors::{ApiError, Failure};
 
@@ -62,6 +61,8 @@ pub struct ServeArgs {
     pub seed: u64,
     /// Compile options (the package path).
     pub compile: cellc_compiler::CompileOptions,
+    /// Colour of the diagnostics printed when the cell does not load.
+    pub color: crate::render::Color,
 }
 
 /// What every request shares: the cell (read-only) and the world.
@@ -93,7 +94,10 @@ pub fn run(args: &ServeArgs) -> ExitCode {
     let load_args = LoadArgs {
         input: args.input.clone(),
         seed: args.seed,
-        format: PlanFormat::Human,
+        style: crate::render::Style {
+            format: crate::render::Format::Human,
+            color: args.color,
+        },
         compile: args.compile.clone(),
     };
     let loaded = match load(&load_args) {

@@ -25,11 +25,10 @@ use cellc_runtime::World;
 use serde::Serialize;
 
 use super::plan::{Loaded, PlanArgs};
-use crate::args::PlanFormat;
 
 /// What `cellc view` was asked.
 pub struct ViewArgs {
-    /// How to load the cell and what to plan (`format` is human: diagnostics on stderr).
+    /// How to load the cell and what to plan (`style` is human: diagnostics on stderr).
     pub plan: PlanArgs,
     /// A plan document to show instead of planning.
     pub plan_file: Option<PathBuf>,
@@ -202,7 +201,7 @@ fn planned(args: &ViewArgs, loaded: &Loaded) -> Result<Planned, ExitCode> {
 /// Writes the page.
 pub fn run(args: &ViewArgs) -> ExitCode {
     let mut plan_args = args.plan.clone();
-    plan_args.format = PlanFormat::Human;
+    plan_args.style.format = crate::render::Format::Human;
     let loaded = match super::plan::load(&plan_args.load_args()) {
         Ok(l) => l,
         Err(code) => return code,
