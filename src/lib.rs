@@ -89,6 +89,7 @@ pub fn dispatch() -> ExitCode {
             };
             if *explain && report.format != render::Format::Human {
                 return usage_error(
+                    "build",
                     clap::error::ErrorKind::ArgumentConflict,
                     "`--explain` prints text on standard output, which `--format short` and \
                      `--format json` keep for diagnostics: use `cellc info` for the explanation",
@@ -188,10 +189,17 @@ pub fn dispatch() -> ExitCode {
     }
 }
 
-/// A usage error found after parsing (two flags that cannot go together however they are
-/// spelt), printed as clap prints its own, with exit status 2.
-fn usage_error(kind: clap::error::ErrorKind, message: &str) -> ExitCode {
+/// A usage error found after parsing (two flags that cannot go together whatever their
+/// values), printed as clap prints its own, with the subcommand's usage line and exit
+/// status 2.
+fn usage_error(subcommand: &str, kind: clap::error::ErrorKind, message: &str) -> ExitCode {
     use clap::CommandFactory;
-    let _ = args::Args::command().error(kind, message).print();
+    let mut command = args::Args::command();
+    command.build();
+    let error = match command.find_subcommand_mut(subcommand) {
+        Some(sub) => sub.error(kind, message),
+        None => command.error(kind, message),
+    };
+    let _ = error.print();
     ExitCode::from(2)
 }
