@@ -223,8 +223,8 @@ pub enum Command {
         /// The object.
         #[arg(long)]
         object: String,
-        /// What to write: the graph as DOT, JSON or SVG (`--format` is kept, in every
-        /// command, for how diagnostics are written).
+        /// What to write: the graph as DOT, JSON or SVG (in every command `--format` is
+        /// how diagnostics are written, so the graph's form has a flag of its own).
         #[arg(long, value_enum, default_value = "dot")]
         emit: GraphFormat,
         /// Where ROS packages are.

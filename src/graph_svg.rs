@@ -1,4 +1,4 @@
-//! An object-state graph as SVG, laid out here without Graphviz (`cellc graph --format
+//! An object-state graph as SVG, laid out here without Graphviz (`cellc graph --emit
 //! svg`, and the side panel of `cellc view`).
 //!
 //! The layout is a grid that follows the graph's own structure rather than a general

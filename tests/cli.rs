@@ -220,9 +220,8 @@ fn a_closed_pipe_ends_quietly() {
     assert_eq!(status, "141", "{stderr}");
 }
 
-/// `cellc plan` and `cellc graph` with `--format json` write JSON on standard output on
-/// every path: the plan or graph, or a diagnostics report in the schema of `cellc check
-/// --format json`.
+/// `cellc plan` with `--format json` writes JSON on standard output on every path: the
+/// plan, or a diagnostics report in the schema of `cellc check --format json`.
 #[test]
 fn json_output_is_json_on_every_path() {
     let cases: &[&[&str]] = &[

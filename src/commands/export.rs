@@ -1,4 +1,4 @@
-//! `cellc export pddl CELL_OR_ARTIFACT [--object O | --request NAME] [--from P --to P]
+//! `cellc export pddl INPUT [--object O | --request NAME] [--from P --to P]
 //! -o DIR`
 
 use std::path::{Path, PathBuf};

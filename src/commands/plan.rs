@@ -1,4 +1,4 @@
-//! `cellc plan CELL_OR_ARTIFACT [--request NAME | --object O --from P --to P]`
+//! `cellc plan INPUT [--request NAME | --object O --from P --to P]`
 
 use cellc_driver::document;
 use cellc_driver::document::report::Report;

@@ -1,4 +1,4 @@
-//! `cellc serve CELL_OR_ARTIFACT [--addr 127.0.0.1:7878]`: a long-running planning service.
+//! `cellc serve INPUT [--addr 127.0.0.1:7878]`: a long-running planning service.
 //!
 //! The cell is loaded and verified once; the service then holds it (read-only, shared by
 //! every request) and one world (docs/world.md), which plans read and executions update.

@@ -1,4 +1,4 @@
-//! `cellc view CELL_OR_ARTIFACT [--request NAME | --task NAME | --plan PLAN.json]
+//! `cellc view INPUT [--request NAME | --task NAME | --plan PLAN.json]
 //! [--world WORLD.json] -o VIEW.html`: one self-contained HTML page with the cell in 3D,
 //! its workspaces, its object-state graphs and, with a plan, the plan animated.
 //!
