@@ -70,7 +70,7 @@ pub fn dispatch() -> ExitCode {
             style(report),
             &packages::compile_options(packages),
         ),
-        args::Command::Fmt { files, check } => commands::fmt::run(files, *check),
+        args::Command::Fmt { files, check } => commands::fmt::run(files, *check, color),
         args::Command::Explain { code } => commands::explain::run(code, color),
         args::Command::Build {
             cell,

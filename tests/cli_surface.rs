@@ -9,6 +9,8 @@ use std::process::{Command, Output};
 /// A cell with one error (E0101), and one that plans in five steps without arms.
 const BAD_CELL: &str = "tests/ui/E0101_unknown_grasp.cell";
 const PICK: &str = "tests/ui/cli/support/pick.cell";
+/// A cell with a syntax error, which `fmt` reports and never rewrites.
+const BAD_SYNTAX: &str = "tests/ui/E0001_missing_reaches.cell";
 
 /// `cellc ARGS` from the repository root, with the colour variables of the test's own
 /// environment cleared and `env` set.
@@ -282,6 +284,7 @@ fn color_is_global_and_follows_no_color() {
         &["plan", BAD_CELL],
         &["run", BAD_CELL],
         &["explain", "E9999"],
+        &["fmt", "--check", BAD_SYNTAX],
     ];
     for command in commands {
         let mut after = command.to_vec();

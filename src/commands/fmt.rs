@@ -1,4 +1,4 @@
-//! `cellc fmt [--check] FILE...`
+//! `cellc fmt [--check] INPUT...`
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -13,7 +13,7 @@ use cellc_driver::fs_files::FsFiles;
 
 /// Formats files in place, or with `--check` reports those that are not formatted.
 /// A file with syntax errors is never rewritten.
-pub fn run(files: &[PathBuf], check: bool) -> ExitCode {
+pub fn run(files: &[PathBuf], check: bool, color: Color) -> ExitCode {
     let mut failed = false;
     for path in files {
         let display = path.to_string_lossy().to_string();
@@ -22,7 +22,7 @@ pub fn run(files: &[PathBuf], check: bool) -> ExitCode {
         let text = match read_source(&FsFiles, &display, MAX_SOURCE_BYTES, None) {
             Ok(text) => text,
             Err(d) => {
-                eprint!("{}", render::human(&[d], &SourceMap::new(), Color::Never));
+                eprint!("{}", render::human(&[d], &SourceMap::new(), color));
                 failed = true;
                 continue;
             }
@@ -33,10 +33,7 @@ pub fn run(files: &[PathBuf], check: bool) -> ExitCode {
             (_, _) => {
                 let mut sources = SourceMap::new();
                 sources.add(display.clone(), text.clone());
-                eprint!(
-                    "{}",
-                    render::human(&parsed.diagnostics, &sources, Color::Never)
-                );
+                eprint!("{}", render::human(&parsed.diagnostics, &sources, color));
                 eprintln!("not formatted: `{display}` has syntax errors");
                 failed = true;
                 continue;
@@ -50,7 +47,7 @@ pub fn run(files: &[PathBuf], check: bool) -> ExitCode {
             println!("would reformat {display}");
             failed = true;
         } else if let Err(d) = crate::output::rewrite(path, formatted.as_bytes()) {
-            eprint!("{}", render::human(&[d], &SourceMap::new(), Color::Never));
+            eprint!("{}", render::human(&[d], &SourceMap::new(), color));
             failed = true;
         }
     }
