@@ -10,10 +10,10 @@ use std::collections::BTreeMap;
 
 use cellc_driver::fs_files::FsFiles;
 use cellc_driver::BuildOptions;
-use cellc_runtime::execute::{execute, ExecuteOptions, Simulator};
 use cellc_runtime::plan::planner::Planner;
 use cellc_runtime::plan::{Command, Goal, Plan, PlanOptions, Request};
 use cellc_runtime::scene::Scene;
+use cellc_runtime::{ExecuteOptions, Simulator};
 use cellc_schema::Artifact;
 
 const CELL: &str = "cells/assembly_line.cell";
@@ -286,7 +286,8 @@ fn plan_and_run_cell(path: &str, seed: u64) -> Artifact {
         max_replans: 0,
         plan: request.options.clone(),
     };
-    let run = execute(&planner, plan, &mut simulator, &options)
+    let run = planner
+        .execute(plan, &mut simulator, &options)
         .unwrap_or_else(|e| panic!("seed {seed}: execution failed: {e:?}"));
     assert_eq!(run.plans.len(), 1, "seed {seed}: no replan");
     assert_eq!(run.final_state, goal);

@@ -9,9 +9,9 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
 use cellc_driver::fs_files::FsFiles;
-use cellc_runtime::execute::SimulatorTolerance;
 use cellc_runtime::plan::PlanOptions;
 use cellc_runtime::robot::Robot;
+use cellc_runtime::SimulatorTolerance;
 use cellc_runtime::{Cell, ExecuteOptions, ExecutionError, StepError};
 use cellc_schema::MeshFile;
 use cellc_urdf::{package, Description, MeshPaths, PackagePath, Srdf};

@@ -16,6 +16,9 @@ use parry3d_f64::shape::SharedShape;
 
 use crate::math::Point;
 
+/// Why a COLLADA file's positions could not be read (a [`MeshError::Collada`]).
+pub use crate::collada::ColladaError;
+
 /// Why a mesh could not be made into a convex solid.
 #[derive(Debug, Clone, PartialEq)]
 #[non_exhaustive]

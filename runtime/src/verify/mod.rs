@@ -42,7 +42,7 @@ use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
 
-use crate::closed_chain::HandoffOptions;
+use crate::kinematics::closed_chain::HandoffOptions;
 use crate::kinematics::IkOptions;
 use crate::scene::{Holder, Scene, SceneScratch};
 

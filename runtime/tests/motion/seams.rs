@@ -12,8 +12,8 @@ use cellc_runtime::motion::{
 };
 use cellc_runtime::plan::Trajectory;
 use cellc_runtime::scene::{QueryError, Scene, SceneScratch};
-use cellc_runtime::termination::Termination;
 use cellc_runtime::validity::{SceneValidity, StateFault, StateValidity};
+use cellc_runtime::Termination;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
