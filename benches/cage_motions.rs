@@ -85,7 +85,9 @@ fn cases(cell: &Cell) -> Vec<Case> {
     let request = cell
         .named_request("through_cage", PlanOptions::default())
         .expect("declared");
-    let plan = cell.plan(&request).expect("the request plans");
+    let plan = cell
+        .plan(&cell.home_world(), &request)
+        .expect("the request plans");
     for (k, step) in plan.steps.iter().enumerate() {
         let (Some(t), Some(context)) = (&step.motion, &step.motion_context) else {
             continue;

@@ -369,7 +369,7 @@ fn the_line_moves_two_cylinders_one_after_the_other() {
     let scene = cell.scene().expect("geometric");
     for (i, (object, goal)) in moves.iter().enumerate() {
         let plan = cell
-            .plan_in(&world, *object, goal, &options)
+            .plan_move(&world, *object, goal, &options)
             .unwrap_or_else(|e| panic!("move {}: {e}", i + 1));
         // The second cylinder starts on bench 2, so its chain is the paper's from there.
         let expected: &[&str] = if i == 0 { &PAPERS[3..] } else { &PAPERS };
@@ -403,8 +403,8 @@ fn the_line_moves_two_cylinders_one_after_the_other() {
             checked += 1;
         }
         assert!(checked >= 10, "move {}: {checked} trajectories", i + 1);
-        let mut simulator = cell.simulator_in(&world, &plan);
-        cell.execute_in(&mut world, plan, &mut simulator, &ExecuteOptions::default())
+        let mut simulator = cell.simulator(&world, &plan);
+        cell.execute(&mut world, plan, &mut simulator, &ExecuteOptions::default())
             .unwrap_or_else(|e| panic!("move {}: {e}", i + 1));
         let seen = simulator.object_state();
         assert_eq!(world.state(*object), Some(seen.state), "move {}", i + 1);

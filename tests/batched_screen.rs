@@ -213,7 +213,7 @@ fn compare_plan(cell: &Cell, request: &str, seed: u64, segments: (usize, f64), t
         ..PlanOptions::default()
     };
     let request = cell.named_request(request, options).expect("declared");
-    let plan = cell.plan(&request).expect("plans");
+    let plan = cell.plan(&cell.home_world(), &request).expect("plans");
     let mut motions = 0;
     for (k, step) in plan.steps.iter().enumerate() {
         let (Some(t), Some(context)) = (&step.motion, &step.motion_context) else {

@@ -58,7 +58,7 @@ fn plan(cell: &Cell, seed: u64) -> Result<Plan, PlanError> {
     let request = cell
         .named_request("through_cage", options)
         .expect("declared");
-    cell.plan(&request)
+    cell.plan(&cell.home_world(), &request)
 }
 
 #[test]

@@ -299,7 +299,9 @@ fn plan_ui() {
                 );
                 // A cell with arms is planned with its geometry, as `cellc plan` does.
                 let cell = Cell::from_artifact(a.clone(), &FsFiles).expect("loads");
-                let error = cell.plan(&req).expect_err("the request must fail");
+                let error = cell
+                    .plan(&cell.home_world(), &req)
+                    .expect_err("the request must fail");
                 cellc::plan_report::plan_error(
                     cell.artifact(),
                     &error,
@@ -353,7 +355,9 @@ fn plan_costs_are_decimal_sums_of_the_weights() {
             ..PlanOptions::default()
         },
     );
-    let plan = cell.plan(&request).expect("the line plans");
+    let plan = cell
+        .plan(&cell.home_world(), &request)
+        .expect("the line plans");
     let graph = &cell.artifact().objects[request.object.index()].graph;
     let mut tenths = 0u64;
     let mut float_sum = 0.0;

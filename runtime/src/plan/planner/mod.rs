@@ -214,7 +214,7 @@ impl<'a> Planner<'a> {
     /// The object is absent; the goal names something the artifact lacks or lies where
     /// another object stands ([`PlanError::GoalOccupied`]); or no plan, as for
     /// [`Planner::plan`].
-    pub fn plan_in(
+    pub fn plan_move(
         &self,
         world: &World,
         object: ObjectId,
