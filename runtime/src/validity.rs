@@ -29,17 +29,21 @@ use crate::swept::{SweptBodies, LOOKAHEAD};
 /// since plans are reproducible from a seed, and must not call a state they cannot
 /// evaluate valid: that is an error, not a free state.
 pub trait StateValidity {
-    /// What is wrong with `q`, or `None` when it is valid. `scratch` holds the scene's
-    /// per-thread buffers; a checker that does not query the scene ignores it.
+    /// The per-thread buffers a query reuses, owned by the caller (a motion planner keeps
+    /// one for all its queries, so no query allocates): [`SceneScratch`] for
+    /// [`SceneValidity`] and checkers that wrap it, `()` for one that needs none.
+    type Scratch;
+
+    /// What is wrong with `q`, or `None` when it is valid.
     fn check(
         &self,
         q: &[f64],
-        scratch: &mut SceneScratch,
+        scratch: &mut Self::Scratch,
     ) -> Result<Option<StateFault>, QueryError>;
 
     /// Whether `q` is valid. The default asks [`StateValidity::check`]; implementations
     /// may answer without building the fault (no names, no allocation).
-    fn is_valid(&self, q: &[f64], scratch: &mut SceneScratch) -> Result<bool, QueryError> {
+    fn is_valid(&self, q: &[f64], scratch: &mut Self::Scratch) -> Result<bool, QueryError> {
         Ok(self.check(q, scratch)?.is_none())
     }
 
@@ -49,7 +53,7 @@ pub trait StateValidity {
     /// sampled motion check ([`DiscreteMotion`](crate::motion::DiscreteMotion)) asks
     /// the full check only about the others and its answers do not change. The default
     /// knows nothing.
-    fn screen(&self, qs: &[f64], out: &mut [Screened], scratch: &mut SceneScratch) {
+    fn screen(&self, qs: &[f64], out: &mut [Screened], scratch: &mut Self::Scratch) {
         let _ = (qs, scratch);
         out.fill(Screened::Unknown);
     }
@@ -69,7 +73,7 @@ pub trait StateValidity {
         q: &[f64],
         delta: &[f64],
         horizon: f64,
-        scratch: &mut SceneScratch,
+        scratch: &mut Self::Scratch,
     ) -> Result<Option<f64>, QueryError> {
         let _ = (q, delta, horizon, scratch);
         Ok(None)
@@ -80,11 +84,11 @@ pub trait StateValidity {
 /// asked in order: [`StateValidity::screen`] first, then [`StateValidity::is_valid`] for
 /// each it left unknown, until one is invalid. The answer is the one-by-one answer; `out`
 /// is the screen's buffer.
-pub(crate) fn all_valid(
-    validity: &dyn StateValidity,
+pub(crate) fn all_valid<S>(
+    validity: &dyn StateValidity<Scratch = S>,
     qs: &[f64],
     out: &mut [Screened],
-    scratch: &mut SceneScratch,
+    scratch: &mut S,
 ) -> Result<bool, QueryError> {
     validity.screen(qs, out, scratch);
     let dim = qs.len() / out.len().max(1);
@@ -485,6 +489,8 @@ impl<'a> SceneValidity<'a> {
 }
 
 impl StateValidity for SceneValidity<'_> {
+    type Scratch = SceneScratch;
+
     fn check(
         &self,
         q: &[f64],

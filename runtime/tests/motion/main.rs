@@ -129,7 +129,7 @@ impl Case<'_> {
     }
 
     /// The motion problem with `validity` deciding which states are valid.
-    fn with<'v>(&'v self, validity: &'v dyn StateValidity) -> MotionProblem<'v> {
+    fn with<'v, S>(&'v self, validity: &'v dyn StateValidity<Scratch = S>) -> MotionProblem<'v, S> {
         MotionProblem {
             scene: self.scene,
             arms: &self.arms,
