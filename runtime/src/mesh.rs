@@ -1,7 +1,7 @@
 //! Mesh files as collision solids: the vertices of an STL, OBJ or COLLADA file, scaled,
 //! and their convex hull. Robot links ([`crate::robot`]) and object shapes
 //! ([`crate::scene`]) both read meshes here; COLLADA's positions come from
-//! [`crate::collada`].
+//! `collada.rs`.
 //!
 //! A mesh is untrusted input like the URDF that names it. It is read within
 //! [`MAX_MESH_BYTES`], its vertices are counted against [`MAX_MESH_VERTICES`] before any
