@@ -30,8 +30,8 @@ use cellc_driver::fs_files::FsFiles;
 use cellc_runtime::motion::{MotionPlanner, MotionProblem, RrtConnect};
 use cellc_runtime::plan::{MotionContext, PlanOptions};
 use cellc_runtime::scene::{Holder, ObjectPlacement, Scene, SceneScratch};
-use cellc_runtime::termination::Termination;
 use cellc_runtime::validity::SceneValidity;
+use cellc_runtime::Termination;
 use cellc_runtime::{Cell, EndEffectorId, ObjectId};
 use cellc_schema::{Artifact, Shape};
 use criterion::{criterion_group, criterion_main, Criterion};
@@ -85,7 +85,9 @@ fn cases(cell: &Cell) -> Vec<Case> {
     let request = cell
         .named_request("through_cage", PlanOptions::default())
         .expect("declared");
-    let plan = cell.plan(&request).expect("the request plans");
+    let plan = cell
+        .plan(&cell.home_world(), &request)
+        .expect("the request plans");
     for (k, step) in plan.steps.iter().enumerate() {
         let (Some(t), Some(context)) = (&step.motion, &step.motion_context) else {
             continue;

@@ -86,7 +86,10 @@ fn load_and_plan(file: &str) -> usize {
     let request = cell
         .named_request("across", PlanOptions::default())
         .expect("the request");
-    cell.plan(&request).expect("a plan").states.len()
+    cell.plan(&cell.home_world(), &request)
+        .expect("a plan")
+        .states
+        .len()
 }
 
 fn bench(c: &mut Criterion) {
@@ -129,7 +132,9 @@ fn bench(c: &mut Criterion) {
     let request = cell
         .named_request("across", PlanOptions::default())
         .expect("the request");
-    group.bench_function("plan", |b| b.iter(|| cell.plan(&request).expect("a plan")));
+    group.bench_function("plan", |b| {
+        b.iter(|| cell.plan(&cell.home_world(), &request).expect("a plan"))
+    });
     // The checksums over every section's bytes, as a reader checks them all.
     let in_memory = Sections::open(&bytes).expect("opens");
     let bodies: Vec<&[u8]> = in_memory

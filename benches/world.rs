@@ -25,15 +25,15 @@ fn clear_table(cell: &Cell, seed: u64) -> usize {
     let mut trajectories = 0;
     for (object, goal) in cell.task("clear_table").expect("declared") {
         let plan = cell
-            .plan_in(&world, object, &goal, &options)
+            .plan_move(&world, object, &goal, &options)
             .expect("a plan");
         trajectories += plan.steps.iter().filter(|s| s.motion.is_some()).count();
-        let mut simulator = cell.simulator_in(&world, &plan);
+        let mut simulator = cell.simulator(&world, &plan);
         let execute = ExecuteOptions {
             max_replans: 5,
             plan: options.clone(),
         };
-        cell.execute_in(&mut world, plan, &mut simulator, &execute)
+        cell.execute(&mut world, plan, &mut simulator, &execute)
             .expect("executes");
     }
     trajectories

@@ -88,7 +88,9 @@ fn artifact_plan_in_part(data: &[u8], files: &MemoryFiles) {
         let Some(request) = cell.named_request(&named.name, options.clone()) else {
             continue;
         };
-        if let Err(cellc_runtime::PlanError::Unreachable(u)) = cell.plan(&request) {
+        if let Err(cellc_runtime::PlanError::Unreachable(u)) =
+            cell.plan(&cell.home_world(), &request)
+        {
             if cell
                 .read_parts(&sections, named.object, Parts::EXPLAIN)
                 .is_ok()
@@ -130,7 +132,9 @@ pub fn artifact_plan(data: &[u8]) {
     };
     for named in &cell.artifact().requests {
         if let Some(request) = cell.named_request(&named.name, options.clone()) {
-            if let Err(cellc_runtime::PlanError::Unreachable(u)) = cell.plan(&request) {
+            if let Err(cellc_runtime::PlanError::Unreachable(u)) =
+                cell.plan(&cell.home_world(), &request)
+            {
                 let _ = cell.explain(&u);
             }
         }
@@ -141,7 +145,7 @@ pub fn artifact_plan(data: &[u8]) {
         for task in &cell.artifact().tasks {
             let mut world = world.clone();
             for (object, goal) in cell.task(&task.name).unwrap_or_default() {
-                match cell.plan_in(&world, object, &goal, &options) {
+                match cell.plan_move(&world, object, &goal, &options) {
                     Ok(plan) => world = cell.world_after(&world, &plan),
                     Err(_) => break,
                 }
@@ -204,7 +208,7 @@ pub fn world_document(data: &[u8]) {
         return;
     };
     for (object, goal) in cell.task("clear_w1").unwrap_or_default() {
-        match cell.plan_in(&world, object, &goal, &options) {
+        match cell.plan_move(&world, object, &goal, &options) {
             Ok(plan) => world = cell.world_after(&world, &plan),
             Err(_) => break,
         }

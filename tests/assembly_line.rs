@@ -10,10 +10,10 @@ use std::collections::BTreeMap;
 
 use cellc_driver::fs_files::FsFiles;
 use cellc_driver::BuildOptions;
-use cellc_runtime::execute::{execute, ExecuteOptions, Simulator};
 use cellc_runtime::plan::planner::Planner;
 use cellc_runtime::plan::{Command, Goal, Plan, PlanOptions, Request};
 use cellc_runtime::scene::Scene;
+use cellc_runtime::{ExecuteOptions, Simulator};
 use cellc_schema::Artifact;
 
 const CELL: &str = "cells/assembly_line.cell";
@@ -286,7 +286,8 @@ fn plan_and_run_cell(path: &str, seed: u64) -> Artifact {
         max_replans: 0,
         plan: request.options.clone(),
     };
-    let run = execute(&planner, plan, &mut simulator, &options)
+    let run = planner
+        .execute(plan, &mut simulator, &options)
         .unwrap_or_else(|e| panic!("seed {seed}: execution failed: {e:?}"));
     assert_eq!(run.plans.len(), 1, "seed {seed}: no replan");
     assert_eq!(run.final_state, goal);
@@ -368,7 +369,7 @@ fn the_line_moves_two_cylinders_one_after_the_other() {
     let scene = cell.scene().expect("geometric");
     for (i, (object, goal)) in moves.iter().enumerate() {
         let plan = cell
-            .plan_in(&world, *object, goal, &options)
+            .plan_move(&world, *object, goal, &options)
             .unwrap_or_else(|e| panic!("move {}: {e}", i + 1));
         // The second cylinder starts on bench 2, so its chain is the paper's from there.
         let expected: &[&str] = if i == 0 { &PAPERS[3..] } else { &PAPERS };
@@ -402,8 +403,8 @@ fn the_line_moves_two_cylinders_one_after_the_other() {
             checked += 1;
         }
         assert!(checked >= 10, "move {}: {checked} trajectories", i + 1);
-        let mut simulator = cell.simulator_in(&world, &plan);
-        cell.execute_in(&mut world, plan, &mut simulator, &ExecuteOptions::default())
+        let mut simulator = cell.simulator(&world, &plan);
+        cell.execute(&mut world, plan, &mut simulator, &ExecuteOptions::default())
             .unwrap_or_else(|e| panic!("move {}: {e}", i + 1));
         let seen = simulator.object_state();
         assert_eq!(world.state(*object), Some(seen.state), "move {}", i + 1);

@@ -25,11 +25,13 @@ const SCREEN: f64 = 0.1;
 /// Forwards the full checks of a validity and hides its screen (the default screen
 /// proves nothing): the one-by-one check. Records every configuration it judges.
 struct OneByOne<'a> {
-    inner: &'a dyn StateValidity,
+    inner: &'a dyn StateValidity<Scratch = SceneScratch>,
     judged: RefCell<Vec<Vec<f64>>>,
 }
 
 impl StateValidity for OneByOne<'_> {
+    type Scratch = SceneScratch;
+
     fn check(
         &self,
         q: &[f64],
@@ -47,12 +49,14 @@ impl StateValidity for OneByOne<'_> {
 /// Forwards everything, screen included, and records the configurations screened, the
 /// verdicts of the screen and the configurations the full check was asked about.
 struct Batched<'a> {
-    inner: &'a dyn StateValidity,
+    inner: &'a dyn StateValidity<Scratch = SceneScratch>,
     screened: RefCell<Vec<(Vec<f64>, Screened)>>,
     asked: RefCell<Vec<Vec<f64>>>,
 }
 
 impl StateValidity for Batched<'_> {
+    type Scratch = SceneScratch;
+
     fn check(
         &self,
         q: &[f64],
@@ -213,7 +217,7 @@ fn compare_plan(cell: &Cell, request: &str, seed: u64, segments: (usize, f64), t
         ..PlanOptions::default()
     };
     let request = cell.named_request(request, options).expect("declared");
-    let plan = cell.plan(&request).expect("plans");
+    let plan = cell.plan(&cell.home_world(), &request).expect("plans");
     let mut motions = 0;
     for (k, step) in plan.steps.iter().enumerate() {
         let (Some(t), Some(context)) = (&step.motion, &step.motion_context) else {

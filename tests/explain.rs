@@ -18,8 +18,8 @@ use cellc_runtime::explain::Cause;
 use cellc_runtime::motion::{ChaCha8Rng, MotionError, MotionPlanner, MotionProblem};
 use cellc_runtime::plan::{PlanError, PlanOptions, Trajectory};
 use cellc_runtime::scene::SceneScratch;
-use cellc_runtime::termination::Termination;
 use cellc_runtime::Cell;
+use cellc_runtime::Termination;
 use explain_cells::*;
 
 /// The diagnostic of an unreachable request, checked as every one must be.

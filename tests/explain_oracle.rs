@@ -587,7 +587,7 @@ fn plan_drawn(
         Ok(r) => r,
         Err(e) => return Answer::Locate(e),
     };
-    match cell.plan(&request) {
+    match cell.plan(&cell.home_world(), &request) {
         Ok(plan) => {
             // Every step of the plan is an arc of the model, from the start to a goal.
             let m = model(d, &BTreeSet::new());

@@ -48,7 +48,7 @@ fn plan(files: &dyn Files, path: &str) -> Option<Planned> {
     let request = cell
         .named_request(&named, PlanOptions::default())
         .expect("the request is declared");
-    let result = cell.plan(&request);
+    let result = cell.plan(&cell.home_world(), &request);
     Some(Planned {
         sources: built.compilation.sources,
         cell,

@@ -14,9 +14,9 @@ use cellc_runtime::motion::{
 use cellc_runtime::motion::{CertifiedMotion, ChaCha8Rng};
 use cellc_runtime::plan::{Plan, PlanError, PlanOptions};
 use cellc_runtime::scene::{Holder, ObjectPlacement, SceneScratch};
-use cellc_runtime::termination::Termination;
 use cellc_runtime::validity::SceneValidity;
 use cellc_runtime::Cell;
+use cellc_runtime::Termination;
 use rand::SeedableRng;
 
 #[path = "support/verified.rs"]
@@ -58,7 +58,7 @@ fn plan(cell: &Cell, seed: u64) -> Result<Plan, PlanError> {
     let request = cell
         .named_request("through_cage", options)
         .expect("declared");
-    cell.plan(&request)
+    cell.plan(&cell.home_world(), &request)
 }
 
 #[test]

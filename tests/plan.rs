@@ -10,12 +10,12 @@ use std::collections::HashSet;
 
 use cellc_driver::fs_files::FsFiles;
 use cellc_driver::BuildOptions;
-use cellc_runtime::execute::{execute, ExecuteOptions, ExecutionError, Executor, Simulator};
 use cellc_runtime::plan::planner::Planner;
 use cellc_runtime::plan::{
     names, Command, Goal, LocateError, PlacementByName, Plan, PlanError, PlanOptions, Request,
 };
 use cellc_runtime::Cell;
+use cellc_runtime::{ExecuteOptions, ExecutionError, Executor, Simulator};
 use cellc_schema::{ArcKind, Artifact, Node};
 use proptest::prelude::*;
 use verified::verified_cell;
@@ -210,7 +210,7 @@ fn a_failed_motion_after_the_first_step_replans_from_the_new_state() {
         max_replans: 3,
         plan: req.options.clone(),
     };
-    let run = execute(&planner, plan, &mut sim, &options).expect("recovers");
+    let run = planner.execute(plan, &mut sim, &options).expect("recovers");
     assert_eq!(run.plans.len(), 2, "one replan");
     assert_eq!(run.final_state, goal);
     // The replan starts where the object was when the motion failed: held by the arm.
@@ -235,7 +235,7 @@ fn a_failure_before_the_object_moved_is_final() {
     let (start, goal) = (plan.states[0], *plan.states.last().unwrap());
     let _ = goal;
     let mut sim = Simulator::new(&a, None, plan.object, start, None).fail_motion_at(0);
-    let result = execute(&planner, plan, &mut sim, &ExecuteOptions::default());
+    let result = planner.execute(plan, &mut sim, &ExecuteOptions::default());
     assert!(
         matches!(result, Err(ExecutionError::FailedAtStart { .. })),
         "{result:?}"
@@ -299,7 +299,9 @@ fn plan_ui() {
                 );
                 // A cell with arms is planned with its geometry, as `cellc plan` does.
                 let cell = Cell::from_artifact(a.clone(), &FsFiles).expect("loads");
-                let error = cell.plan(&req).expect_err("the request must fail");
+                let error = cell
+                    .plan(&cell.home_world(), &req)
+                    .expect_err("the request must fail");
                 cellc::plan_report::plan_error(
                     cell.artifact(),
                     &error,
@@ -353,7 +355,9 @@ fn plan_costs_are_decimal_sums_of_the_weights() {
             ..PlanOptions::default()
         },
     );
-    let plan = cell.plan(&request).expect("the line plans");
+    let plan = cell
+        .plan(&cell.home_world(), &request)
+        .expect("the line plans");
     let graph = &cell.artifact().objects[request.object.index()].graph;
     let mut tenths = 0u64;
     let mut float_sum = 0.0;

@@ -237,7 +237,7 @@ fn planned(cell: &Cell, name: &str) -> (Vec<String>, String) {
         .named_request(name, PlanOptions::default())
         .expect("declared");
     let plan = cell
-        .plan(&request)
+        .plan(&cell.home_world(), &request)
         .unwrap_or_else(|e| panic!("{name}: {e:?}"));
     let a = cell.artifact();
     let mut holders: Vec<String> = Vec::new();

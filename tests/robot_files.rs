@@ -9,9 +9,9 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
 use cellc_driver::fs_files::FsFiles;
-use cellc_runtime::execute::SimulatorTolerance;
 use cellc_runtime::plan::PlanOptions;
 use cellc_runtime::robot::Robot;
+use cellc_runtime::SimulatorTolerance;
 use cellc_runtime::{Cell, ExecuteOptions, ExecutionError, StepError};
 use cellc_schema::MeshFile;
 use cellc_urdf::{package, Description, MeshPaths, PackagePath, Srdf};
@@ -282,18 +282,25 @@ fn a_carton_let_go_just_above_the_shelf_falls_onto_it() {
     let request = cell
         .named_request("table_to_shelf", PlanOptions::default())
         .expect("declared");
-    let plan = cell.plan(&request).expect("plans");
+    let start = cell
+        .request_world(&cell.home_world(), &request)
+        .expect("a start");
+    let plan = cell
+        .plan_move(&start, request.object, &request.goal, &request.options)
+        .expect("plans");
     let goal = plan.goal.pose.expect("a goal pose");
     let once = ExecuteOptions {
         max_replans: 0,
         ..ExecuteOptions::default()
     };
 
-    let mut strict = cell.simulator(&plan).with_tolerance(SimulatorTolerance {
-        drop: 0.0,
-        ..SimulatorTolerance::default()
-    });
-    match cell.execute(plan.clone(), &mut strict, &once) {
+    let mut strict = cell
+        .simulator(&start, &plan)
+        .with_tolerance(SimulatorTolerance {
+            drop: 0.0,
+            ..SimulatorTolerance::default()
+        });
+    match cell.execute(&mut start.clone(), plan.clone(), &mut strict, &once) {
         Err(ExecutionError::TooManyFailures {
             last: StepError::NotResting { height_error, .. },
             ..
@@ -301,11 +308,15 @@ fn a_carton_let_go_just_above_the_shelf_falls_onto_it() {
         other => panic!("a floating put-down was accepted: {other:?}"),
     }
 
-    let mut simulator = cell.simulator(&plan).with_tolerance(SimulatorTolerance {
-        drop: request.options.position_tolerance,
-        ..SimulatorTolerance::default()
-    });
-    let run = cell.execute(plan, &mut simulator, &once).expect("runs");
+    let mut simulator = cell
+        .simulator(&start, &plan)
+        .with_tolerance(SimulatorTolerance {
+            drop: request.options.position_tolerance,
+            ..SimulatorTolerance::default()
+        });
+    let run = cell
+        .execute(&mut start.clone(), plan, &mut simulator, &once)
+        .expect("runs");
     let pose = run.final_pose.expect("a final pose");
     // On the board (top 1.125 m, the carton's centre 6.25 cm above it), under the goal.
     assert!((pose.translation.z - 1.1875).abs() < 2e-4, "{pose:?}");

@@ -10,7 +10,7 @@ use cellc_runtime::motion::{ChaCha8Rng, MotionError, MotionPlanner, MotionProble
 use cellc_runtime::plan::planner::Planner;
 use cellc_runtime::plan::{PlanError, PlanOptions, Request, Trajectory};
 use cellc_runtime::scene::{Scene, SceneScratch};
-use cellc_runtime::termination::Termination;
+use cellc_runtime::Termination;
 use cellc_schema::Artifact;
 
 fn vito() -> (Artifact, Scene) {

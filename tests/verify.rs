@@ -111,7 +111,7 @@ fn recheck(
         // same placement.
         let through_arm = robot.tip_pose(base, &config.joints) * grasp(g);
         let relative = object_pose.inverse() * through_arm;
-        let turn = cellc_runtime::symmetry::residual(&relative.rotation, &obj.symmetries);
+        let turn = cellc_schema::symmetry::residual(&relative.rotation, &obj.symmetries);
         if relative.translation.vector.norm() > POSITION_TOLERANCE || turn > ROTATION_TOLERANCE {
             return Err(format!(
                 "arm {} does not hold the object where the witness says",

@@ -8,8 +8,8 @@
 mod verified;
 
 use cellc_runtime::plan::PlanOptions;
-use cellc_runtime::Plan;
 use cellc_runtime::{Cell, Command, ExecuteOptions, ExecutionError, Executor, StepError};
+use cellc_runtime::{Plan, World};
 use verified::verified_cell;
 
 /// A shipped cell compiled, loaded through the front door and verified.
@@ -18,19 +18,30 @@ fn cell(path: &str) -> Cell {
 }
 
 fn plan(cell: &Cell, name: &str, seed: u64) -> Plan {
+    planned(cell, name, seed).1
+}
+
+/// A named request's plan and the world it was made in (its object at its start, its
+/// hand's arm holding it, nothing else placed), where its simulator starts.
+fn planned(cell: &Cell, name: &str, seed: u64) -> (World, Plan) {
     let options = PlanOptions {
         seed,
         ..PlanOptions::default()
     };
     let request = cell.named_request(name, options).expect("declared");
-    cell.plan(&request)
-        .unwrap_or_else(|e| panic!("{name}: {e:?}"))
+    let world = cell
+        .request_world(&cell.home_world(), &request)
+        .unwrap_or_else(|e| panic!("{name}: {e:?}"));
+    let plan = cell
+        .plan_move(&world, request.object, &request.goal, &request.options)
+        .unwrap_or_else(|e| panic!("{name}: {e:?}"));
+    (world, plan)
 }
 
 /// Plans and simulates a named request; returns the holder sequence and the strategy.
 fn behaviour(cell: &Cell, name: &str, seed: u64) -> (Vec<String>, String) {
     let a = cell.artifact();
-    let plan = plan(cell, name, seed);
+    let (mut world, plan) = planned(cell, name, seed);
     let mut holders: Vec<String> = Vec::new();
     for s in &plan.states {
         let h = a.end_effectors[s.end_effector.index()].name.clone();
@@ -46,13 +57,13 @@ fn behaviour(cell: &Cell, name: &str, seed: u64) -> (Vec<String>, String) {
     );
     let goal = *plan.states.last().unwrap();
     let goal_pose = plan.goal.pose;
-    let mut sim = cell.simulator(&plan);
+    let mut sim = cell.simulator(&world, &plan);
     let options = ExecuteOptions {
         max_replans: 0,
         ..ExecuteOptions::default()
     };
     let run = cell
-        .execute(plan, &mut sim, &options)
+        .execute(&mut world, plan, &mut sim, &options)
         .unwrap_or_else(|e| panic!("{name}: {e:?}"));
     assert_eq!(
         run.final_state, goal,
@@ -136,18 +147,18 @@ fn tamper_with_a_grasp(cell: &Cell, plan: &mut Plan, from: usize) -> usize {
 #[test]
 fn a_wrong_pick_is_caught_by_the_simulator() {
     let cell = cell("cells/vito.cell");
-    let mut plan = plan(&cell, "handoff_cylinder", 0);
+    let (mut world, mut plan) = planned(&cell, "handoff_cylinder", 0);
     let index = tamper_with_a_grasp(&cell, &mut plan, 0);
     assert_eq!(index, 0, "the plan starts with the pick");
-    let mut sim = cell.simulator(&plan);
+    let mut sim = cell.simulator(&world, &plan);
     match sim.execute(&plan.steps[0]) {
         Err(StepError::GraspMissed { position_error, .. }) => {
             assert!(position_error > 0.01, "{position_error}")
         }
         other => panic!("the tampered grasp was not caught: {other:?}"),
     }
-    let mut sim = cell.simulator(&plan);
-    let result = cell.execute(plan, &mut sim, &ExecuteOptions::default());
+    let mut sim = cell.simulator(&world, &plan);
+    let result = cell.execute(&mut world, plan, &mut sim, &ExecuteOptions::default());
     assert!(
         matches!(
             result,
@@ -164,12 +175,12 @@ fn a_wrong_pick_is_caught_by_the_simulator() {
 #[test]
 fn a_wrong_handoff_is_caught_and_recovered_from() {
     let cell = cell("cells/vito.cell");
-    let mut plan = plan(&cell, "handoff_cylinder", 0);
+    let (mut world, mut plan) = planned(&cell, "handoff_cylinder", 0);
     let index = tamper_with_a_grasp(&cell, &mut plan, 1);
     let goal = *plan.states.last().expect("states");
-    let mut sim = cell.simulator(&plan);
+    let mut sim = cell.simulator(&world, &plan);
     let run = cell
-        .execute(plan, &mut sim, &ExecuteOptions::default())
+        .execute(&mut world, plan, &mut sim, &ExecuteOptions::default())
         .expect("recovers");
     assert_eq!(run.plans.len(), 2, "one replan");
     assert_eq!(run.final_state, goal);
@@ -278,7 +289,7 @@ mod trajectories {
                         let request = cell.named_request(&named.name, options).expect("declared");
                         // A rare motion give-up may leave a request unplanned; the count
                         // below bounds how often.
-                        let Ok(plan) = cell.plan(&request) else {
+                        let Ok(plan) = cell.plan(&cell.home_world(), &request) else {
                             continue;
                         };
                         planned.set(planned.get() + 1);

@@ -95,7 +95,7 @@ fn a_plan_from_a_non_home_joint_state_starts_exactly_there() {
         holder: None,
     };
     let plan = cell
-        .plan_in(&world, cylinder, &goal, &options(0))
+        .plan_move(&world, cylinder, &goal, &options(0))
         .expect("a plan");
     let first = plan
         .steps
@@ -208,13 +208,13 @@ fn a_goal_occupied_by_another_object_is_refused_and_names_it() {
             pose: Some(cellc_runtime::Iso::translation(x, at.translation.y, 1.0)),
         })
     };
-    match cell.plan_in(&world, cylinder, &goal(at.translation.x), &options(0)) {
+    match cell.plan_move(&world, cylinder, &goal(at.translation.x), &options(0)) {
         Err(PlanError::GoalOccupied { by }) => assert_eq!(by, ball),
         other => panic!("the ball's place is taken: {other:?}"),
     }
     // 15 cm further along x it is free.
     assert!(!matches!(
-        cell.plan_in(
+        cell.plan_move(
             &world,
             cylinder,
             &goal(at.translation.x + 0.15),
@@ -246,7 +246,7 @@ fn a_hand_that_holds_another_object_takes_no_part() {
         workspace: None,
         pose: Some(cellc_runtime::Iso::translation(0.4, -0.3, 1.0)),
     });
-    match cell.plan_in(&world, cylinder, &goal, &options(0)) {
+    match cell.plan_move(&world, cylinder, &goal, &options(0)) {
         Ok(plan) => assert!(
             plan.states.iter().all(|s| s.end_effector != right),
             "the right hand holds the ball: {:?}",
@@ -270,16 +270,16 @@ fn the_table_is_cleared_and_the_world_follows_the_simulator() {
     let mut blocked = Vec::new();
     for (object, goal) in &task {
         let plan = cell
-            .plan_in(&world, *object, goal, &options(0))
+            .plan_move(&world, *object, goal, &options(0))
             .unwrap_or_else(|e| panic!("{}: {e:?}", cell.artifact().object_name(*object)));
         checked += recheck(&cell, &world, &plan);
         // Where the direct plan (the witnessed steps) ran into another object.
         for detour in &plan.detours {
             blocked.push((*object, detour.blocker.by, detour.around));
         }
-        let mut simulator = cell.simulator_in(&world, &plan);
+        let mut simulator = cell.simulator(&world, &plan);
         let run = cell
-            .execute_in(&mut world, plan, &mut simulator, &ExecuteOptions::default())
+            .execute(&mut world, plan, &mut simulator, &ExecuteOptions::default())
             .expect("executes");
         // The world is what the simulator reports.
         assert_eq!(world.state(*object), Some(run.final_state));

@@ -41,8 +41,8 @@ fn execute_all(cell: &Cell, mut world: World, plans: Vec<Plan>) -> World {
         assert!(recheck(cell, &world, &plan) > 0, "no trajectory re-checked");
         let predicted = cell.world_after(&world, &plan);
         let object = plan.object;
-        let mut simulator = cell.simulator_in(&world, &plan);
-        cell.execute_in(&mut world, plan, &mut simulator, &ExecuteOptions::default())
+        let mut simulator = cell.simulator(&world, &plan);
+        cell.execute(&mut world, plan, &mut simulator, &ExecuteOptions::default())
             .expect("executes");
         assert_eq!(world.state(object), predicted.state(object));
         assert_eq!(world.arms(), predicted.arms(), "the arms end where planned");
@@ -94,7 +94,7 @@ fn a_goal_taken_by_another_object_is_cleared_first() {
         workspace: None,
         pose: Some(goal_pose),
     });
-    let direct = cell.plan_in(&world, cylinder, &goal, &options(0));
+    let direct = cell.plan_move(&world, cylinder, &goal, &options(0));
     assert!(matches!(&direct, Err(PlanError::GoalOccupied { by }) if *by == ball));
     assert_eq!(direct.unwrap_err().blockers(), vec![ball]);
     for seed in 0..2 {
@@ -161,10 +161,10 @@ fn a_pick_blocked_by_another_object_names_it_and_clearing_moves_it() {
         )
         .unwrap();
     assert!(cell
-        .plan_in(&alone, ball, &to_the_bin(&cell), &options(0))
+        .plan_move(&alone, ball, &to_the_bin(&cell), &options(0))
         .is_ok());
     for seed in 0..2 {
-        let error = match cell.plan_in(&world, ball, &to_the_bin(&cell), &options(seed)) {
+        let error = match cell.plan_move(&world, ball, &to_the_bin(&cell), &options(seed)) {
             Err(error @ PlanError::Unreachable(_)) => error,
             other => panic!("seed {seed}: the pitcher is in the way: {other:?}"),
         };

@@ -100,7 +100,7 @@ fn random_worlds_give_clear_plans_or_coded_failures() {
                         pose: Some(pose),
                     })
                 };
-                match cell.plan_in(&world, object, &goal, &options) {
+                match cell.plan_move(&world, object, &goal, &options) {
                     Ok(plan) => {
                         let n = support::checked(&cell, &world, &plan)
                             .map_err(|e| TestCaseError::fail(format!("{json}, {name}: {e}")))?;

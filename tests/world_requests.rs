@@ -33,7 +33,12 @@ fn a_request_that_starts_in_hand_starts_where_the_hand_holds_it() {
         let request = cell
             .named_request(name, PlanOptions::default())
             .expect("declared");
-        let plan = cell.plan(&request).expect("a plan");
+        let mut world = cell
+            .request_world(&cell.home_world(), &request)
+            .expect("a start");
+        let plan = cell
+            .plan_move(&world, request.object, &request.goal, &request.options)
+            .expect("a plan");
         let left = cell.end_effector("left").unwrap();
         let start = plan.start_arms[left.index()].clone().expect("an arm");
         let scene = cell.scene().unwrap();
@@ -72,8 +77,8 @@ fn a_request_that_starts_in_hand_starts_where_the_hand_holds_it() {
             "{name}"
         );
         // And the simulator agrees: executing it ends where the goal says.
-        let mut simulator = cell.simulator(&plan);
-        cell.execute(plan, &mut simulator, &Default::default())
+        let mut simulator = cell.simulator(&world, &plan);
+        cell.execute(&mut world, plan, &mut simulator, &Default::default())
             .unwrap_or_else(|e| panic!("{name}: {e}"));
     }
 }
@@ -230,7 +235,7 @@ fn plan_json_commands_follow_the_plan() {
     let request = cell
         .named_request("handoff_cylinder", PlanOptions::default())
         .unwrap();
-    let plan = cell.plan(&request).unwrap();
+    let plan = cell.plan(&cell.home_world(), &request).unwrap();
     let (_, doc) = cellc(&[
         "plan",
         "cells/vito.cell",

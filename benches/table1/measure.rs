@@ -3,9 +3,9 @@
 
 use std::time::Instant;
 
-use cellc_runtime::execute::{execute, ExecuteOptions, Simulator};
 use cellc_runtime::plan::planner::Planner;
 use cellc_runtime::scene::Scene;
+use cellc_runtime::{ExecuteOptions, Simulator};
 
 use crate::pairs::{cli, pairs};
 use crate::paper::Paper;
@@ -136,7 +136,8 @@ pub(crate) fn measure(
                         max_replans: 5,
                         plan: request.options.clone(),
                     };
-                    execute(planner, plan, &mut simulator, &options)
+                    planner
+                        .execute(plan, &mut simulator, &options)
                         .map(|_| ())
                         .map_err(|e| format!("execution: {e:?}"))
                 }

@@ -21,10 +21,12 @@ pub fn run(name: &str) -> Result<(), Box<dyn std::error::Error>> {
     let request = cell
         .named_request(name, PlanOptions::default())
         .ok_or("no such request")?;
-    let plan = cell.plan(&request)?;
+    // The request's object at its start, its hand's arm holding it, nothing else placed.
+    let mut world = cell.request_world(&cell.home_world(), &request)?;
+    let plan = cell.plan_move(&world, request.object, &request.goal, &request.options)?;
     println!("{name}: {} in {} steps", plan.strategy, plan.steps.len());
-    let mut simulator = cell.simulator(&plan);
-    let run = cell.execute(plan, &mut simulator, &ExecuteOptions::default())?;
+    let mut simulator = cell.simulator(&world, &plan);
+    let run = cell.execute(&mut world, plan, &mut simulator, &ExecuteOptions::default())?;
     let holder = cell
         .artifact()
         .end_effector_name(run.final_state.end_effector);

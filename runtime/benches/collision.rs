@@ -20,7 +20,7 @@ use cellc_runtime::collision::{
 use cellc_runtime::kinematics::{solve_ik, IkOptions, IkTarget};
 use cellc_runtime::math::{Iso, Quat, Vec3};
 use cellc_runtime::robot::Robot;
-use cellc_runtime::termination::Termination;
+use cellc_runtime::Termination;
 use cellc_runtime::{FileError, Files};
 use criterion::{criterion_group, criterion_main, Criterion};
 use parry3d_f64::shape::SharedShape;

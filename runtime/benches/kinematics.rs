@@ -14,12 +14,12 @@ use std::hint::black_box;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::{Duration, Instant};
 
-use cellc_runtime::closed_chain::{solve_handoff, HandoffOptions, HandoffProblem};
+use cellc_runtime::kinematics::closed_chain::{solve_handoff, HandoffOptions, HandoffProblem};
 use cellc_runtime::kinematics::{random_configuration, solve_ik, IkOptions, IkTarget};
 use cellc_runtime::math::{Iso, Point, Vec3};
 use cellc_runtime::robot::Robot;
-use cellc_runtime::termination::Termination;
 use cellc_runtime::MemoryFiles;
+use cellc_runtime::Termination;
 use criterion::{criterion_group, criterion_main, Criterion};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;

@@ -231,31 +231,33 @@ impl Cell {
         Some(crate::plan::named_request(named, options))
     }
 
-    /// Plans a request in the cell with no other object: every arm at home, except that
-    /// a hand holding the object at the start stands where it holds it
-    /// ([`World::for_request`]).
+    /// Plans a request in `world`: the request's object is put where the request's start
+    /// says (its hand's arm moved to hold it there, [`Cell::request_world`]), everything
+    /// else stays where `world` has it. In [`Cell::home_world`] the request meets no other
+    /// object.
+    ///
+    /// Every method that plans, simulates or executes takes the world it works in, so
+    /// there is one way to say where things are: [`Cell::home_world`],
+    /// [`Cell::initial_world`] (the cell's declared world), [`Cell::world`] (a world
+    /// document) or a world kept from an earlier execution.
     ///
     /// # Errors
     /// See [`PlanError`]; [`PlanError::World`] when the start's hand cannot hold the object
     /// there.
-    pub fn plan(&self, request: &Request) -> Result<Plan, PlanError> {
-        let empty = World::at_home(self.partial.artifact(), self.scene.as_ref());
-        self.plan_request_in(&empty, request)
-    }
-
-    /// Plans a request in `world`: the request's object is put where the request's start
-    /// says (its hand's arm moved to hold it there), everything else stays where `world`
-    /// has it.
-    ///
-    /// # Errors
-    /// See [`Cell::plan`].
-    pub fn plan_request_in(&self, world: &World, request: &Request) -> Result<Plan, PlanError> {
+    pub fn plan(&self, world: &World, request: &Request) -> Result<Plan, PlanError> {
         let world = self.request_world(world, request)?;
-        self.plan_in(&world, request.object, &request.goal, &request.options)
+        self.plan_move(&world, request.object, &request.goal, &request.options)
     }
 
-    /// `world` with the request's object at its start ([`World::for_request`]): where a
-    /// simulator of the request's plan starts.
+    /// Every arm at home and no object placed: the world of a request that meets no
+    /// other object.
+    pub fn home_world(&self) -> World {
+        World::at_home(self.partial.artifact(), self.scene.as_ref())
+    }
+
+    /// `world` with the request's object at its start ([`World::for_request`]): the world
+    /// [`Cell::plan`] plans the request's plan in, so where its simulator starts and the
+    /// world its execution brings up to date.
     ///
     /// # Errors
     /// [`PlanError::World`] when the start's hand cannot hold the object there.
@@ -306,17 +308,17 @@ impl Cell {
 
     /// Plans moving `object` to `goal` from where it is in `world`, with the arms where
     /// they stand and every other object in the way where it is.
-    pub fn plan_in(
+    pub fn plan_move(
         &self,
         world: &World,
         object: ObjectId,
         goal: &Goal,
         options: &PlanOptions,
     ) -> Result<Plan, PlanError> {
-        self.planner().plan_in(world, object, goal, options)
+        self.planner().plan_move(world, object, goal, options)
     }
 
-    /// Plans moving `object` to `goal` in `world` as [`Cell::plan_in`] does, and when
+    /// Plans moving `object` to `goal` in `world` as [`Cell::plan_move`] does, and when
     /// other objects are in the way (one stands at the goal, or they block every way
     /// there), moves them to free resting poses first: the plans in the order to carry
     /// them out, the request's last, each made in the world the ones before leave. See
@@ -324,8 +326,8 @@ impl Cell {
     ///
     /// ```rust,ignore
     /// for plan in cell.plan_clearing(&world, object, &goal, &options)? {
-    ///     let mut simulator = cell.simulator_in(&world, &plan);
-    ///     cell.execute_in(&mut world, plan, &mut simulator, &ExecuteOptions::default())?;
+    ///     let mut simulator = cell.simulator(&world, &plan);
+    ///     cell.execute(&mut world, plan, &mut simulator, &ExecuteOptions::default())?;
     /// }
     /// ```
     pub fn plan_clearing(
@@ -344,33 +346,10 @@ impl Cell {
         world.after(self.partial.artifact(), self.scene.as_ref(), plan)
     }
 
-    /// Executes a plan on `executor`, replanning from where the object is when a step
-    /// fails; the plan carries its goal.
-    pub fn execute(
-        &self,
-        plan: Plan,
-        executor: &mut dyn Executor,
-        options: &ExecuteOptions,
-    ) -> Result<Execution, ExecutionError> {
-        crate::execute::execute(&self.planner(), plan, executor, options)
-    }
-
-    /// A kinematic simulator of the cell, starting where `plan` starts (the arms where
-    /// the plan found them).
-    pub fn simulator(&self, plan: &Plan) -> Simulator<'_> {
-        Simulator::with_arms(
-            self.partial.artifact(),
-            self.scene.as_ref(),
-            plan.object,
-            plan.states[0],
-            plan.start_pose,
-            plan.start_arms.clone(),
-        )
-    }
-
     /// A kinematic simulator of the cell as `world` has it, for `plan` (planned in that
-    /// world): the arms where the world has them, the object where it is.
-    pub fn simulator_in(&self, world: &World, plan: &Plan) -> Simulator<'_> {
+    /// world): the arms where the world has them, the object where the plan starts. For
+    /// a request's plan that world is [`Cell::request_world`].
+    pub fn simulator(&self, world: &World, plan: &Plan) -> Simulator<'_> {
         Simulator::with_arms(
             self.partial.artifact(),
             self.scene.as_ref(),
@@ -381,10 +360,11 @@ impl Cell {
         )
     }
 
-    /// Executes a plan made in `world` and brings the world up to date with what the
-    /// executor reports, whether the execution succeeds or not: the arms where they
-    /// stopped, the object where it is (the objects moved so far stay moved).
-    pub fn execute_in(
+    /// Executes a plan made in `world` on `executor`, replanning from where the object is
+    /// when a step fails (the plan carries its goal), and brings the world up to date
+    /// with what the executor reports, whether the execution succeeds or not: the arms
+    /// where they stopped, the object where it is (the objects moved so far stay moved).
+    pub fn execute(
         &self,
         world: &mut World,
         plan: Plan,
@@ -392,7 +372,7 @@ impl Cell {
         options: &ExecuteOptions,
     ) -> Result<Execution, ExecutionError> {
         let object = plan.object;
-        let result = self.execute(plan, executor, options);
+        let result = self.planner().execute(plan, executor, options);
         for (e, q) in executor.arms().into_iter().enumerate() {
             if let Some(q) = q {
                 world.set_arm(EndEffectorId(e as u32), q);

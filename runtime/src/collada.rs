@@ -36,7 +36,7 @@ pub enum ColladaError {
         /// Positions counted when the budget was exceeded.
         count: usize,
     },
-    /// More elements than [`MAX_ELEMENTS`].
+    /// More elements than `MAX_ELEMENTS` (100,000).
     TooManyElements,
     /// An `<up_axis>` other than `X_UP`, `Y_UP` or `Z_UP`: which way is up is unknown, and
     /// guessing would turn the mesh on its side.

@@ -525,7 +525,7 @@ pub enum ExecutionError {
 
 /// Executes `plan` towards the goal it carries, replanning from the object's current
 /// state when a step fails (at most `options.max_replans` times).
-pub fn execute(
+pub(crate) fn execute(
     planner: &Planner<'_>,
     plan: Plan,
     executor: &mut dyn Executor,

@@ -5,48 +5,60 @@
 #[cfg(test)]
 extern crate self as cellc_runtime;
 
+// Each public module says why it is public (also in README.md's surface table); its own
+// docs are its `//!` text.
 pub mod cell;
-
-#[doc(hidden)]
-pub mod closed_chain;
-#[doc(hidden)]
-pub mod collada;
-#[doc(hidden)]
+// A world's objects as one screened collision world (parry), with allowed pairs and a
+// per-thread scratch: public for collision benches and tools that query a cell's bodies
+// directly, below [`scene`].
 pub mod collision;
-#[doc(hidden)]
-pub mod execute;
-#[doc(hidden)]
+// Why a request has no plan: the [`Explanation`]'s parts (sides, cut, lost arcs, causes,
+// suggested changes) are public because the driver and the service render them.
 pub mod explain;
-#[doc(hidden)]
+// Forward and inverse kinematics of a [`robot::Robot`], and the closed chain of a
+// handoff: public for tools and benches that solve poses the way the planner does (the
+// PDDL exporter, the kinematics benches).
 pub mod kinematics;
-#[doc(hidden)]
+// The geometry types of every public signature ([`Iso`] and its kin), the same ones
+// `cellc_schema::math` defines.
 pub mod math;
-#[doc(hidden)]
+// Mesh files (STL, OBJ, COLLADA) as convex hulls, read within fixed budgets: public so
+// that a tool (and the fuzzer) reads a mesh exactly as a cell's loader does.
 pub mod mesh;
-#[doc(hidden)]
+// Joint-space motion planning: the [`MotionPlanner`] and [`MotionValidity`] seams, the
+// default RRT-Connect, and the independent re-check of a trajectory.
 pub mod motion;
-#[doc(hidden)]
+// Planning requests: the request, goal and plan types (re-exported at the root), the
+// [`plan::planner::Planner`] a [`Cell`] lends (to plug another motion planner in), and
+// the search graph and locators the benches and the command line's edge reuse.
 pub mod plan;
-#[doc(hidden)]
+// Reach spaces of arms over surfaces, the solver behind `reach auto`: public because the
+// build pipeline (`cellc-driver`) runs it before verification.
 pub mod reach;
-#[doc(hidden)]
-pub mod rest;
-#[doc(hidden)]
+// Robot models: a URDF serial chain with its collision shapes, what [`kinematics`] and
+// [`collision`] work on.
 pub mod robot;
-#[doc(hidden)]
+// A cell's geometry: its robots, holders, objects' shapes and collision world
+// ([`Cell::scene`]), and the state queries every checker asks.
 pub mod scene;
-mod swept;
-#[doc(hidden)]
-pub mod symmetry;
-/// Tasks: several moves in order in one world, planned or executed.
+// Tasks: several moves in order in one world, planned or executed.
 pub mod task;
-#[doc(hidden)]
-pub mod termination;
-#[doc(hidden)]
+// Whether a state is valid: the [`StateValidity`] seam and its default,
+// [`validity::SceneValidity`].
 pub mod validity;
-#[doc(hidden)]
+// Verification of a cell's arcs (witnesses, pruned arcs) and the scene's preflight:
+// public because the build pipeline (`cellc-driver`) runs them, as [`Cell::verify`]
+// does.
 pub mod verify;
 pub mod world;
+
+// Internal: reached through the items re-exported below, or not at all.
+mod collada;
+mod execute;
+mod rest;
+mod swept;
+mod symmetry;
+mod termination;
 
 pub use cell::{Cell, LoadError};
 pub use cellc_schema::{
@@ -54,7 +66,8 @@ pub use cellc_schema::{
     WorkspaceId,
 };
 pub use execute::{
-    ExecuteOptions, Execution, ExecutionError, Executor, ObservedObject, Simulator, StepError,
+    ExecuteOptions, Execution, ExecutionError, Executor, ObservedObject, Simulator,
+    SimulatorTolerance, StepError,
 };
 pub use explain::{Explanation, NoStates};
 pub use math::Iso;

@@ -1,7 +1,7 @@
 //! Mesh files as collision solids: the vertices of an STL, OBJ or COLLADA file, scaled,
 //! and their convex hull. Robot links ([`crate::robot`]) and object shapes
 //! ([`crate::scene`]) both read meshes here; COLLADA's positions come from
-//! [`crate::collada`].
+//! `collada.rs`.
 //!
 //! A mesh is untrusted input like the URDF that names it. It is read within
 //! [`MAX_MESH_BYTES`], its vertices are counted against [`MAX_MESH_VERTICES`] before any
@@ -15,6 +15,9 @@ use cellc_schema::files::{FileError, Files, MAX_MESH_BYTES};
 use parry3d_f64::shape::SharedShape;
 
 use crate::math::Point;
+
+/// Why a COLLADA file's positions could not be read (a [`MeshError::Collada`]).
+pub use crate::collada::ColladaError;
 
 /// Why a mesh could not be made into a convex solid.
 #[derive(Debug, Clone, PartialEq)]

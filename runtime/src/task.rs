@@ -168,7 +168,7 @@ impl Cell {
                 if !clearing && replanned {
                     // A move out of the way needed a replan, so its object may stand
                     // elsewhere than this plan assumed: plan again in the world as it is.
-                    plan = match self.plan_in(world, *object, goal, &options.plan) {
+                    plan = match self.plan_move(world, *object, goal, &options.plan) {
                         Ok(p) => p,
                         Err(e) => {
                             return TaskRun {
@@ -212,7 +212,7 @@ impl Cell {
         if options.clear {
             self.plan_clearing(world, object, goal, &options.plan)
         } else {
-            self.plan_in(world, object, goal, &options.plan)
+            self.plan_move(world, object, goal, &options.plan)
                 .map(|p| vec![p])
         }
     }
@@ -229,7 +229,7 @@ impl Cell {
         // An object let go above its surface by no more than the planner calls resting
         // falls onto it (the planner put it down there).
         let mut simulator = self
-            .simulator_in(world, &plan)
+            .simulator(world, &plan)
             .with_tolerance(SimulatorTolerance {
                 drop: options.plan.position_tolerance,
                 ..SimulatorTolerance::default()
@@ -241,7 +241,7 @@ impl Cell {
             max_replans: options.max_replans,
             plan: options.plan.clone(),
         };
-        let result = self.execute_in(world, plan, &mut simulator, &execute);
+        let result = self.execute(world, plan, &mut simulator, &execute);
         Executed {
             index: 0,
             plan: made,

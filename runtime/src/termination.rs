@@ -5,7 +5,7 @@
 //! flag another thread may raise. It is made once per request and passed down by
 //! reference into every long loop: the restarts of inverse kinematics
 //! ([`crate::kinematics::solve_ik`]) and of the closed-chain solver
-//! ([`crate::closed_chain::solve_handoff`]), and the iterations of RRT-Connect and its
+//! ([`crate::kinematics::closed_chain::solve_handoff`]), and the iterations of RRT-Connect and its
 //! shortcutting ([`crate::motion::RrtConnect`]). Each checks it once per pass, which costs
 //! a clock read (tens of nanoseconds) against the microseconds a pass takes.
 //!

@@ -140,7 +140,9 @@ fn check_round_trip(cell: &Cell, dir: &Path, problem_name: &str, request: &Reque
     }
 
     // cellc's own plan, high level only, costs the same.
-    let plan = cell.plan(request).expect("cellc plans the request");
+    let plan = cell
+        .plan(&cell.home_world(), request)
+        .expect("cellc plans the request");
     let expected = action_cost(plan.cost);
     assert_eq!(
         fd_cost, expected,

@@ -171,7 +171,7 @@ fn final_place(
         let symmetries = &artifact.objects[object.index()].symmetries;
         (
             (p.translation.vector - g.translation.vector).norm(),
-            cellc_runtime::symmetry::residual(&d.rotation, symmetries),
+            cellc_schema::symmetry::residual(&d.rotation, symmetries),
         )
     });
     FinalPlace {

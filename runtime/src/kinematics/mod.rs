@@ -15,8 +15,9 @@
 //! stops within one try ([`IkError::Terminated`]).
 //!
 //! The solver core (`lm_solve`) is generic over the residual, so the closed-chain
-//! handoff solver in [`crate::closed_chain`] uses the same machinery.
+//! handoff solver in [`crate::kinematics::closed_chain`] uses the same machinery.
 
+pub mod closed_chain;
 mod ik;
 
 pub(crate) use ik::{lm_solve, LmBuffers, Residual};

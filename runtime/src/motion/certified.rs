@@ -32,18 +32,18 @@ const MAX_QUERIES: usize = 2000;
 /// A state validity that measures no clearance (`free_radius` gives `None`, as test
 /// doubles and other checkers may) gets the sampled check of [`DiscreteMotion`] instead,
 /// at the step and resolution given here.
-pub struct CertifiedMotion<'v> {
-    validity: &'v dyn StateValidity,
-    sampled: DiscreteMotion<'v>,
+pub struct CertifiedMotion<'v, S = SceneScratch> {
+    validity: &'v dyn StateValidity<Scratch = S>,
+    sampled: DiscreteMotion<'v, S>,
     delta: Vec<f64>,
     point: Vec<f64>,
     open: VecDeque<(f64, f64)>,
 }
 
-impl<'v> CertifiedMotion<'v> {
+impl<'v, S> CertifiedMotion<'v, S> {
     /// Segments checked through `validity`; `step` and `resolution` are those of the
     /// sampled fallback (see [`DiscreteMotion::new`]).
-    pub fn new(validity: &'v dyn StateValidity, step: f64, resolution: f64) -> Self {
+    pub fn new(validity: &'v dyn StateValidity<Scratch = S>, step: f64, resolution: f64) -> Self {
         CertifiedMotion {
             validity,
             sampled: DiscreteMotion::new(validity, step, resolution),
@@ -54,13 +54,10 @@ impl<'v> CertifiedMotion<'v> {
     }
 }
 
-impl MotionValidity for CertifiedMotion<'_> {
-    fn check_motion(
-        &mut self,
-        a: &[f64],
-        b: &[f64],
-        scratch: &mut SceneScratch,
-    ) -> Result<bool, QueryError> {
+impl<S> MotionValidity for CertifiedMotion<'_, S> {
+    type Scratch = S;
+
+    fn check_motion(&mut self, a: &[f64], b: &[f64], scratch: &mut S) -> Result<bool, QueryError> {
         if max_diff(a, b) == 0.0 {
             return Ok(true);
         }

@@ -103,9 +103,9 @@ pub use rrt::RrtConnect;
 pub use segment::DiscreteMotion;
 
 /// One motion to plan: arms that move together from one configuration to another, and
-/// which configurations they may pass through.
-#[derive(Clone, Copy)]
-pub struct MotionProblem<'a> {
+/// which configurations they may pass through. `S` is the checker's
+/// [`StateValidity::Scratch`] (the scene's, unless another checker is plugged in).
+pub struct MotionProblem<'a, S = SceneScratch> {
     /// The cell (the arms' joint limits and sampling ranges).
     pub scene: &'a Scene,
     /// End-effectors (arms) that move together; their joints are concatenated in this
@@ -118,10 +118,20 @@ pub struct MotionProblem<'a> {
     /// Which configurations of `arms` are valid: usually a
     /// [`SceneValidity`](crate::validity::SceneValidity) for these arms, with the others
     /// where they stand and the object placed as the motion carries it.
-    pub validity: &'a dyn StateValidity,
+    pub validity: &'a dyn StateValidity<Scratch = S>,
 }
 
-impl fmt::Debug for MotionProblem<'_> {
+// By hand: a derive would ask `S: Clone`, which a problem that only borrows its checker
+// does not need.
+impl<S> Clone for MotionProblem<'_, S> {
+    fn clone(&self) -> Self {
+        *self
+    }
+}
+
+impl<S> Copy for MotionProblem<'_, S> {}
+
+impl<S> fmt::Debug for MotionProblem<'_, S> {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         // The scene and the checker have no `Debug`; the rest identifies the problem.
         f.debug_struct("MotionProblem")
@@ -134,29 +144,30 @@ impl fmt::Debug for MotionProblem<'_> {
 
 /// Plans motions (OMPL's `Planner`, MoveIt's planning plugin): a problem to a timed
 /// trajectory from exactly `start` to exactly `goal` through valid configurations, or
-/// why not.
-pub trait MotionPlanner {
+/// why not. `S` is the scratch of the problems' checkers; the cell's planner
+/// ([`crate::plan::planner::Planner`]) asks with the scene's.
+pub trait MotionPlanner<S = SceneScratch> {
     /// Plans `problem`, drawing randomness from `rng` only (the same generator state
     /// gives the same answer) and stopping with [`MotionError::Terminated`] when `stop`
-    /// says so.
+    /// says so; `scratch` is handed to the problem's checker.
     fn solve(
         &self,
-        problem: &MotionProblem<'_>,
+        problem: &MotionProblem<'_, S>,
         rng: &mut ChaCha8Rng,
         stop: &Termination,
-        scratch: &mut SceneScratch,
+        scratch: &mut S,
     ) -> Result<Trajectory, MotionError>;
 }
 
 /// A borrowed planner plans as the planner does (so a caller can lend one to
 /// [`crate::plan::planner::Planner`] and keep it).
-impl<P: MotionPlanner + ?Sized> MotionPlanner for &P {
+impl<S, P: MotionPlanner<S> + ?Sized> MotionPlanner<S> for &P {
     fn solve(
         &self,
-        problem: &MotionProblem<'_>,
+        problem: &MotionProblem<'_, S>,
         rng: &mut ChaCha8Rng,
         stop: &Termination,
-        scratch: &mut SceneScratch,
+        scratch: &mut S,
     ) -> Result<Trajectory, MotionError> {
         (**self).solve(problem, rng, stop, scratch)
     }
@@ -165,12 +176,16 @@ impl<P: MotionPlanner + ?Sized> MotionPlanner for &P {
 /// Decides whether the straight joint-space segment between two configurations is valid
 /// (OMPL's `MotionValidator`).
 pub trait MotionValidity {
+    /// The per-thread buffers of the state checks behind it (its
+    /// [`StateValidity::Scratch`]).
+    type Scratch;
+
     /// Whether every configuration on the straight segment from `a` to `b` is valid, `b`
     /// included; `a` is known to be valid and need not be checked.
     fn check_motion(
         &mut self,
         a: &[f64],
         b: &[f64],
-        scratch: &mut SceneScratch,
+        scratch: &mut Self::Scratch,
     ) -> Result<bool, QueryError>;
 }

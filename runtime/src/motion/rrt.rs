@@ -15,7 +15,7 @@ use super::{
     MotionValidity,
 };
 use crate::plan::Trajectory;
-use crate::scene::{Scene, SceneScratch};
+use crate::scene::Scene;
 use crate::termination::Termination;
 use crate::validity::{arm_slices, out_of_limits, ArmSlice, StateFault};
 
@@ -43,13 +43,13 @@ impl RrtConnect {
     /// [`CertifiedMotion`] the planner would build (a sampled check such as
     /// [`DiscreteMotion`](super::DiscreteMotion), a validator that counts or caches). The
     /// timed trajectory's points are still cut by [`MotionOptions::step`].
-    pub fn solve_with(
+    pub fn solve_with<S>(
         &self,
-        problem: &MotionProblem<'_>,
-        motion: &mut dyn MotionValidity,
+        problem: &MotionProblem<'_, S>,
+        motion: &mut dyn MotionValidity<Scratch = S>,
         rng: &mut ChaCha8Rng,
         stop: &Termination,
-        scratch: &mut SceneScratch,
+        scratch: &mut S,
     ) -> Result<Trajectory, MotionError> {
         let options = &self.options;
         check_options(options)?;
@@ -151,7 +151,7 @@ impl RrtConnect {
     }
 }
 
-impl MotionPlanner for RrtConnect {
+impl<S> MotionPlanner<S> for RrtConnect {
     /// A collision-free, timed joint motion of `problem.arms` from `problem.start` to
     /// `problem.goal`. The result starts at time 0 with `start` and ends with exactly
     /// `goal`; consecutive points differ by at most `options.step` per joint and every
@@ -159,10 +159,10 @@ impl MotionPlanner for RrtConnect {
     /// has that one point.
     fn solve(
         &self,
-        problem: &MotionProblem<'_>,
+        problem: &MotionProblem<'_, S>,
         rng: &mut ChaCha8Rng,
         stop: &Termination,
-        scratch: &mut SceneScratch,
+        scratch: &mut S,
     ) -> Result<Trajectory, MotionError> {
         let mut motion = CertifiedMotion::new(
             problem.validity,

@@ -28,8 +28,8 @@ use crate::validity::{all_valid, Screened, StateValidity};
 /// two checked configurations, and a finer re-check finds it. The planner uses
 /// [`CertifiedMotion`](super::CertifiedMotion), which falls back to this only for state
 /// validities that measure no clearance.
-pub struct DiscreteMotion<'v> {
-    validity: &'v dyn StateValidity,
+pub struct DiscreteMotion<'v, S = SceneScratch> {
+    validity: &'v dyn StateValidity<Scratch = S>,
     step: f64,
     resolution: f64,
     from: Vec<f64>,
@@ -46,11 +46,11 @@ pub struct DiscreteMotion<'v> {
 /// usually caught; batches after it are twice as large each time.
 const FIRST_BATCH: usize = 4;
 
-impl<'v> DiscreteMotion<'v> {
+impl<'v, S> DiscreteMotion<'v, S> {
     /// Segments checked through `validity`, cut by the output `step` and the checking
     /// `resolution` (both positive; an infinite `step` checks every segment as one
     /// piece).
-    pub fn new(validity: &'v dyn StateValidity, step: f64, resolution: f64) -> Self {
+    pub fn new(validity: &'v dyn StateValidity<Scratch = S>, step: f64, resolution: f64) -> Self {
         DiscreteMotion {
             validity,
             step,
@@ -64,13 +64,10 @@ impl<'v> DiscreteMotion<'v> {
     }
 }
 
-impl MotionValidity for DiscreteMotion<'_> {
-    fn check_motion(
-        &mut self,
-        a: &[f64],
-        b: &[f64],
-        scratch: &mut SceneScratch,
-    ) -> Result<bool, QueryError> {
+impl<S> MotionValidity for DiscreteMotion<'_, S> {
+    type Scratch = S;
+
+    fn check_motion(&mut self, a: &[f64], b: &[f64], scratch: &mut S) -> Result<bool, QueryError> {
         let pieces = steps(a, b, self.step);
         if pieces == 0 {
             return Ok(true);

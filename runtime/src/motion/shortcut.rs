@@ -6,7 +6,6 @@ use rand_chacha::ChaCha8Rng;
 use rustc_hash::FxHashSet;
 
 use super::{MotionError, MotionValidity};
-use crate::scene::SceneScratch;
 use crate::termination::Termination;
 
 /// Drops waypoints equal to their predecessor.
@@ -53,16 +52,16 @@ pub(super) fn dedup_waypoints(path: &mut Vec<f64>, dim: usize) {
 /// deterministic in their ends, so skipping a known refusal changes no result, and the
 /// random draws are the same as without the memory.
 #[allow(clippy::too_many_arguments)]
-pub(super) fn shortcut(
-    motion: &mut dyn MotionValidity,
-    screen: &mut dyn MotionValidity,
+pub(super) fn shortcut<S>(
+    motion: &mut dyn MotionValidity<Scratch = S>,
+    screen: &mut dyn MotionValidity<Scratch = S>,
     path: &mut Vec<f64>,
     dim: usize,
     accepted: &mut [bool],
     iterations: usize,
     rng: &mut ChaCha8Rng,
     stop: &Termination,
-    scratch: &mut SceneScratch,
+    scratch: &mut S,
 ) -> Result<Option<usize>, MotionError> {
     if dim == 0 {
         return Ok(None);
@@ -155,12 +154,9 @@ mod tests {
     }
 
     impl MotionValidity for Wall {
-        fn check_motion(
-            &mut self,
-            a: &[f64],
-            b: &[f64],
-            _: &mut SceneScratch,
-        ) -> Result<bool, QueryError> {
+        type Scratch = ();
+
+        fn check_motion(&mut self, a: &[f64], b: &[f64], _: &mut ()) -> Result<bool, QueryError> {
             let key = (
                 a[0].to_bits(),
                 a[1].to_bits(),
@@ -195,27 +191,24 @@ mod tests {
     struct Blind;
 
     impl MotionValidity for Blind {
-        fn check_motion(
-            &mut self,
-            _: &[f64],
-            _: &[f64],
-            _: &mut SceneScratch,
-        ) -> Result<bool, QueryError> {
+        type Scratch = ();
+
+        fn check_motion(&mut self, _: &[f64], _: &[f64], _: &mut ()) -> Result<bool, QueryError> {
             Ok(true)
         }
     }
 
     /// [`shortcut`] on a plane path with `iterations` random attempts drawn with `seed`.
     fn run(
-        motion: &mut dyn MotionValidity,
-        screen: &mut dyn MotionValidity,
+        motion: &mut dyn MotionValidity<Scratch = ()>,
+        screen: &mut dyn MotionValidity<Scratch = ()>,
         path: &mut Vec<f64>,
         accepted: &mut [bool],
         iterations: usize,
         seed: u64,
     ) -> Option<usize> {
         let mut rng = ChaCha8Rng::seed_from_u64(seed);
-        let (stop, mut scratch) = (Termination::never(), SceneScratch::default());
+        let (stop, mut scratch) = (Termination::never(), ());
         shortcut(
             motion,
             screen,
@@ -231,7 +224,7 @@ mod tests {
     }
 
     /// Every segment of `path` is free by the wall's own check.
-    fn assert_free(path: &[f64], scratch: &mut SceneScratch) {
+    fn assert_free(path: &[f64], scratch: &mut ()) {
         let mut check = Wall::default();
         for w in path.chunks(2).collect::<Vec<_>>().windows(2) {
             assert!(check.check_motion(w[0], w[1], scratch).unwrap(), "{w:?}");
@@ -244,7 +237,7 @@ mod tests {
             let (mut screen, mut wall) = (Wall::default(), Wall::default());
             let mut path = detour();
             let mut accepted = vec![true; path.len() / 2 - 1];
-            let mut scratch = SceneScratch::default();
+            let mut scratch = ();
             let refused = run(&mut wall, &mut screen, &mut path, &mut accepted, 200, seed);
             assert_eq!(refused, None);
             let repeated = screen.asked.values().filter(|&&n| n > 1).count();
@@ -270,7 +263,7 @@ mod tests {
             let mut wall = Wall::default();
             let mut path = detour();
             let mut accepted = vec![true; path.len() / 2 - 1];
-            let mut scratch = SceneScratch::default();
+            let mut scratch = ();
             let refused = run(&mut wall, &mut Blind, &mut path, &mut accepted, 200, seed);
             assert_eq!(refused, None);
             // Blind took shortcuts through the wall, which the sound check was asked.

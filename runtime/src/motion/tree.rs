@@ -19,7 +19,7 @@ use rand_chacha::ChaCha8Rng;
 
 use super::segment::{interpolate, max_diff};
 use super::{MotionError, MotionOptions};
-use crate::scene::{QueryError, SceneScratch};
+use crate::scene::QueryError;
 use crate::termination::Termination;
 use crate::validity::{all_valid, Screened, StateValidity};
 
@@ -124,8 +124,8 @@ enum Extension {
 }
 
 /// The search between rounds: both trees, whose turn it is, and the iterations spent.
-pub(super) struct Search<'v> {
-    validity: &'v dyn StateValidity,
+pub(super) struct Search<'v, S> {
+    validity: &'v dyn StateValidity<Scratch = S>,
     step: f64,
     trees: [Tree; 2],
     /// Which tree grows towards the next sample; the other connects to it.
@@ -139,15 +139,15 @@ pub(super) struct Search<'v> {
     pair: Vec<f64>,
 }
 
-impl<'v> Search<'v> {
+impl<'v, S> Search<'v, S> {
     /// Trees rooted at `start` and `goal` (both valid), nodes checked by `validity`, at
     /// most `step` apart per joint.
     pub(super) fn new(
-        validity: &'v dyn StateValidity,
+        validity: &'v dyn StateValidity<Scratch = S>,
         step: f64,
         start: &[f64],
         goal: &[f64],
-    ) -> Search<'v> {
+    ) -> Search<'v, S> {
         let dim = start.len();
         Search {
             validity,
@@ -176,7 +176,7 @@ impl<'v> Search<'v> {
         options: &MotionOptions,
         rng: &mut ChaCha8Rng,
         stop: &Termination,
-        scratch: &mut SceneScratch,
+        scratch: &mut S,
     ) -> Result<Option<(Vec<f64>, Vec<TreeEdge>)>, MotionError> {
         while self.iteration < options.max_iterations {
             if stop.should_stop() {
@@ -267,7 +267,7 @@ impl<'v> Search<'v> {
         &mut self,
         t: usize,
         target: &[f64],
-        scratch: &mut SceneScratch,
+        scratch: &mut S,
     ) -> Result<Extension, QueryError> {
         let tree = &mut self.trees[t];
         let near = tree.nearest(target);
@@ -311,7 +311,7 @@ impl<'v> Search<'v> {
         &mut self,
         t: usize,
         target: &[f64],
-        scratch: &mut SceneScratch,
+        scratch: &mut S,
     ) -> Result<Option<usize>, QueryError> {
         loop {
             match self.extend(t, target, scratch)? {

@@ -16,7 +16,7 @@ pub const TIP_OVERLAP: f64 = 1e-3;
 
 impl Scene {
     /// A fixed body that the hand (or a link of the tip frame) of arm `e` overlaps by more
-    /// than [`TIP_OVERLAP`] with its tip at `tip`, whatever the arm's joints: such a pose
+    /// than `TIP_OVERLAP` (1 mm) with its tip at `tip`, whatever the arm's joints: such a pose
     /// is never free. `None` for a holder that is not an arm.
     pub fn tip_hits_fixed(&self, e: EndEffectorId, tip: &Iso) -> Option<Collision> {
         let robot = self.world_robot(e)?;

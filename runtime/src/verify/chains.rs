@@ -1,6 +1,6 @@
 //! Closed-chain solves shared between the handoff checks of two arms.
 //!
-//! A handoff's closed chain (`crate::closed_chain`) depends on the two grasps only through
+//! A handoff's closed chain (`crate::kinematics::closed_chain`) depends on the two grasps only through
 //! where each puts the object's origin in its tip frame and through the rotation between
 //! them, `R(ga) R(gb)⁻¹`: the residual's position rows compare the two estimates of the
 //! origin, its rotation rows are `log(R(tip_a) R(ga) R(gb)⁻¹ R(tip_b)⁻¹)`, and the
@@ -36,7 +36,7 @@ use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use rustc_hash::{FxBuildHasher, FxHashMap};
 
-use crate::closed_chain::{
+use crate::kinematics::closed_chain::{
     closes_at, solve_handoff, HandoffOptions, HandoffProblem, HandoffSolution,
 };
 use crate::kinematics::IkError;
@@ -321,7 +321,7 @@ mod tests {
     use std::f64::consts::{FRAC_PI_2, PI};
 
     use super::*;
-    use crate::closed_chain::closes;
+    use crate::kinematics::closed_chain::closes;
     use crate::math::{Point, Vec3};
     use crate::robot::Robot;
     use crate::MemoryFiles;

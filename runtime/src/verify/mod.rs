@@ -13,7 +13,7 @@
 //! - transition between two arms in w (a handoff): one object pose in w where both hold
 //!   it at once, found with the closed-chain solver;
 //! - transition between an arm and a fixed surface in w: a resting pose on the surface
-//!   inside w that the arm reaches with its grasp ([`crate::rest`]);
+//!   inside w that the arm reaches with its grasp (`rest.rs`);
 //! - transition between two grasps of one arm (kept by the compiler, with a warning, when
 //!   a cell or an imported database lists one): refused, since nothing would hold the
 //!   object while the hand lets go and takes it again; the pruned arc says so.
@@ -42,7 +42,7 @@ use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
 
-use crate::closed_chain::HandoffOptions;
+use crate::kinematics::closed_chain::HandoffOptions;
 use crate::kinematics::IkOptions;
 use crate::scene::{Holder, Scene, SceneScratch};
 

@@ -12,7 +12,7 @@ use super::attempt::{arm, invalidity, sample_point, Attempt, Fault, Outcome};
 use super::chains::{Chain, ChainTable, Start};
 use super::hands::{TurnTable, Turns};
 use super::{rng_for, Check, VerifyOptions};
-use crate::closed_chain::HandoffProblem;
+use crate::kinematics::closed_chain::HandoffProblem;
 use crate::math::{iso_to_schema, Iso, Point, Quat, Vec3};
 use crate::rest::RestRegions;
 use crate::scene::{Holder, ObjectPlacement, Scene, SceneScratch};

@@ -5,7 +5,7 @@
 //! It is the world the simulator reports after executing the plan without a failure: the
 //! arms that move where their last motion ends (or, in a plan without motions, at their
 //! last command's configuration, where the simulator jumps them), the object in the
-//! plan's last state. Executing a plan and reading the executor ([`crate::Cell::execute_in`])
+//! plan's last state. Executing a plan and reading the executor ([`crate::Cell::execute`])
 //! stays the way to know the world as it really is.
 
 use cellc_schema::{Artifact, Body};

@@ -3,10 +3,10 @@
 
 use std::f64::consts::PI;
 
-use cellc_runtime::closed_chain::{solve_handoff, HandoffOptions, HandoffProblem};
+use cellc_runtime::kinematics::closed_chain::{solve_handoff, HandoffOptions, HandoffProblem};
 use cellc_runtime::kinematics::{pose_error, IkError};
 use cellc_runtime::math::{Iso, Point, Vec3};
-use cellc_runtime::termination::Termination;
+use cellc_runtime::Termination;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
@@ -15,7 +15,7 @@ use super::models::*;
 
 fn check_handoff(
     problem: &HandoffProblem<'_>,
-    solution: &cellc_runtime::closed_chain::HandoffSolution,
+    solution: &cellc_runtime::kinematics::closed_chain::HandoffSolution,
     opts: &HandoffOptions,
 ) {
     let (robot_a, base_a) = problem.a;

@@ -3,12 +3,12 @@
 
 use std::f64::consts::FRAC_PI_2;
 
-use cellc_runtime::closed_chain::{solve_handoff, HandoffOptions, HandoffProblem};
+use cellc_runtime::kinematics::closed_chain::{solve_handoff, HandoffOptions, HandoffProblem};
 use cellc_runtime::kinematics::{
     pose_error, random_configuration, solve_ik, IkError, IkOptions, IkTarget,
 };
 use cellc_runtime::math::{Iso, Point, Vec3};
-use cellc_runtime::termination::Termination;
+use cellc_runtime::Termination;
 use proptest::prelude::*;
 use proptest::test_runner::FileFailurePersistence;
 use rand::SeedableRng;

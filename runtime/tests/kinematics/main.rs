@@ -9,7 +9,7 @@
 
 use std::f64::consts::{FRAC_PI_2, PI};
 
-use cellc_runtime::closed_chain::HandoffProblem;
+use cellc_runtime::kinematics::closed_chain::HandoffProblem;
 use cellc_runtime::kinematics::IkOptions;
 use cellc_runtime::math::{Iso, Vec3};
 use cellc_runtime::robot::Robot;

@@ -17,8 +17,8 @@ use cellc_runtime::motion::{
 };
 use cellc_runtime::plan::{MotionContext, Trajectory};
 use cellc_runtime::scene::{ObjectPlacement, Scene, SceneScratch};
-use cellc_runtime::termination::Termination;
 use cellc_runtime::validity::{SceneValidity, StateValidity};
+use cellc_runtime::Termination;
 use cellc_runtime::{EndEffectorId, ObjectId};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
@@ -129,7 +129,7 @@ impl Case<'_> {
     }
 
     /// The motion problem with `validity` deciding which states are valid.
-    fn with<'v>(&'v self, validity: &'v dyn StateValidity) -> MotionProblem<'v> {
+    fn with<'v, S>(&'v self, validity: &'v dyn StateValidity<Scratch = S>) -> MotionProblem<'v, S> {
         MotionProblem {
             scene: self.scene,
             arms: &self.arms,

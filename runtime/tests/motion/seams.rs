@@ -12,8 +12,8 @@ use cellc_runtime::motion::{
 };
 use cellc_runtime::plan::Trajectory;
 use cellc_runtime::scene::{QueryError, Scene, SceneScratch};
-use cellc_runtime::termination::Termination;
 use cellc_runtime::validity::{SceneValidity, StateFault, StateValidity};
+use cellc_runtime::Termination;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
@@ -30,6 +30,8 @@ struct Tripwire<'a> {
 }
 
 impl StateValidity for Tripwire<'_> {
+    type Scratch = SceneScratch;
+
     fn check(
         &self,
         q: &[f64],
@@ -122,6 +124,8 @@ struct CountingSegments<'v> {
 }
 
 impl MotionValidity for CountingSegments<'_> {
+    type Scratch = SceneScratch;
+
     fn check_motion(
         &mut self,
         a: &[f64],
@@ -159,4 +163,75 @@ fn another_motion_validator_plugs_into_rrt_connect() {
         "the straight line and the tree's edges"
     );
     assert_eq!(Ok(through_it), plan(&case, 4));
+}
+
+/// A state checker with buffers of its own instead of the scene's: it counts the states
+/// it judges in its scratch (what a cache or a perception query would keep there) and
+/// calls every state within the joint limits valid, as an empty cell would.
+struct OwnScratch<'a> {
+    limits: (&'a [f64], &'a [f64]),
+}
+
+impl StateValidity for OwnScratch<'_> {
+    type Scratch = usize;
+
+    fn check(&self, q: &[f64], judged: &mut usize) -> Result<Option<StateFault>, QueryError> {
+        *judged += 1;
+        let (lower, upper) = self.limits;
+        let inside = q
+            .iter()
+            .zip(lower.iter().zip(upper))
+            .all(|(v, (lo, hi))| lo <= v && v <= hi);
+        Ok((!inside).then(|| StateFault::OutOfLimits {
+            end_effector: cellc_runtime::EndEffectorId(0),
+            joint: 0,
+            value: q[0],
+        }))
+    }
+}
+
+#[test]
+fn a_checker_with_its_own_scratch_plugs_into_rrt_connect() {
+    // The pillar is there, but this checker does not look at the scene: the straight
+    // line is free for it, so the motion is the straight segment, checked through the
+    // caller's scratch.
+    let scene = scene(&[ARM], &[PILLAR]);
+    let case = around_the_pillar(&scene);
+    let robot = &scene.robots[0];
+    let checker = OwnScratch {
+        limits: robot.limits(),
+    };
+    let mut judged = 0usize;
+    let mut rng = ChaCha8Rng::seed_from_u64(4);
+    let trajectory = RrtConnect::default()
+        .solve(
+            &case.with(&checker),
+            &mut rng,
+            &Termination::never(),
+            &mut judged,
+        )
+        .expect("a path where the checker sees no obstacle");
+    assert!(judged > 2, "the checker judged {judged} states");
+    let (first, last) = (
+        trajectory.points.first().expect("points"),
+        trajectory.points.last().expect("points"),
+    );
+    assert_eq!(first.1, case.start);
+    assert_eq!(last.1, case.goal);
+    // The scene's checker refuses that straight line: the two answers differ only by
+    // the checker plugged in.
+    let scene_checker = case.validity().expect("a valid layout");
+    let through_pillar = (0..=200).any(|k| {
+        let t = f64::from(k) / 200.0;
+        let q: Vec<f64> = case
+            .start
+            .iter()
+            .zip(&case.goal)
+            .map(|(a, b)| a + t * (b - a))
+            .collect();
+        !scene_checker
+            .is_valid(&q, &mut SceneScratch::default())
+            .expect("a state of the arm")
+    });
+    assert!(through_pillar, "the pillar blocks the straight line");
 }

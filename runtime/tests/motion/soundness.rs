@@ -7,8 +7,8 @@ use cellc_runtime::motion::{
 };
 use cellc_runtime::plan::{MotionContext, Trajectory};
 use cellc_runtime::scene::{Holder, ObjectPlacement, SceneScratch};
-use cellc_runtime::termination::Termination;
 use cellc_runtime::validity::StateValidity;
+use cellc_runtime::Termination;
 use cellc_runtime::{EndEffectorId, ObjectId};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;

@@ -4,8 +4,8 @@
 use cellc_runtime::math::Iso;
 use cellc_runtime::motion::{Joints, MotionError, MotionOptions};
 use cellc_runtime::scene::ObjectPlacement;
-use cellc_runtime::termination::Termination;
 use cellc_runtime::EndEffectorId;
+use cellc_runtime::Termination;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 

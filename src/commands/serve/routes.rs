@@ -340,7 +340,7 @@ pub async fn explain(State(service): Shared, body: Body) -> Response {
         let options = task_options(&body.options, service, cancel).plan;
         let cell = &service.loaded.cell;
         let artifact = cell.artifact();
-        match cell.plan_in(&located.world, located.object, &located.goal, &options) {
+        match cell.plan_move(&located.world, located.object, &located.goal, &options) {
             Ok(plan) => Json(Explained::Reachable {
                 reachable: true,
                 plan: PlanDocument::of(artifact, "request", &plan),

@@ -5,9 +5,9 @@
 //!
 //! Why a list of plans and not one plan: each move is an ordinary [`Plan`] of one object,
 //! which a task planner already knows how to execute, check and replan
-//! ([`crate::Cell::execute_in`] on each, in order, keeps the world up to date), and a
+//! ([`crate::Cell::execute`] on each, in order, keeps the world up to date), and a
 //! caller sees exactly what was added before its move (`plans[..n - 1]`, each naming the
-//! object it moves). A flag on [`PlanOptions`] would have given `plan_in` two kinds of
+//! object it moves). A flag on [`PlanOptions`] would have given `plan_move` two kinds of
 //! answer.
 //!
 //! Where a blocking object goes: a resting pose of one of its surface states, sampled
@@ -62,13 +62,13 @@ const CLEARANCE: f64 = 0.15;
 impl Planner<'_> {
     /// Plans moving `object` to `goal` in `world`, moving the objects in its way first.
     ///
-    /// When the direct plan ([`Planner::plan_in`]) succeeds, that is the only plan. When it
+    /// When the direct plan ([`Planner::plan_move`]) succeeds, that is the only plan. When it
     /// fails because of other objects ([`PlanError::blockers`]: the goal's occupant, or
     /// the objects that blocked its steps), the first of them that can be moved goes to a
     /// free resting pose, and the request is planned again in the world after that move;
     /// so on, at most [`MAX_CLEARING_MOVES`] times. The plans come in the order they are
     /// to be carried out, the request's last; each is planned in the world the ones before
-    /// it leave, so executing them one after the other with [`crate::Cell::execute_in`]
+    /// it leave, so executing them one after the other with [`crate::Cell::execute`]
     /// does the job.
     ///
     /// # Errors
@@ -87,7 +87,7 @@ impl Planner<'_> {
             time_budget: deadline.map(|d| d.saturating_duration_since(Instant::now())),
             ..options.clone()
         };
-        let direct = match self.plan_in(world, object, goal, &within()) {
+        let direct = match self.plan_move(world, object, goal, &within()) {
             Ok(plan) => return Ok(vec![plan]),
             Err(error) => error,
         };
@@ -127,7 +127,7 @@ impl Planner<'_> {
             };
             now = now.after(self.artifact, self.scene, &plan);
             plans.push(plan);
-            match self.plan_in(&now, object, goal, &within()) {
+            match self.plan_move(&now, object, goal, &within()) {
                 Ok(plan) => {
                     plans.push(plan);
                     return Ok(plans);
@@ -258,7 +258,7 @@ impl Planner<'_> {
                     pose: Some(pose),
                 },
             );
-            match self.plan_in(&there, object, goal, &bounded(false)) {
+            match self.plan_move(&there, object, goal, &bounded(false)) {
                 Err(error @ PlanError::TimeBudget { .. }) => return Err(error),
                 Err(error) if error.blockers().contains(&blocker) => continue,
                 _ => {}
@@ -270,7 +270,7 @@ impl Planner<'_> {
                 workspace: Some(node.workspace),
                 pose: Some(pose),
             });
-            match self.plan_in(world, blocker, &goal, &bounded(true)) {
+            match self.plan_move(world, blocker, &goal, &bounded(true)) {
                 Ok(plan) => return Ok(Some(plan)),
                 Err(error @ PlanError::TimeBudget { .. }) => return Err(error),
                 Err(_) => {}

@@ -155,6 +155,19 @@ impl<'a> Planner<'a> {
         self.artifact
     }
 
+    /// Executes `plan` on `executor` towards the goal it carries, replanning with this
+    /// planner from the object's current state when a step fails (at most
+    /// `options.max_replans` times). [`crate::Cell::execute`] does the same with the
+    /// cell's planner and brings a world up to date.
+    pub fn execute(
+        &self,
+        plan: Plan,
+        executor: &mut dyn crate::Executor,
+        options: &crate::ExecuteOptions,
+    ) -> Result<crate::Execution, crate::ExecutionError> {
+        crate::execute::execute(self, plan, executor, options)
+    }
+
     /// Plans a request from scratch (arms at home).
     pub fn plan(&self, request: &Request) -> Result<Plan, PlanError> {
         super::names::check_request(self.artifact, request).map_err(PlanError::Locate)?;
@@ -201,7 +214,7 @@ impl<'a> Planner<'a> {
     /// The object is absent; the goal names something the artifact lacks or lies where
     /// another object stands ([`PlanError::GoalOccupied`]); or no plan, as for
     /// [`Planner::plan`].
-    pub fn plan_in(
+    pub fn plan_move(
         &self,
         world: &World,
         object: ObjectId,
