@@ -22,12 +22,7 @@ struct Selected {
 /// Loads the cell as `cellc plan` does, locates the requests asked for, and writes a
 /// domain per object and a problem per request.
 pub fn run_pddl(args: &PddlArgs) -> ExitCode {
-    let load_args = LoadArgs {
-        input: args.input.to_string_lossy().into_owned(),
-        seed: args.seed,
-        format: PlanFormat::Human,
-        compile: crate::packages::compile_options(&args.packages),
-    };
+    let load_args = LoadArgs::new(&args.input, &args.packages, args.seed, PlanFormat::Human);
     let loaded = match super::plan::load(&load_args) {
         Ok(loaded) => loaded,
         Err(code) => return code,

@@ -20,7 +20,7 @@ use cellc_driver::document::world::World as WorldDocument;
 /// Runs the job `args` ask for; `fail_at` makes the motion of that step (1-based) of the
 /// first move fail.
 pub fn run(args: &PlanArgs, fail_at: Option<usize>) -> ExitCode {
-    let loaded = match load(&args.load_args()) {
+    let loaded = match load(&args.load) {
         Ok(l) => l,
         Err(code) => return code,
     };
@@ -28,13 +28,13 @@ pub fn run(args: &PlanArgs, fail_at: Option<usize>) -> ExitCode {
         mut world,
         moves,
         title,
-    } = match job(args, &loaded) {
+    } = match job(&args.job, &args.options(), &loaded) {
         Ok(j) => j,
         Err(code) => return code,
     };
     let cell = &loaded.cell;
     let artifact = cell.artifact();
-    let human = args.format == PlanFormat::Human;
+    let human = args.load.format == PlanFormat::Human;
     let several = moves.len() > 1 || !title.starts_with("request");
     let options = TaskOptions {
         plan: args.options(),
@@ -106,7 +106,7 @@ pub fn run(args: &PlanArgs, fail_at: Option<usize>) -> ExitCode {
     if human {
         // A lone request's world is the request itself; a world given or several moves
         // are worth showing as they end.
-        if several || args.world.is_some() {
+        if several || args.job.world.is_some() {
             print!("{}", world_text(cell, &world));
         }
         loaded.report(&diagnostics);

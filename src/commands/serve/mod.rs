@@ -92,9 +92,11 @@ impl Service {
 pub fn run(args: &ServeArgs) -> ExitCode {
     let load_args = LoadArgs {
         input: args.input.clone(),
-        seed: args.seed,
+        options: cellc_driver::LoadOptions {
+            compile: args.compile.clone(),
+            seed: args.seed,
+        },
         format: PlanFormat::Human,
-        compile: args.compile.clone(),
     };
     let loaded = match load(&load_args) {
         Ok(l) => l,
