@@ -27,7 +27,7 @@ use clap::Parser;
 pub fn all_codes() -> Vec<cellc_lang::Code> {
     let mut codes: Vec<cellc_lang::Code> = cellc_lang::phrases::codes::ALL.to_vec();
     codes.extend_from_slice(cellc_compiler::diagnostics::codes::ALL);
-    codes.extend_from_slice(artifact_io::codes::ALL);
+    codes.extend_from_slice(cellc_driver::load::artifact::codes::ALL);
     codes.extend_from_slice(cellc_driver::verify_report::codes::ALL);
     codes.extend_from_slice(cellc_driver::scene_report::codes::ALL);
     codes.extend_from_slice(plan_report::codes::ALL);
@@ -142,25 +142,23 @@ pub fn dispatch() -> ExitCode {
             seed,
             output,
         } => commands::view::run(&commands::view::ViewArgs {
-            plan: commands::plan::PlanArgs {
-                input: input.to_string_lossy().into_owned(),
+            load: commands::plan::LoadArgs::new(
+                input,
+                packages,
+                *seed,
+                render::Style {
+                    format: render::Format::Human,
+                    color,
+                },
+            ),
+            job: commands::job::JobArgs {
                 request: request.clone(),
                 object: object.clone(),
                 from: from.clone(),
                 to: to.clone(),
-                style: render::Style {
-                    format: render::Format::Human,
-                    color,
-                },
-                seed: *seed,
-                motions: true,
-                weights: None,
-                time_budget: None,
-                compile: packages::compile_options(packages),
                 task: task.clone(),
                 moves: Vec::new(),
                 world: world.as_ref().map(|p| p.to_string_lossy().into_owned()),
-                clear: false,
             },
             plan_file: plan.clone(),
             output: output.clone(),

@@ -259,7 +259,8 @@ fn damaged_artifacts_ui() {
         let name = path.file_name().unwrap().to_string_lossy().to_string();
         let code = name.split('_').next().unwrap_or_default().to_string();
         let shown = format!("tests/ui/artifact/{name}");
-        let diagnostic = cellc::artifact_io::read(&shown).expect_err("damaged artifact is refused");
+        let diagnostic =
+            cellc_driver::load::artifact::read(&shown).expect_err("damaged artifact is refused");
         assert_eq!(diagnostic.code.as_str(), code, "{name}");
         let rendered = cellc::render::human(
             std::slice::from_ref(&diagnostic),

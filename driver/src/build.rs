@@ -10,7 +10,7 @@
 
 use cellc_compiler::{Compilation, CompileOptions};
 use cellc_lang::{Diagnostic, SourceMap};
-use cellc_runtime::verify::VerifyOptions;
+use cellc_runtime::verify::{Checked, VerifyOptions};
 use cellc_schema::{Artifact, Body, Files};
 
 /// What a build is asked to do.
@@ -54,13 +54,7 @@ pub struct Built {
 pub fn build(files: &dyn Files, path: &str, options: &BuildOptions<'_>) -> Built {
     let compilation = crate::reach::compile(files, path, &options.compile);
     let mut diagnostics = compilation.diagnostics.clone();
-    let mut artifact = compilation
-        .cell
-        .as_ref()
-        .filter(|_| !compilation.has_errors())
-        .map(|cell| {
-            cellc_compiler::artifact::lower(cell, &compilation.graphs, &compilation.sources)
-        });
+    let mut artifact = lowered(&compilation);
     if let Some(artifact) = artifact
         .as_mut()
         .filter(|a| has_arms(a) && !options.no_verify)
@@ -78,6 +72,17 @@ pub fn build(files: &dyn Files, path: &str, options: &BuildOptions<'_>) -> Built
         diagnostics,
         compilation,
     }
+}
+
+/// The artifact of a compilation without errors, as lowered (nothing checked yet).
+pub(crate) fn lowered(compilation: &Compilation) -> Option<Artifact> {
+    compilation
+        .cell
+        .as_ref()
+        .filter(|_| !compilation.has_errors())
+        .map(|cell| {
+            cellc_compiler::artifact::lower(cell, &compilation.graphs, &compilation.sources)
+        })
 }
 
 /// Whether any end-effector is an arm (the artifact has geometry to verify).
@@ -112,6 +117,16 @@ fn check_and_verify(
     let silent = |_: u64, _: u64| {};
     let progress = options.progress.unwrap_or(&silent);
     let checked = cellc_runtime::verify::check_and_verify(artifact, &scene, &verify, progress);
+    checked_diagnostics(artifact, &checked, sources)
+}
+
+/// What a check of the scene and the arcs found, in words: the preflight's findings,
+/// then the arcs it pruned (when the arcs were checked).
+pub(crate) fn checked_diagnostics(
+    artifact: &Artifact,
+    checked: &Checked,
+    sources: &SourceMap,
+) -> Vec<Diagnostic> {
     let mut found = crate::scene_report::diagnostics(artifact, &checked.preflight, sources);
     if checked.report.is_some() {
         found.extend(crate::verify_report::pruned_warnings(artifact));

@@ -9,7 +9,8 @@
 //! compute `reach ARM auto` with the runtime's kinematics, lower, check the scene as a
 //! whole, verify every arc) and the words for what the runtime finds (a scene that cannot
 //! be verified, pruned arcs, an unreachable goal's explanation) live here, once, so that
-//! an embedder gets the answer `cellc build` gives. See [`build()`].
+//! an embedder gets the answer `cellc build` gives. See [`build()`], and [`load()`] for a
+//! cell or an artifact loaded ready to plan, with the diagnostics `cellc plan` gives.
 
 pub mod advice;
 pub mod build;
@@ -17,10 +18,12 @@ pub mod document;
 pub mod explain_report;
 pub mod fixes;
 pub mod fs_files;
+pub mod load;
 pub mod reach;
 pub mod runtime_codes;
 pub mod scene_report;
 pub mod verify_report;
 
 pub use build::{build, has_arms, BuildOptions, Built};
+pub use load::{load, LoadOptions, Loaded};
 pub use reach::compile;

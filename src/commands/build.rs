@@ -116,7 +116,7 @@ pub fn run(cell: &Path, output: Option<&Path>, options: &BuildOptions) -> ExitCo
     }));
     inputs.push(cell.to_path_buf());
     let mut artifact = artifact;
-    crate::artifact_io::paths_relative_to_output(&mut artifact, &output);
+    cellc_driver::load::paths::relative_to_output(&mut artifact, &output);
     let bytes = artifact.to_bytes(options.encoding);
     if let Err(d) = crate::output::write(&output, &bytes, inputs.iter().map(PathBuf::as_path)) {
         if json {

@@ -22,15 +22,11 @@ struct Selected {
 /// Loads the cell as `cellc plan` does, locates the requests asked for, and writes a
 /// domain per object and a problem per request.
 pub fn run_pddl(args: &PddlArgs, color: crate::render::Color) -> ExitCode {
-    let load_args = LoadArgs {
-        input: args.input.to_string_lossy().into_owned(),
-        seed: args.seed,
-        style: crate::render::Style {
-            format: crate::render::Format::Human,
-            color,
-        },
-        compile: crate::packages::compile_options(&args.packages),
+    let style = crate::render::Style {
+        format: crate::render::Format::Human,
+        color,
     };
+    let load_args = LoadArgs::new(&args.input, &args.packages, args.seed, style);
     let loaded = match super::plan::load(&load_args) {
         Ok(loaded) => loaded,
         Err(code) => return code,

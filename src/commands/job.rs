@@ -15,9 +15,32 @@ use cellc_lang::Diagnostic;
 use cellc_runtime::plan::{Goal, GoalByName};
 use cellc_runtime::{Artifact, Cell, ObjectId, Whereabouts, World};
 
-use super::plan::{placement_from_text, prepare, Loaded, PlanArgs, Prepared};
+use cellc_runtime::plan::PlanOptions;
+
+use super::plan::{placement_from_text, prepare, Loaded, Prepared};
 use crate::plan_report::{self, codes};
 use crate::world_report::{read_world, world_diagnostic};
+
+/// What a command is asked to carry out, by the names the command line gives: a named
+/// request, a request given by its object and placements, a task, or moves, in the
+/// cell's world or one read from a file. `plan`, `run` and `view` share it.
+#[derive(Clone, Debug, Default)]
+pub struct JobArgs {
+    /// A named request of the cell.
+    pub request: Option<String>,
+    /// Object, for a request given on the command line.
+    pub object: Option<String>,
+    /// Start placement text.
+    pub from: Option<String>,
+    /// Goal placement text.
+    pub to: Option<String>,
+    /// A task of the cell to carry out instead of a request.
+    pub task: Option<String>,
+    /// Moves given on the command line (`OBJECT to PLACEMENT`), instead of a request.
+    pub moves: Vec<String>,
+    /// A world document to start from.
+    pub world: Option<String>,
+}
 
 /// One move of a job.
 pub struct Move {
@@ -40,19 +63,18 @@ pub struct Job {
 }
 
 /// The job `args` ask for; reports what is wrong and gives the exit code otherwise.
-pub fn job(args: &PlanArgs, loaded: &Loaded) -> Result<Job, ExitCode> {
+pub fn job(args: &JobArgs, options: &PlanOptions, loaded: &Loaded) -> Result<Job, ExitCode> {
     let cell = &loaded.cell;
-    let options = args.options();
     let fail = |d: Diagnostic| {
         loaded.report(&[d]);
         ExitCode::from(1)
     };
     let given = match &args.world {
-        Some(path) => Some(read_world(cell, path, &options).map_err(fail)?),
+        Some(path) => Some(read_world(cell, path, options).map_err(fail)?),
         None => None,
     };
     let declared = || {
-        cell.initial_world(&options)
+        cell.initial_world(options)
             .map_err(|e| world_diagnostic(&e, "the cell's `world`"))
             .map_err(fail)
     };
@@ -78,7 +100,7 @@ pub fn job(args: &PlanArgs, loaded: &Loaded) -> Result<Job, ExitCode> {
         let moves = args
             .moves
             .iter()
-            .map(|text| parse_move(args, loaded, text))
+            .map(|text| parse_move(loaded, text))
             .collect::<Result<Vec<_>, _>>()?;
         return Ok(Job {
             world: match given {
@@ -93,7 +115,7 @@ pub fn job(args: &PlanArgs, loaded: &Loaded) -> Result<Job, ExitCode> {
         request,
         name,
         span,
-    } = prepare(args, loaded)?;
+    } = prepare(args, options, loaded)?;
     let base = given.unwrap_or_else(|| World::at_home(cell.artifact(), cell.scene()));
     let world = cell.request_world(&base, &request).map_err(|e| {
         fail(plan_report::plan_error(
@@ -119,7 +141,7 @@ pub fn job(args: &PlanArgs, loaded: &Loaded) -> Result<Job, ExitCode> {
 /// when that is not known before the job is read (a world document, `--move` flags), so
 /// every object is needed. A name that matches nothing touches nothing: the job reports
 /// it.
-pub fn objects(args: &PlanArgs, core: &Artifact) -> Option<Vec<ObjectId>> {
+pub fn objects(args: &JobArgs, core: &Artifact) -> Option<Vec<ObjectId>> {
     if args.world.is_some() || !args.moves.is_empty() {
         return None;
     }
@@ -143,7 +165,7 @@ pub fn objects(args: &PlanArgs, core: &Artifact) -> Option<Vec<ObjectId>> {
 }
 
 /// `OBJECT to PLACEMENT`, as `--move` gives it; reports what is wrong.
-fn parse_move(args: &PlanArgs, loaded: &Loaded, text: &str) -> Result<Move, ExitCode> {
+fn parse_move(loaded: &Loaded, text: &str) -> Result<Move, ExitCode> {
     let cell = &loaded.cell;
     let Some((object, to)) = text.split_once(" to ") else {
         loaded.report(&[Diagnostic::error(
@@ -155,7 +177,7 @@ fn parse_move(args: &PlanArgs, loaded: &Loaded, text: &str) -> Result<Move, Exit
     };
     let placement = placement_from_text(to.trim(), "move").map_err(|failure| {
         let (d, sources) = *failure;
-        crate::render::emit(args.style, &[d], &sources);
+        crate::render::emit(loaded.style, &[d], &sources);
         ExitCode::from(2)
     })?;
     let object = object.trim();

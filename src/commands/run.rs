@@ -23,13 +23,13 @@ pub fn run(args: &PlanArgs, fail_at: Option<usize>) -> ExitCode {
     // Step 0 does not exist whatever the cell: refused before the cell is read.
     if fail_at == Some(0) {
         crate::render::emit(
-            args.style,
+            args.load.style,
             &[fail_at_out_of_range(0, None)],
             &Default::default(),
         );
         return ExitCode::from(2);
     }
-    let loaded = match load(&args.load_args()) {
+    let loaded = match load(&args.load) {
         Ok(l) => l,
         Err(code) => return code,
     };
@@ -37,13 +37,13 @@ pub fn run(args: &PlanArgs, fail_at: Option<usize>) -> ExitCode {
         mut world,
         moves,
         title,
-    } = match job(args, &loaded) {
+    } = match job(&args.job, &args.options(), &loaded) {
         Ok(j) => j,
         Err(code) => return code,
     };
     let cell = &loaded.cell;
     let artifact = cell.artifact();
-    let human = args.style.is_human();
+    let human = args.load.style.is_human();
     let several = moves.len() > 1 || !title.starts_with("request");
     let options = TaskOptions {
         plan: args.options(),
@@ -58,7 +58,7 @@ pub fn run(args: &PlanArgs, fail_at: Option<usize>) -> ExitCode {
     if let (Some(n), Some(first)) = (fail_at, record.first()) {
         if n > first.plan.steps.len() {
             let d = fail_at_out_of_range(n, Some(first.plan.steps.len()));
-            crate::render::emit(args.style, &[d], &Default::default());
+            crate::render::emit(args.load.style, &[d], &Default::default());
             return ExitCode::from(2);
         }
     }
@@ -121,10 +121,10 @@ pub fn run(args: &PlanArgs, fail_at: Option<usize>) -> ExitCode {
         })
         .collect();
     let ok = diagnostics.is_empty();
-    if args.style.format != Format::Json {
+    if args.load.style.format != Format::Json {
         // A lone request's world is the request itself; a world given or several moves
         // are worth showing as they end.
-        if human && (several || args.world.is_some()) {
+        if human && (several || args.job.world.is_some()) {
             print!("{}", world_text(cell, &world));
         }
         loaded.report(&diagnostics);

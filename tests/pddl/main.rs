@@ -52,7 +52,8 @@ fn cellc(args: &[&str]) -> String {
 fn built(cell: &str, dir: &Path) -> (PathBuf, Cell) {
     let artifact = dir.join("cell.json");
     cellc(&["build", cell, "-o", &artifact.to_string_lossy()]);
-    let read = cellc::artifact_io::read(&artifact.to_string_lossy()).expect("artifact reads");
+    let read =
+        cellc_driver::load::artifact::read(&artifact.to_string_lossy()).expect("artifact reads");
     let loaded = Cell::from_artifact(read, &FsFiles).expect("artifact loads");
     (artifact, loaded)
 }

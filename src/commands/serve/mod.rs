@@ -93,12 +93,14 @@ impl Service {
 pub fn run(args: &ServeArgs) -> ExitCode {
     let load_args = LoadArgs {
         input: args.input.clone(),
-        seed: args.seed,
+        options: cellc_driver::LoadOptions {
+            compile: args.compile.clone(),
+            seed: args.seed,
+        },
         style: crate::render::Style {
             format: crate::render::Format::Human,
             color: args.color,
         },
-        compile: args.compile.clone(),
     };
     let loaded = match load(&load_args) {
         Ok(l) => l,

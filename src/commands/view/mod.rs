@@ -24,12 +24,15 @@ use cellc_runtime::plan::PlanError;
 use cellc_runtime::World;
 use serde::Serialize;
 
-use super::plan::{Loaded, PlanArgs};
+use super::job::JobArgs;
+use super::plan::{LoadArgs, Loaded};
 
 /// What `cellc view` was asked.
 pub struct ViewArgs {
-    /// How to load the cell and what to plan (`style` is human: diagnostics on stderr).
-    pub plan: PlanArgs,
+    /// How to load the cell (`style` is human: diagnostics on stderr).
+    pub load: LoadArgs,
+    /// What to plan and animate (no `moves`: the page has no `--move`).
+    pub job: JobArgs,
     /// A plan document to show instead of planning.
     pub plan_file: Option<PathBuf>,
     /// Where the page goes.
@@ -113,7 +116,12 @@ struct Planned {
 fn planned(args: &ViewArgs, loaded: &Loaded) -> Result<Planned, ExitCode> {
     let cell = &loaded.cell;
     let artifact = cell.artifact();
-    let p = &args.plan;
+    let p = &args.job;
+    // Joint motions always: the page animates them.
+    let options = cellc_runtime::plan::PlanOptions {
+        seed: args.load.options.seed,
+        ..Default::default()
+    };
     if let Some(path) = &args.plan_file {
         let path = path.to_string_lossy();
         let fail = |d: Diagnostic| {
@@ -121,7 +129,7 @@ fn planned(args: &ViewArgs, loaded: &Loaded) -> Result<Planned, ExitCode> {
             ExitCode::from(1)
         };
         let world = match &p.world {
-            Some(w) => crate::world_report::read_world(cell, w, &p.options()).map_err(fail)?,
+            Some(w) => crate::world_report::read_world(cell, w, &options).map_err(fail)?,
             None => World::at_home(artifact, cell.scene()),
         };
         let (plans, starts) = plans::read(artifact, cell.scene(), &path).map_err(fail)?;
@@ -136,12 +144,12 @@ fn planned(args: &ViewArgs, loaded: &Loaded) -> Result<Planned, ExitCode> {
     let asked = p.request.is_some() || p.object.is_some() || p.task.is_some();
     if !asked {
         let world = match &p.world {
-            Some(w) => crate::world_report::read_world(cell, w, &p.options()).map_err(|d| {
+            Some(w) => crate::world_report::read_world(cell, w, &options).map_err(|d| {
                 loaded.report(&[d]);
                 ExitCode::from(1)
             })?,
             None => cell
-                .initial_world(&p.options())
+                .initial_world(&options)
                 .unwrap_or_else(|_| World::at_home(artifact, cell.scene())),
         };
         return Ok(Planned {
@@ -156,9 +164,9 @@ fn planned(args: &ViewArgs, loaded: &Loaded) -> Result<Planned, ExitCode> {
         world,
         moves,
         title,
-    } = super::job::job(p, loaded)?;
+    } = super::job::job(p, &options, loaded)?;
     let options = cellc_runtime::TaskOptions {
-        plan: p.options(),
+        plan: options,
         ..Default::default()
     };
     let list: Vec<_> = moves.iter().map(|m| (m.object, m.goal.clone())).collect();
@@ -172,7 +180,14 @@ fn planned(args: &ViewArgs, loaded: &Loaded) -> Result<Planned, ExitCode> {
             } else {
                 format!("move {} of {}", i + 1, moves.len())
             };
-            plans.push(plans::from_plan(artifact, &label, plan));
+            // Read as a plan document is, so the page shows a plan planned now and
+            // one saved by `cellc plan --format json` the same way.
+            let document = cellc_driver::document::plan::Plan::of(artifact, &label, plan);
+            let (plan, _) = plans::plan_of(artifact, cell.scene(), &document).map_err(|e| {
+                loaded.report(&[plans::refused("the plan planned now", e)]);
+                ExitCode::from(1)
+            })?;
+            plans.push(plan);
         }
     }
     let failure = result.failure.map(|f| {
@@ -200,18 +215,13 @@ fn planned(args: &ViewArgs, loaded: &Loaded) -> Result<Planned, ExitCode> {
 
 /// Writes the page.
 pub fn run(args: &ViewArgs) -> ExitCode {
-    let mut plan_args = args.plan.clone();
-    plan_args.style.format = crate::render::Format::Human;
-    let loaded = match super::plan::load(&plan_args.load_args()) {
+    let mut load = args.load.clone();
+    load.style.format = crate::render::Format::Human;
+    let loaded = match super::plan::load(&load) {
         Ok(l) => l,
         Err(code) => return code,
     };
-    let view = ViewArgs {
-        plan: plan_args,
-        plan_file: args.plan_file.clone(),
-        output: args.output.clone(),
-    };
-    let planned = match planned(&view, &loaded) {
+    let planned = match planned(args, &loaded) {
         Ok(p) => p,
         Err(code) => return code,
     };
@@ -262,10 +272,10 @@ pub fn run(args: &ViewArgs) -> ExitCode {
         explanation,
     };
     let html = page::html(&format!("{} — {}", artifact.cell, planned.title), &document);
-    let inputs: Vec<&Path> = [Some(Path::new(&args.plan.input)), args.plan_file.as_deref()]
+    let inputs: Vec<&Path> = [Some(Path::new(&args.load.input)), args.plan_file.as_deref()]
         .into_iter()
         .flatten()
-        .chain(args.plan.world.as_deref().map(Path::new))
+        .chain(args.job.world.as_deref().map(Path::new))
         .collect();
     if let Err(d) = crate::output::write(&args.output, html.as_bytes(), inputs) {
         loaded.report(&[d]);

@@ -1,13 +1,14 @@
-//! The plans a page animates, in one form whatever they come from: the runtime's plans
-//! (planned now, `--request`, `--task`, ...) or a plan document written earlier by
-//! `cellc plan --format json` (`--plan FILE`, untrusted: every name is looked up in the
-//! cell, every joint vector checked against its arm, every number finite and bounded).
+//! The plans a page animates, read from the plan document
+//! ([`cellc_driver::document::plan::Plan`]) whatever they come from: the runtime's plans
+//! (planned now, `--request`, `--task`, ..., made documents by `Plan::of`) or a plan
+//! document written earlier by `cellc plan --format json` (`--plan FILE`, untrusted:
+//! every name is looked up in the cell, every joint vector checked against its arm,
+//! every number finite and bounded).
 
 use cellc_driver::document::plan::{Plan as PlanDoc, Pose as PoseDoc, StepCommand};
 use cellc_driver::document::run::{Kind, Run};
 use cellc_lang::Diagnostic;
 use cellc_runtime::math::{Iso, Quat, Vec3};
-use cellc_runtime::plan::{Command, Plan};
 use cellc_runtime::scene::{Holder, Scene};
 use cellc_runtime::{Files, World};
 use cellc_schema::{Artifact, EndEffectorId, GraspId, Node, ObjectId, WorkspaceId};
@@ -73,88 +74,8 @@ fn holders_of(plan_states: impl Iterator<Item = EndEffectorId>) -> Vec<EndEffect
     out
 }
 
-/// A runtime plan.
-pub fn from_plan(artifact: &Artifact, label: &str, plan: &Plan) -> PlanIn {
-    let steps = plan
-        .steps
-        .iter()
-        .map(|step| {
-            let (verb, holder, grasp, workspace, object, configurations) = match &step.command {
-                Command::Move {
-                    holder,
-                    workspace,
-                    object,
-                    configurations,
-                } => (
-                    Verb::Move,
-                    *holder,
-                    None,
-                    *workspace,
-                    *object,
-                    configurations.clone(),
-                ),
-                Command::Grasp {
-                    holder,
-                    grasp,
-                    workspace,
-                    object,
-                    configurations,
-                } => (
-                    Verb::Grasp,
-                    *holder,
-                    Some(*grasp),
-                    *workspace,
-                    *object,
-                    configurations.clone(),
-                ),
-                Command::Ungrasp {
-                    holder,
-                    grasp,
-                    workspace,
-                    object,
-                } => (
-                    Verb::Ungrasp,
-                    *holder,
-                    Some(*grasp),
-                    *workspace,
-                    *object,
-                    Vec::new(),
-                ),
-            };
-            let mut s = StepIn {
-                verb,
-                holder,
-                grasp,
-                workspace,
-                object,
-                configurations,
-                motion: step
-                    .motion
-                    .as_ref()
-                    .map(|t| (t.arms.clone(), t.points.clone())),
-                text: String::new(),
-            };
-            s.text = step_text(
-                artifact,
-                plan.object,
-                &s,
-                artifact.workspace_name(workspace),
-            );
-            s
-        })
-        .collect();
-    PlanIn {
-        label: label.to_string(),
-        object: plan.object,
-        start_arms: plan.start_arms.clone(),
-        holders: holders_of(plan.states.iter().map(|s| s.end_effector)),
-        first: plan.states.first().copied(),
-        steps,
-    }
-}
-
 /// Why a plan document is refused, as an R0011 diagnostic.
-fn refused(path: &str, what: String) -> Diagnostic {
+pub fn refused(path: &str, what: String) -> Diagnostic {
     Diagnostic::error(
         codes::PLAN_DOCUMENT,
         format!("`{}`: {what}", crate::render::escape(path)),
@@ -281,7 +202,10 @@ fn pose_of(p: &PoseDoc) -> Result<Iso, String> {
 
 type PlanAndStart = (PlanIn, Option<(ObjectId, Whereabouts)>);
 
-fn plan_of(
+/// A plan document checked against the cell, in the page's form, and where its object
+/// starts. Plans planned now come this way too (through
+/// [`cellc_driver::document::plan::Plan::of`]), so there is one reading of a plan.
+pub fn plan_of(
     artifact: &Artifact,
     scene: Option<&Scene>,
     p: &PlanDoc,
