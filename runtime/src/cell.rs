@@ -306,6 +306,12 @@ impl Cell {
         )
     }
 
+    /// `world` as a world document (every arm and every object, by name): what a store
+    /// keeps, and [`Cell::world`] reads back to the same world.
+    pub fn world_document(&self, world: &World) -> WorldDocument {
+        world.to_document(self.partial.artifact(), self.scene.as_ref())
+    }
+
     /// Plans moving `object` to `goal` from where it is in `world`, with the arms where
     /// they stand and every other object in the way where it is.
     pub fn plan_move(

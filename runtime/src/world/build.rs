@@ -314,7 +314,14 @@ fn placement_by_name(object: &str, e: &PlacedEntry) -> Result<PlacementByName, W
             if (q.norm() - 1.0).abs() > 1e-3 || !q.norm().is_finite() {
                 return Err(orientation("the quaternion is not of unit length"));
             }
-            Quat::from_quaternion(q)
+            // A quaternion unit to within rounding (one the runtime wrote, as a stored
+            // world) is kept as given, so reading a world back gives the same bits;
+            // others are normalised.
+            if (q.norm_squared() - 1.0).abs() <= 4.0 * f64::EPSILON {
+                Quat::new_unchecked(q)
+            } else {
+                Quat::from_quaternion(q)
+            }
         }
         (None, None) => Quat::identity(),
     };

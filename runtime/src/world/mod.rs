@@ -18,6 +18,7 @@
 
 mod after;
 mod build;
+mod document;
 mod request;
 
 use cellc_schema::{Artifact, EndEffectorId, Node, ObjectId};
