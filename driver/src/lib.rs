@@ -23,4 +23,4 @@ pub mod scene_report;
 pub mod verify_report;
 
 pub use build::{build, has_arms, BuildOptions, Built};
-pub use reach::compile;
+pub use reach::{compile, compile_reusing, ReachCache};

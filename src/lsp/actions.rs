@@ -26,7 +26,7 @@ use lsp_types::{
 
 use super::analysis::Analysis;
 use super::analysis_for;
-use super::index::Kind;
+use cellc_compiler::names::Kind;
 use super::position::Lines;
 
 /// The quick fixes of the diagnostics in the request's context.
@@ -40,9 +40,7 @@ pub fn code_actions(
         .and_then(|(a, file)| a.source(file))
         .map(|(_, text)| text);
     let workspace = found.and_then(|(a, _)| {
-        a.index
-            .occurrences
-            .iter()
+        a.names().occurrences().iter()
             .find(|o| o.declares == Some(Kind::Workspace))
             .map(|o| o.key.name().to_string())
     });

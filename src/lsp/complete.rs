@@ -17,7 +17,7 @@ use lsp_types::{CompletionItem, CompletionItemKind, CompletionParams, Completion
 use super::analysis::Analysis;
 use super::analysis_for;
 use super::documents::{path_of, Documents};
-use super::index::{Key, Kind};
+use cellc_compiler::names::{Key, Kind};
 use super::position::Lines;
 
 /// What may follow the cursor.
@@ -92,9 +92,7 @@ fn names(analysis: Option<&Analysis>, fits: fn(Kind) -> bool) -> Vec<CompletionI
     };
     let mut seen = std::collections::BTreeSet::new();
     analysis
-        .index
-        .occurrences
-        .iter()
+        .names().occurrences().iter()
         .filter_map(|o| Some((o, o.declares?)))
         .filter(|(o, kind)| fits(*kind) && matches!(o.key, Key::Global(_)))
         .filter(|(o, _)| seen.insert(o.key.name().to_string()))
@@ -170,9 +168,7 @@ fn grasp_words(
         .map(|t| t.rsplit([' ', '\t', ',']).next().unwrap_or(""));
     let grasps_of = |object: &str| -> Vec<(String, Kind)> {
         analysis
-            .index
-            .occurrences
-            .iter()
+            .names().occurrences().iter()
             .filter_map(|o| match (&o.key, o.declares) {
                 (Key::Grasp { object: of, grasp }, Some(kind)) if of == object => {
                     Some((grasp.clone(), kind))
@@ -224,15 +220,15 @@ fn grasp_words(
 /// that a cell with errors (the line being typed) is answered too; `None` when `holder`
 /// is not an end-effector.
 fn holdable(analysis: &Analysis, object: &str, holder: &str) -> Option<Vec<(String, Kind)>> {
-    let index = &analysis.index;
-    if !index
+    if !analysis
+        .names()
         .kind_of(&Key::Global(holder.to_string()))?
         .is_end_effector()
     {
         return None;
     }
     let items = || {
-        index
+        analysis
             .trees
             .iter()
             .filter_map(|(_, t)| t.as_ref())

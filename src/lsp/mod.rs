@@ -3,8 +3,8 @@
 //! The editor's buffers are compiled as `cellc check` compiles files (open buffers served
 //! before the disk, so includes see unsaved text); each open document is compiled as a
 //! cell of its own and the diagnostics of all of them are published per file. Requests
-//! read the latest compilation ([`analysis::Analysis`]) and the index of names built from
-//! it ([`index::Index`]).
+//! read the latest compilation ([`analysis::Analysis`]) and the table of names the
+//! resolver made in it ([`cellc_compiler::names::Names`]).
 //!
 //! Messages are read on their own thread and handled in batches: every message already
 //! waiting is taken at once, changes only replace texts (and note their paths), and the
@@ -27,7 +27,6 @@ pub mod documents;
 pub mod format;
 pub(crate) mod framing;
 pub mod hover;
-pub mod index;
 pub mod navigate;
 pub mod position;
 pub mod quantities;
