@@ -112,7 +112,8 @@ pub fn compile_parsed_with(
     let mut graphs = Vec::new();
     let mut names = names::Names::default();
     if main_parsed {
-        let (resolved, written) = resolve::resolve(files, reach, &loaded, options, &mut diagnostics);
+        let (resolved, written) =
+            resolve::resolve(files, reach, &loaded, options, &mut diagnostics);
         names = written;
         checks::check_cell(&resolved, &mut diagnostics);
         // Graph-level findings on a cell that already has errors would mostly repeat

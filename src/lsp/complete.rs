@@ -17,8 +17,8 @@ use lsp_types::{CompletionItem, CompletionItemKind, CompletionParams, Completion
 use super::analysis::Analysis;
 use super::analysis_for;
 use super::documents::{path_of, Documents};
-use cellc_compiler::names::{Key, Kind};
 use super::position::Lines;
+use cellc_compiler::names::{Key, Kind};
 
 /// What may follow the cursor.
 pub fn complete(
@@ -92,7 +92,9 @@ fn names(analysis: Option<&Analysis>, fits: fn(Kind) -> bool) -> Vec<CompletionI
     };
     let mut seen = std::collections::BTreeSet::new();
     analysis
-        .names().occurrences().iter()
+        .names()
+        .occurrences()
+        .iter()
         .filter_map(|o| Some((o, o.declares?)))
         .filter(|(o, kind)| fits(*kind) && matches!(o.key, Key::Global(_)))
         .filter(|(o, _)| seen.insert(o.key.name().to_string()))
@@ -168,7 +170,9 @@ fn grasp_words(
         .map(|t| t.rsplit([' ', '\t', ',']).next().unwrap_or(""));
     let grasps_of = |object: &str| -> Vec<(String, Kind)> {
         analysis
-            .names().occurrences().iter()
+            .names()
+            .occurrences()
+            .iter()
             .filter_map(|o| match (&o.key, o.declares) {
                 (Key::Grasp { object: of, grasp }, Some(kind)) if of == object => {
                     Some((grasp.clone(), kind))

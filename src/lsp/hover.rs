@@ -11,10 +11,10 @@ use cellc_lang::FileId;
 use lsp_types::{Hover, HoverContents, HoverParams, MarkupContent, MarkupKind};
 
 use super::analysis::Analysis;
-use cellc_compiler::names::{Key, Kind};
 use super::navigate::locate;
 use super::position::Lines;
 use super::quantities::{self, Measure};
+use cellc_compiler::names::{Key, Kind};
 
 /// The description of the name under the cursor.
 pub fn hover(analyses: &BTreeMap<String, Analysis>, params: HoverParams) -> Option<Hover> {

@@ -30,6 +30,7 @@ pub mod hover;
 pub mod navigate;
 pub mod position;
 pub mod quantities;
+pub mod rename;
 pub(crate) mod transport;
 
 use std::collections::{BTreeMap, BTreeSet};
@@ -202,6 +203,12 @@ impl Server {
             request::CodeActionRequest::METHOD => {
                 reply(actions::code_actions(analyses, parse(params)?))
             }
+            request::PrepareRenameRequest::METHOD => {
+                reply(rename::prepare(analyses, parse(params)?).map_err(refused)?)
+            }
+            request::Rename::METHOD => {
+                reply(rename::rename(analyses, parse(params)?).map_err(refused)?)
+            }
             _ => Err(ResponseError {
                 code: ErrorCode::MethodNotFound as i32,
                 message: format!("`{method}` is not supported"),
@@ -334,6 +341,10 @@ fn initialize_result() -> lsp_types::InitializeResult {
             document_formatting_provider: Some(OneOf::Left(true)),
             document_range_formatting_provider: Some(OneOf::Left(true)),
             code_action_provider: Some(CodeActionProviderCapability::Simple(true)),
+            rename_provider: Some(OneOf::Right(RenameOptions {
+                prepare_provider: Some(true),
+                work_done_progress_options: WorkDoneProgressOptions::default(),
+            })),
             completion_provider: Some(CompletionOptions {
                 trigger_characters: Some(vec![".".to_string()]),
                 ..CompletionOptions::default()
@@ -363,6 +374,16 @@ fn reply<R: serde::Serialize>(result: R) -> Result<Value, ResponseError> {
         message: format!("the answer could not be written: {e}"),
         data: None,
     })
+}
+
+/// A request the server understood and will not do (a rename that would change the
+/// cell's meaning), with the reason for the user.
+fn refused(message: String) -> ResponseError {
+    ResponseError {
+        code: ErrorCode::RequestFailed as i32,
+        message,
+        data: None,
+    }
 }
 
 fn error(id: lsp_server::RequestId, code: ErrorCode, message: &str) -> Response {

@@ -14,8 +14,8 @@ use lsp_types::{
 use super::analysis::Analysis;
 use super::analysis_for;
 use super::documents::{path_of, uri_of};
-use cellc_compiler::names::{Key, Kind, Occurrence};
 use super::position::Lines;
+use cellc_compiler::names::{Key, Kind, Occurrence};
 
 /// The location of `span` in `file` of `analysis`.
 pub fn location(analysis: &Analysis, file: FileId, span: Span) -> Option<Location> {
@@ -48,7 +48,8 @@ pub fn definition(
     }
     let occurrence = analysis.names().at(file, offset)?;
     let mut found: Vec<Location> = analysis
-        .names().declarations(&occurrence.key)
+        .names()
+        .declarations(&occurrence.key)
         .filter_map(|d| location(analysis, d.file, d.span))
         .collect();
     if found.is_empty() {
@@ -83,7 +84,8 @@ pub fn references(
     let mut found: Vec<Location> = Vec::new();
     for a in analyses.values().filter(|a| a.file(&path).is_some()) {
         let places = a
-            .names().occurrences_of(&key)
+            .names()
+            .occurrences_of(&key)
             .filter(|o| params.context.include_declaration || o.declares.is_none());
         for o in places {
             if let Some(l) = location(a, o.file, o.span) {
@@ -120,7 +122,9 @@ pub fn document_symbols(
     let (_, text) = analysis.source(file)?;
     let lines = Lines::new(text);
     let declared: Vec<&Occurrence> = analysis
-        .names().occurrences().iter()
+        .names()
+        .occurrences()
+        .iter()
         .filter(|o| o.file == file && o.declares.is_some())
         .collect();
     let symbol = |o: &Occurrence, children: Option<Vec<DocumentSymbol>>| {

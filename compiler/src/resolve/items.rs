@@ -381,9 +381,7 @@ impl Resolver<'_, '_> {
 
     pub(super) fn resolve_reaches(&mut self, file: FileId, e: &ast::EndEffectorItem) {
         let id = match self.names.get(&e.name.text).copied() {
-            Some(Entry::EndEffector(id)) if self.cell.end_effectors[id].origin.span == e.span => {
-                id
-            }
+            Some(Entry::EndEffector(id)) if self.cell.end_effectors[id].origin.span == e.span => id,
             // A duplicate, already reported; its names are written.
             _ => {
                 e.reaches.iter().for_each(|w| self.used(file, w));

@@ -68,12 +68,7 @@ impl Resolver<'_, '_> {
 
     /// Records the names of a request placement of the object named `object` where the
     /// resolver does not look them up.
-    pub(super) fn used_placement(
-        &mut self,
-        file: FileId,
-        object: &str,
-        p: &ast::RequestPlacement,
-    ) {
+    pub(super) fn used_placement(&mut self, file: FileId, object: &str, p: &ast::RequestPlacement) {
         self.used_holder(file, object, &p.holder);
         if let ast::PlaceSpec::In(w) = &p.place {
             self.used(file, w);
