@@ -12,7 +12,7 @@
 //! The members of a grasp family are named by index after the family (`g_0_1`); a
 //! rename of the family renames the lines that name the family, not those members.
 
-use std::collections::{BTreeMap, HashMap};
+use std::collections::BTreeMap;
 
 use cellc_compiler::names::Key;
 use cellc_lang::written_name;
@@ -83,20 +83,28 @@ pub fn rename(
         ));
     }
     let written = written_name(new);
-    let mut changes: HashMap<Uri, Vec<TextEdit>> = HashMap::new();
+    // By file, in the order first met (`Uri` is not a key clippy accepts in a map).
+    let mut changes: Vec<(Uri, Vec<TextEdit>)> = Vec::new();
     for a in readers {
         for o in a.names().occurrences_of(&key) {
             let Some(l) = location(a, o.file, o.span) else {
                 continue;
             };
-            let edits = changes.entry(l.uri).or_default();
+            let at = match changes.iter().position(|(uri, _)| *uri == l.uri) {
+                Some(at) => at,
+                None => {
+                    changes.push((l.uri, Vec::new()));
+                    changes.len() - 1
+                }
+            };
+            let edits = &mut changes[at].1;
             if !edits.iter().any(|e| e.range == l.range) {
                 edits.push(TextEdit::new(l.range, written.clone()));
             }
         }
     }
     Ok(Some(WorkspaceEdit {
-        changes: Some(changes),
+        changes: Some(changes.into_iter().collect()),
         ..WorkspaceEdit::default()
     }))
 }
