@@ -1,16 +1,16 @@
 //! What an edit costs the language server (issue 15): `cells/vito.cell` open in the
 //! editor, a keystroke (the cell's text alternates between two versions), and the
-//! cell compiled again with its index, as `cellc lsp` does after a change: without the
-//! parse cache (every file parsed by the compiler and again by the index, as before the
-//! cache), with a fresh cache (every file parsed once, the index reusing the compiler's
-//! trees), and with the server's warm cache (only the edited cell parsed).
+//! cell compiled again with its names and trees, as `cellc lsp` does after a change:
+//! without the parse cache (every file parsed by the compiler and again for the trees
+//! the requests read, as before the cache), with a fresh cache (every file parsed once,
+//! the requests reading the compiler's trees), and with the server's warm cache (only
+//! the edited cell parsed).
 
 use std::str::FromStr;
 
 use cellc::lsp::analysis::{Analysis, ParseCache, ReachCache};
 use cellc::lsp::documents::Documents;
-use cellc::lsp::index::Index;
-use cellc_compiler::load::Fresh;
+use cellc_compiler::load::{Fresh, Parser};
 use cellc_compiler::CompileOptions;
 use criterion::{criterion_group, criterion_main, Criterion};
 
@@ -34,7 +34,7 @@ fn benches(c: &mut Criterion) {
         let overlay = documents.overlay();
         let analysis = Analysis::new(&overlay, (&reach, trees), &path, &options);
         assert!(!analysis.compilation.has_errors());
-        std::hint::black_box(analysis.index.occurrences.len())
+        std::hint::black_box(analysis.names().occurrences().len())
     };
     let warm = ParseCache::default();
     edit(&mut documents, &warm);
@@ -50,10 +50,13 @@ fn benches(c: &mut Criterion) {
                 versions[keystroke % 2].clone(),
             );
             let overlay = documents.overlay();
-            let solver = cellc_driver::reach::RuntimeReach { files: &overlay };
-            let compilation = cellc_compiler::compile_with(&overlay, &solver, &path, &options);
-            let index = Index::build(&compilation.sources, &Fresh);
-            std::hint::black_box(index.occurrences.len())
+            let compilation = cellc_driver::compile(&overlay, &path, &options);
+            let trees: Vec<_> = compilation
+                .sources
+                .iter()
+                .map(|(id, f)| Fresh.parse(id, &f.path, &f.text).file)
+                .collect();
+            std::hint::black_box((compilation.names.occurrences().len(), trees.len()))
         })
     });
     c.bench_function("lsp/vito_edit_every_file_parsed_once", |b| {

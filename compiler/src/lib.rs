@@ -22,6 +22,7 @@ pub mod load;
 pub mod math;
 pub mod merge;
 pub mod model;
+pub mod names;
 pub mod reach;
 pub mod resolve;
 mod srdf;
@@ -47,6 +48,9 @@ pub struct Compilation {
     pub graphs: Vec<ObjectGraph>,
     /// Every problem found, in source order.
     pub diagnostics: Vec<Diagnostic>,
+    /// Every name written in the files read, as the resolver scoped it, and every
+    /// include line (what an editor's definition, references and rename read).
+    pub names: names::Names,
 }
 
 impl Compilation {
@@ -106,8 +110,11 @@ pub fn compile_parsed_with(
         });
     let mut cell = None;
     let mut graphs = Vec::new();
+    let mut names = names::Names::default();
     if main_parsed {
-        let resolved = resolve::resolve(files, reach, &loaded, options, &mut diagnostics);
+        let (resolved, written) =
+            resolve::resolve(files, reach, &loaded, options, &mut diagnostics);
+        names = written;
         checks::check_cell(&resolved, &mut diagnostics);
         // Graph-level findings on a cell that already has errors would mostly repeat
         // them in other words, so they wait until the cell is clean.
@@ -124,13 +131,25 @@ pub fn compile_parsed_with(
             }
         }
         cell = Some(resolved);
+    } else if loaded.files.iter().any(|f| f.ast.is_some()) {
+        // An editor still needs the names of a file being typed (a half-written line is
+        // a syntax error): the trees the parser recovered are resolved for their names
+        // alone, their findings and cell dropped. The syntax errors go in first, so no
+        // `reach auto` is sampled for a cell that is not whole.
+        let mut dropped = diagnostics.clone();
+        names = resolve::resolve(files, reach, &loaded, options, &mut dropped).1;
     }
+    for include in &loaded.includes {
+        names.include(include.clone());
+    }
+    names.finish();
     sort(&mut diagnostics);
     Compilation {
         sources: loaded.sources,
         cell,
         graphs,
         diagnostics,
+        names,
     }
 }
 

@@ -35,6 +35,8 @@ pub struct Loaded {
     /// Grasp-set files (`grasp NAME by HAND from "FILE"`) read, by normalised path, each
     /// in the source map so that a bad row is shown in the file.
     pub grasp_files: HashMap<String, FileId>,
+    /// Every `include` line of the files read, with the path it names (read or not).
+    pub includes: Vec<crate::names::Include>,
 }
 
 /// How the loader turns a file's text into a tree.
@@ -201,6 +203,15 @@ impl Loader<'_> {
                 _ => None,
             })
             .collect();
+        for item in parsed.file.iter().flat_map(|f| f.items.iter()) {
+            if let ast::Item::Include(inc) = item {
+                self.loaded.includes.push(crate::names::Include {
+                    file: id,
+                    span: inc.path.span,
+                    path: join(path, &inc.path.value),
+                });
+            }
+        }
         if let (Some(file), Some(at)) = (&parsed.file, included_at) {
             if file.kind == FileKind::Cell {
                 diagnostics.push(diagnostics::included_cell(path, at.0, at.1));

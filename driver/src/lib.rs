@@ -26,4 +26,4 @@ pub mod verify_report;
 
 pub use build::{build, has_arms, BuildOptions, Built};
 pub use load::{load, LoadOptions, Loaded};
-pub use reach::compile;
+pub use reach::{compile, compile_reusing, ReachCache};

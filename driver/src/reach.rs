@@ -6,8 +6,17 @@
 //! sample fail for that reason alone, so those are reported instead of a reach that is
 //! not found, E0420 and E0421); each arm's reach is then sampled by
 //! [`cellc_runtime::reach::arm_reach`].
+//!
+//! A front end that compiles the same cell after every keystroke (the language server)
+//! compiles through [`compile_reusing`]: the trees of unchanged files come from its
+//! parser, and `reach ARM auto`, which samples kinematics for seconds, is answered from a
+//! [`ReachCache`] when the scene is the one already answered.
+
+use std::cell::RefCell;
+use std::collections::HashMap;
 
 use cellc_compiler::diagnostics::ReachAutoProblem;
+use cellc_compiler::load::Parser;
 use cellc_compiler::reach::{ReachFound, ReachQuery, ReachSolver};
 use cellc_compiler::Compilation;
 use cellc_lang::{Diagnostic, SourceMap};
@@ -85,4 +94,69 @@ pub fn compile(
     options: &cellc_compiler::CompileOptions,
 ) -> Compilation {
     cellc_compiler::compile_with(files, &RuntimeReach { files }, path, options)
+}
+
+/// Compiles the cell at `path` as [`compile`] does, with the trees of `trees` (a cache of
+/// unchanged files' trees) and the reach answers `reach` remembers.
+pub fn compile_reusing(
+    files: &dyn Files,
+    path: &str,
+    options: &cellc_compiler::CompileOptions,
+    trees: &dyn Parser,
+    reach: &ReachCache,
+) -> Compilation {
+    let solver = CachedReach {
+        solver: RuntimeReach { files },
+        cache: reach,
+    };
+    cellc_compiler::compile_parsed_with(files, &solver, trees, path, options)
+}
+
+/// Scenes remembered at most; past this the cache starts again.
+const MAX_CACHED_SCENES: usize = 16;
+
+/// The answers of one scene's reach.
+type Answers = Vec<Result<ReachFound, ReachAutoProblem>>;
+
+/// The runtime's reach answers, by the scene and queries they answer. An edit that does
+/// not touch the scene (a comment, a request, a grasp's label) is answered from here.
+#[derive(Default)]
+pub struct ReachCache {
+    answers: RefCell<HashMap<String, Answers>>,
+}
+
+/// The runtime's solver in front of the cache.
+struct CachedReach<'a> {
+    solver: RuntimeReach<'a>,
+    cache: &'a ReachCache,
+}
+
+impl ReachSolver for CachedReach<'_> {
+    fn solve(
+        &self,
+        scene: &Artifact,
+        sources: &SourceMap,
+        queries: &[ReachQuery],
+    ) -> Result<Answers, Vec<Diagnostic>> {
+        // Where the items are written (spans, source hashes) changes with every edit
+        // and changes no reach: the key is the scene without them.
+        let mut geometry = scene.clone();
+        geometry.sources.clear();
+        geometry.spans.clear();
+        let key = match serde_json::to_string(&geometry) {
+            Ok(json) => format!("{json}{queries:?}"),
+            Err(_) => return self.solver.solve(scene, sources, queries),
+        };
+        if let Some(answers) = self.cache.answers.borrow().get(&key) {
+            return Ok(answers.clone());
+        }
+        // Diagnostics point into this compilation's sources, so only answers are kept.
+        let answers = self.solver.solve(scene, sources, queries)?;
+        let mut cache = self.cache.answers.borrow_mut();
+        if cache.len() >= MAX_CACHED_SCENES {
+            cache.clear();
+        }
+        cache.insert(key, answers.clone());
+        Ok(answers)
+    }
 }

@@ -211,10 +211,10 @@ impl<'a> Simulator<'a> {
         };
         // An object that starts in a hand sits where that hand's grasp puts it.
         if simulator.is_arm(state.end_effector) {
-            if let Some(tip) = simulator.tip(state.end_effector) {
-                let grasp = simulator.grasp_pose(state.grasp);
+            let grasp = simulator.grasp_pose(state.grasp);
+            if let Some(pose) = simulator.held(state.end_effector, &grasp) {
                 simulator.grasp_in_tip = Some(grasp);
-                simulator.pose = Some(tip * grasp);
+                simulator.pose = Some(pose);
             }
         }
         simulator
@@ -243,13 +243,14 @@ impl<'a> Simulator<'a> {
     }
 
     fn tip(&self, e: EndEffectorId) -> Option<Iso> {
-        let scene = self.scene?;
-        let Some(Holder::Arm { robot, base, .. }) = scene.holders.get(e.index()) else {
-            return None;
-        };
         let q = self.arms.get(e.index())?.as_ref()?;
-        let robot = scene.robots.get(*robot)?;
-        (q.len() == robot.n_joints()).then(|| robot.tip_pose(base, q))
+        crate::world::arm_tip(self.scene?, e, q)
+    }
+
+    /// Where an object held by arm `e` with `grasp` is, at the arm's current joints.
+    fn held(&self, e: EndEffectorId, grasp: &Iso) -> Option<Iso> {
+        let q = self.arms.get(e.index())?.as_ref()?;
+        crate::world::held_pose(self.scene?, e, q, grasp)
     }
 
     fn grasp_pose(&self, g: GraspId) -> Iso {
@@ -263,8 +264,11 @@ impl<'a> Simulator<'a> {
             }
         }
         // A held object follows its arm.
-        if let (Some(g), Some(tip)) = (self.grasp_in_tip, self.tip(self.state.end_effector)) {
-            self.pose = Some(tip * g);
+        if let Some(pose) = self
+            .grasp_in_tip
+            .and_then(|g| self.held(self.state.end_effector, &g))
+        {
+            self.pose = Some(pose);
         }
     }
 
@@ -324,10 +328,13 @@ impl<'a> Simulator<'a> {
 
     /// An arm closes its hand with `grasp`: the object must be where that grasp puts it.
     fn check_grasp(&self, holder: EndEffectorId, grasp: GraspId) -> Result<Iso, StepError> {
-        let (Some(tip), Some(pose)) = (self.tip(holder), self.pose) else {
+        let (Some(tip), Some(expected), Some(pose)) = (
+            self.tip(holder),
+            self.held(holder, &self.grasp_pose(grasp)),
+            self.pose,
+        ) else {
             return Ok(Iso::identity());
         };
-        let expected = tip * self.grasp_pose(grasp);
         let position_error = (expected.translation.vector - pose.translation.vector).norm();
         let symmetries = self
             .artifact

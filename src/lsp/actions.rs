@@ -26,8 +26,8 @@ use lsp_types::{
 
 use super::analysis::Analysis;
 use super::analysis_for;
-use super::index::Kind;
 use super::position::Lines;
+use cellc_compiler::names::Kind;
 
 /// The quick fixes of the diagnostics in the request's context.
 pub fn code_actions(
@@ -40,8 +40,8 @@ pub fn code_actions(
         .and_then(|(a, file)| a.source(file))
         .map(|(_, text)| text);
     let workspace = found.and_then(|(a, _)| {
-        a.index
-            .occurrences
+        a.names()
+            .occurrences()
             .iter()
             .find(|o| o.declares == Some(Kind::Workspace))
             .map(|o| o.key.name().to_string())

@@ -1,30 +1,26 @@
-//! One open cell compiled: the compilation (sources, resolved cell, diagnostics) and the
-//! index of its names, made again only when a file it reads changed, and read by every
-//! request until then.
+//! One open cell compiled through the driver ([`cellc_driver::compile_reusing`]): the
+//! compilation (sources, resolved cell, diagnostics, and the resolver's table of names,
+//! [`cellc_compiler::names::Names`], which every request about a name reads), made again
+//! only when a file it reads changed, and read by every request until then.
 //!
 //! The trees of unchanged files are kept ([`ParseCache`]): a keystroke in a cell parses
-//! that cell again, not the libraries it includes, and the index reads the trees the
-//! compiler just used instead of parsing a second time.
+//! that cell again, not the libraries it includes, and the trees the requests read
+//! (quantities under the cursor, what a holder can hold on a half-typed line) are the
+//! ones the compiler just used, not parsed a second time.
 //!
 //! `reach ARM auto` samples kinematics for seconds; an edit that does not touch the
-//! scene (a comment, a request, a grasp's label) must not pay that again, so the
-//! runtime's answers are kept by the scene they answered ([`ReachCache`]).
+//! scene must not pay that again, so the runtime's answers are kept by the scene they
+//! answered ([`ReachCache`], the driver's).
 
 use std::cell::RefCell;
 use std::collections::HashMap;
 
-use cellc_compiler::diagnostics::ReachAutoProblem;
 use cellc_compiler::load::Parser;
-use cellc_compiler::reach::{ReachFound, ReachQuery, ReachSolver};
+use cellc_compiler::names::Names;
 use cellc_compiler::{Compilation, CompileOptions, Files};
-use cellc_lang::{ast, Diagnostic, FileId, Parsed, SourceMap};
-use cellc_schema::Artifact;
+use cellc_lang::{ast, Diagnostic, FileId, Parsed};
 
-use super::index::Index;
-use cellc_driver::reach::RuntimeReach;
-
-/// Scenes remembered at most; past this the cache starts again.
-const MAX_CACHED_SCENES: usize = 16;
+pub use cellc_driver::ReachCache;
 
 /// The most source text the parse cache keeps (the most one compilation reads); past
 /// this it starts again.
@@ -83,57 +79,12 @@ impl Parser for ParseCache {
     }
 }
 
-/// The answers of one scene's reach.
-type Answers = Vec<Result<ReachFound, ReachAutoProblem>>;
-
-/// The runtime's reach answers, by the scene and queries they answer.
-#[derive(Default)]
-pub struct ReachCache {
-    answers: RefCell<HashMap<String, Answers>>,
-}
-
-/// The runtime's solver in front of the cache.
-struct CachedReach<'a> {
-    solver: RuntimeReach<'a>,
-    cache: &'a ReachCache,
-}
-
-impl ReachSolver for CachedReach<'_> {
-    fn solve(
-        &self,
-        scene: &Artifact,
-        sources: &SourceMap,
-        queries: &[ReachQuery],
-    ) -> Result<Answers, Vec<Diagnostic>> {
-        // Where the items are written (spans, source hashes) changes with every edit
-        // and changes no reach: the key is the scene without them.
-        let mut geometry = scene.clone();
-        geometry.sources.clear();
-        geometry.spans.clear();
-        let key = match serde_json::to_string(&geometry) {
-            Ok(json) => format!("{json}{queries:?}"),
-            Err(_) => return self.solver.solve(scene, sources, queries),
-        };
-        if let Some(answers) = self.cache.answers.borrow().get(&key) {
-            return Ok(answers.clone());
-        }
-        // Diagnostics point into this compilation's sources, so only answers are kept.
-        let answers = self.solver.solve(scene, sources, queries)?;
-        let mut cache = self.cache.answers.borrow_mut();
-        if cache.len() >= MAX_CACHED_SCENES {
-            cache.clear();
-        }
-        cache.insert(key, answers.clone());
-        Ok(answers)
-    }
-}
-
-/// A cell compiled from its open document, and its names.
+/// A cell compiled from its open document.
 pub struct Analysis {
-    /// The compilation, with every file it read.
+    /// The compilation, with every file it read and every name written in them.
     pub compilation: Compilation,
-    /// Every name of those files.
-    pub index: Index,
+    /// Each cell file's syntax tree, when it parsed (the trees the compiler used).
+    pub trees: Vec<(FileId, Option<ast::File>)>,
 }
 
 impl Analysis {
@@ -144,14 +95,20 @@ impl Analysis {
         path: &str,
         options: &CompileOptions,
     ) -> Analysis {
-        let (reach, trees) = caches;
-        let solver = CachedReach {
-            solver: RuntimeReach { files },
-            cache: reach,
-        };
-        let compilation = cellc_compiler::compile_parsed_with(files, &solver, trees, path, options);
-        let index = Index::build(&compilation.sources, trees);
-        Analysis { compilation, index }
+        let (reach, parser) = caches;
+        let compilation = cellc_driver::compile_reusing(files, path, options, parser, reach);
+        // The files' trees, found in the cache the compiler just filled.
+        let trees = compilation
+            .sources
+            .iter()
+            .map(|(id, f)| (id, parser.parse(id, &f.path, &f.text).file))
+            .collect();
+        Analysis { compilation, trees }
+    }
+
+    /// Every name of the compilation's files, as the resolver scoped them.
+    pub fn names(&self) -> &Names {
+        &self.compilation.names
     }
 
     /// True when this compilation read (or tried to include) a file of `changed`, or is
@@ -164,8 +121,8 @@ impl Analysis {
                 .iter()
                 .any(|(_, f)| changed.contains(&f.path))
             || self
-                .index
-                .includes
+                .names()
+                .includes()
                 .iter()
                 .any(|i| changed.contains(&i.path))
     }
@@ -217,7 +174,7 @@ mod tests {
             "{:?}",
             first.compilation.diagnostics
         );
-        assert_eq!(first.index.trees.len(), 2);
+        assert_eq!(first.trees.len(), 2);
         // The cell edited (an error in it): only it is parsed again, and the error's
         // label names the cell's id.
         let mut edited = files;

@@ -17,8 +17,8 @@ use lsp_types::{CompletionItem, CompletionItemKind, CompletionParams, Completion
 use super::analysis::Analysis;
 use super::analysis_for;
 use super::documents::{path_of, Documents};
-use super::index::{Key, Kind};
 use super::position::Lines;
+use cellc_compiler::names::{Key, Kind};
 
 /// What may follow the cursor.
 pub fn complete(
@@ -92,8 +92,8 @@ fn names(analysis: Option<&Analysis>, fits: fn(Kind) -> bool) -> Vec<CompletionI
     };
     let mut seen = std::collections::BTreeSet::new();
     analysis
-        .index
-        .occurrences
+        .names()
+        .occurrences()
         .iter()
         .filter_map(|o| Some((o, o.declares?)))
         .filter(|(o, kind)| fits(*kind) && matches!(o.key, Key::Global(_)))
@@ -170,8 +170,8 @@ fn grasp_words(
         .map(|t| t.rsplit([' ', '\t', ',']).next().unwrap_or(""));
     let grasps_of = |object: &str| -> Vec<(String, Kind)> {
         analysis
-            .index
-            .occurrences
+            .names()
+            .occurrences()
             .iter()
             .filter_map(|o| match (&o.key, o.declares) {
                 (Key::Grasp { object: of, grasp }, Some(kind)) if of == object => {
@@ -224,15 +224,15 @@ fn grasp_words(
 /// that a cell with errors (the line being typed) is answered too; `None` when `holder`
 /// is not an end-effector.
 fn holdable(analysis: &Analysis, object: &str, holder: &str) -> Option<Vec<(String, Kind)>> {
-    let index = &analysis.index;
-    if !index
+    if !analysis
+        .names()
         .kind_of(&Key::Global(holder.to_string()))?
         .is_end_effector()
     {
         return None;
     }
     let items = || {
-        index
+        analysis
             .trees
             .iter()
             .filter_map(|(_, t)| t.as_ref())

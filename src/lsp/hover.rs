@@ -11,19 +11,19 @@ use cellc_lang::FileId;
 use lsp_types::{Hover, HoverContents, HoverParams, MarkupContent, MarkupKind};
 
 use super::analysis::Analysis;
-use super::index::{Key, Kind};
 use super::navigate::locate;
 use super::position::Lines;
 use super::quantities::{self, Measure};
+use cellc_compiler::names::{Key, Kind};
 
 /// The description of the name under the cursor.
 pub fn hover(analyses: &BTreeMap<String, Analysis>, params: HoverParams) -> Option<Hover> {
     let (analysis, file, offset) = locate(analyses, &params.text_document_position_params)?;
     let (_, text) = analysis.source(file)?;
     let cell = analysis.compilation.cell.as_ref();
-    let (value, span) = match analysis.index.at(file, offset) {
+    let (value, span) = match analysis.names().at(file, offset) {
         Some(occurrence) => {
-            let kind = analysis.index.kind_of(&occurrence.key);
+            let kind = analysis.names().kind_of(&occurrence.key);
             (describe(cell, &occurrence.key, kind)?, occurrence.span)
         }
         None => quantity(analysis, cell, file, offset)?,
@@ -45,7 +45,6 @@ fn quantity(
     offset: usize,
 ) -> Option<(String, cellc_lang::Span)> {
     let tree = analysis
-        .index
         .trees
         .iter()
         .find(|(id, _)| *id == file)?

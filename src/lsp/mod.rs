@@ -3,8 +3,8 @@
 //! The editor's buffers are compiled as `cellc check` compiles files (open buffers served
 //! before the disk, so includes see unsaved text); each open document is compiled as a
 //! cell of its own and the diagnostics of all of them are published per file. Requests
-//! read the latest compilation ([`analysis::Analysis`]) and the index of names built from
-//! it ([`index::Index`]).
+//! read the latest compilation ([`analysis::Analysis`]) and the table of names the
+//! resolver made in it ([`cellc_compiler::names::Names`]).
 //!
 //! Messages are read on their own thread and handled in batches: every message already
 //! waiting is taken at once, changes only replace texts (and note their paths), and the
@@ -27,10 +27,10 @@ pub mod documents;
 pub mod format;
 pub(crate) mod framing;
 pub mod hover;
-pub mod index;
 pub mod navigate;
 pub mod position;
 pub mod quantities;
+pub mod rename;
 pub(crate) mod transport;
 
 use std::collections::{BTreeMap, BTreeSet};
@@ -203,6 +203,12 @@ impl Server {
             request::CodeActionRequest::METHOD => {
                 reply(actions::code_actions(analyses, parse(params)?))
             }
+            request::PrepareRenameRequest::METHOD => {
+                reply(rename::prepare(analyses, parse(params)?).map_err(refused)?)
+            }
+            request::Rename::METHOD => {
+                reply(rename::rename(analyses, parse(params)?).map_err(refused)?)
+            }
             _ => Err(ResponseError {
                 code: ErrorCode::MethodNotFound as i32,
                 message: format!("`{method}` is not supported"),
@@ -335,6 +341,10 @@ fn initialize_result() -> lsp_types::InitializeResult {
             document_formatting_provider: Some(OneOf::Left(true)),
             document_range_formatting_provider: Some(OneOf::Left(true)),
             code_action_provider: Some(CodeActionProviderCapability::Simple(true)),
+            rename_provider: Some(OneOf::Right(RenameOptions {
+                prepare_provider: Some(true),
+                work_done_progress_options: WorkDoneProgressOptions::default(),
+            })),
             completion_provider: Some(CompletionOptions {
                 trigger_characters: Some(vec![".".to_string()]),
                 ..CompletionOptions::default()
@@ -364,6 +374,16 @@ fn reply<R: serde::Serialize>(result: R) -> Result<Value, ResponseError> {
         message: format!("the answer could not be written: {e}"),
         data: None,
     })
+}
+
+/// A request the server understood and will not do (a rename that would change the
+/// cell's meaning), with the reason for the user.
+fn refused(message: String) -> ResponseError {
+    ResponseError {
+        code: ErrorCode::RequestFailed as i32,
+        message,
+        data: None,
+    }
 }
 
 fn error(id: lsp_server::RequestId, code: ErrorCode, message: &str) -> Response {

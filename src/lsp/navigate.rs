@@ -1,5 +1,6 @@
-//! Go to definition, find references, the outline and workspace symbols, all read from
-//! the index of names.
+//! Go to definition, find references, rename, the outline and workspace symbols, all
+//! read from the compilation's table of names (the resolver's scoping,
+//! [`cellc_compiler::names`]).
 
 use std::collections::BTreeMap;
 
@@ -13,8 +14,8 @@ use lsp_types::{
 use super::analysis::Analysis;
 use super::analysis_for;
 use super::documents::{path_of, uri_of};
-use super::index::{Key, Kind, Occurrence};
 use super::position::Lines;
+use cellc_compiler::names::{Key, Kind, Occurrence};
 
 /// The location of `span` in `file` of `analysis`.
 pub fn location(analysis: &Analysis, file: FileId, span: Span) -> Option<Location> {
@@ -38,16 +39,16 @@ pub fn definition(
     params: GotoDefinitionParams,
 ) -> Option<GotoDefinitionResponse> {
     let (analysis, file, offset) = locate(analyses, &params.text_document_position_params)?;
-    if let Some(include) = analysis.index.include_at(file, offset) {
+    if let Some(include) = analysis.names().include_at(file, offset) {
         let uri = uri_of(&include.path)?;
         return Some(GotoDefinitionResponse::Scalar(Location::new(
             uri,
             Range::default(),
         )));
     }
-    let occurrence = analysis.index.at(file, offset)?;
+    let occurrence = analysis.names().at(file, offset)?;
     let mut found: Vec<Location> = analysis
-        .index
+        .names()
         .declarations(&occurrence.key)
         .filter_map(|d| location(analysis, d.file, d.span))
         .collect();
@@ -78,12 +79,12 @@ pub fn references(
 ) -> Option<Vec<Location>> {
     let at = &params.text_document_position;
     let (analysis, file, offset) = locate(analyses, at)?;
-    let key = analysis.index.at(file, offset)?.key.clone();
+    let key = analysis.names().at(file, offset)?.key.clone();
     let path = path_of(&at.text_document.uri)?;
     let mut found: Vec<Location> = Vec::new();
     for a in analyses.values().filter(|a| a.file(&path).is_some()) {
         let places = a
-            .index
+            .names()
             .occurrences_of(&key)
             .filter(|o| params.context.include_declaration || o.declares.is_none());
         for o in places {
@@ -121,8 +122,8 @@ pub fn document_symbols(
     let (_, text) = analysis.source(file)?;
     let lines = Lines::new(text);
     let declared: Vec<&Occurrence> = analysis
-        .index
-        .occurrences
+        .names()
+        .occurrences()
         .iter()
         .filter(|o| o.file == file && o.declares.is_some())
         .collect();
@@ -163,7 +164,7 @@ pub fn workspace_symbols(
     let query = params.query.to_lowercase();
     let mut found: Vec<WorkspaceSymbol> = Vec::new();
     for a in analyses.values() {
-        for o in a.index.occurrences.iter() {
+        for o in a.names().occurrences().iter() {
             let Some(kind) = o.declares else { continue };
             if !o.key.name().to_lowercase().contains(&query) {
                 continue;

@@ -29,6 +29,7 @@ impl Resolver<'_, '_> {
     /// an object.
     fn body(&mut self, file: FileId, q: &ast::Qualified) -> Option<String> {
         let Some(owner) = &q.object else {
+            self.used(file, &q.name);
             if self.obstacle_names.contains(&q.name.text) {
                 return Some(q.name.text.clone());
             }

@@ -9,12 +9,14 @@ use super::{origin, Entry, Resolver, DEFAULT_SURFACE_REACH_HEIGHT};
 use crate::diagnostics::{self, Sort};
 use crate::ids::*;
 use crate::model::*;
+use crate::names::Kind;
 use crate::units::FileUnits;
 
 impl Resolver<'_, '_> {
     pub(super) fn declare(&mut self, file: FileId, path: &str, units: FileUnits, item: &ast::Item) {
         match item {
             ast::Item::Workspace(w) => {
+                self.declared(file, &w.name, Kind::Workspace, w.span);
                 let boxes = w
                     .boxes
                     .iter()
@@ -35,10 +37,16 @@ impl Resolver<'_, '_> {
                 self.add_name(&w.name, Entry::Workspace(id), o);
             }
             ast::Item::EndEffector(e) => {
+                let kind = match e.mobility {
+                    Mobility::Fixed => Kind::Fixed,
+                    Mobility::Movable => Kind::Movable,
+                };
+                self.declared(file, &e.name, kind, e.span);
                 let o = origin(file, e.span, &e.name);
                 self.declare_end_effector(&e.name, e.mobility, Body::Abstract, o);
             }
             ast::Item::Arm(a) => {
+                self.declared(file, &a.name, Kind::Arm, a.span);
                 let o = origin(file, a.span, &a.name);
                 // The body is completed in the second pass, once robots are known.
                 let base = self.eval(file, units).pose(&a.pose);
@@ -50,6 +58,7 @@ impl Resolver<'_, '_> {
                 self.declare_end_effector(&a.name, Mobility::Movable, body, o);
             }
             ast::Item::Surface(s) => {
+                self.declared(file, &s.name, Kind::Surface, s.span);
                 let o = origin(file, s.span, &s.name);
                 let slab = self.eval(file, units).aabb(&s.slab);
                 let reach_height = match &s.reach_height {
@@ -66,6 +75,7 @@ impl Resolver<'_, '_> {
                 self.declare_end_effector(&s.name, Mobility::Fixed, body, o);
             }
             ast::Item::Hand(h) => {
+                self.declared(file, &h.name, Kind::Hand, h.span);
                 let o = origin(file, h.span, &h.name);
                 let solids = h
                     .solids
@@ -75,10 +85,12 @@ impl Resolver<'_, '_> {
                 self.declare_kind(&h.name, HolderClass::Hand, solids, o);
             }
             ast::Item::Support(s) => {
+                self.declared(file, &s.name, Kind::Support, s.span);
                 let o = origin(file, s.span, &s.name);
                 self.declare_kind(&s.name, HolderClass::Support, Vec::new(), o);
             }
             ast::Item::Robot(r) => {
+                self.declared(file, &r.name, Kind::Robot, r.span);
                 let o = origin(file, r.span, &r.name);
                 if self.names.contains_key(&r.name.text) {
                     self.add_name(&r.name, Entry::Robot(RobotId(0)), o);
@@ -102,6 +114,7 @@ impl Resolver<'_, '_> {
             }
             ast::Item::Object(obj) => self.declare_object(file, path, units, obj),
             ast::Item::Obstacle(o) => {
+                self.declared(file, &o.name, Kind::Obstacle, o.span);
                 let origin = origin(file, o.span, &o.name);
                 if self.add_name(&o.name, Entry::Obstacle, origin) {
                     if let Some(b) = self.eval(file, units).aabb(&o.aabb) {
@@ -233,6 +246,18 @@ impl Resolver<'_, '_> {
         units: FileUnits,
         obj: &ast::ObjectItem,
     ) {
+        // Every grasp is recorded as declared in the object's scope, a duplicate's too
+        // (its name is written, and an editor shows both places).
+        self.declared(file, &obj.name, Kind::Object, obj.span);
+        for member in &obj.members {
+            if let ast::ObjectMember::Grasp(g) = member {
+                let kind = match g.keyword {
+                    ast::GraspKeyword::Grasp => Kind::Grasp,
+                    ast::GraspKeyword::Rest => Kind::Rest,
+                };
+                self.declared_grasp(file, &obj.name.text, &g.name, kind, g.span);
+            }
+        }
         let o = origin(file, obj.span, &obj.name);
         if self.names.contains_key(&obj.name.text) {
             self.add_name(&obj.name, Entry::Object(ObjectId(0)), o);

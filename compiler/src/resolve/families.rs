@@ -320,7 +320,10 @@ impl Resolver<'_, '_> {
         id: ObjectId,
         q: &ast::Qualified,
     ) -> Option<Side> {
-        if q.object.is_none() {
+        if q.object.is_none() && self.families.get(id, &q.name.text).is_some() {
+            // Not looked up by `grasp_of`: recorded here.
+            let object = self.cell.objects[id].name.clone();
+            self.used_grasp(file, &object, &q.name);
             if let Some(f) = self.families.get(id, &q.name.text) {
                 // A family whose expansion failed was reported where it is declared.
                 if f.members.is_empty() {

@@ -16,12 +16,19 @@ impl Resolver<'_, '_> {
     pub(super) fn resolve_item(&mut self, file: FileId, units: FileUnits, item: &ast::Item) {
         match item {
             ast::Item::Arm(a) => {
-                let Some(Entry::EndEffector(id)) = self.names.get(&a.name.text).copied() else {
-                    return;
+                let id = match self.names.get(&a.name.text).copied() {
+                    Some(Entry::EndEffector(id))
+                        if self.cell.end_effectors[id].origin.span == a.span =>
+                    {
+                        id
+                    }
+                    // A duplicate, reported where it is declared; its names are written.
+                    _ => {
+                        self.used(file, &a.robot);
+                        self.used(file, &a.kind);
+                        return;
+                    }
                 };
-                if self.cell.end_effectors[id].origin.span != a.span {
-                    return;
-                }
                 let robot = match self.lookup(
                     file,
                     &a.robot,
@@ -49,12 +56,17 @@ impl Resolver<'_, '_> {
                 }
             }
             ast::Item::Surface(s) => {
-                let Some(Entry::EndEffector(id)) = self.names.get(&s.name.text).copied() else {
-                    return;
+                let id = match self.names.get(&s.name.text).copied() {
+                    Some(Entry::EndEffector(id))
+                        if self.cell.end_effectors[id].origin.span == s.span =>
+                    {
+                        id
+                    }
+                    _ => {
+                        self.used(file, &s.kind);
+                        return;
+                    }
                 };
-                if self.cell.end_effectors[id].origin.span != s.span {
-                    return;
-                }
                 let kind = self.kind(file, &s.kind);
                 if let Some(k) = kind {
                     let k = &self.cell.holder_kinds[k];
@@ -122,15 +134,29 @@ impl Resolver<'_, '_> {
     }
 
     fn resolve_object(&mut self, file: FileId, obj: &ast::ObjectItem) {
-        let Some(Entry::Object(id)) = self.names.get(&obj.name.text).copied() else {
-            return;
+        let id = match self.names.get(&obj.name.text).copied() {
+            Some(Entry::Object(id)) if self.cell.objects[id].origin.span == obj.span => id,
+            // A duplicate, reported where it is declared; its names are written.
+            _ => {
+                for member in &obj.members {
+                    match member {
+                        ast::ObjectMember::Grasp(g) => self.used(file, &g.holder),
+                        ast::ObjectMember::Transition(t) => {
+                            for q in std::iter::once(&t.from).chain(&t.to) {
+                                self.used_side(file, &obj.name.text, q);
+                            }
+                        }
+                        _ => {}
+                    }
+                }
+                return;
+            }
         };
-        if self.cell.objects[id].origin.span != obj.span {
-            return;
-        }
         for member in &obj.members {
             match member {
                 ast::ObjectMember::Grasp(g) => {
+                    // Looked up below unless the grasp is a duplicate or its family failed.
+                    self.used(file, &g.holder);
                     let targets: Vec<GraspId> = if g.is_family() {
                         match self.families.get(id, &g.name.text) {
                             Some(f) if f.span == g.span => f.distinct(),
@@ -208,6 +234,10 @@ impl Resolver<'_, '_> {
                         name_span: t.from.span,
                     };
                     let Some(from) = self.transition_side(file, id, &t.from) else {
+                        // The other sides are not looked up; their names are written.
+                        for q in &t.to {
+                            self.used_side(file, &obj.name.text, q);
+                        }
                         continue;
                     };
                     // Pairs once per line: families whose members alias one another, and
@@ -350,12 +380,14 @@ impl Resolver<'_, '_> {
     }
 
     pub(super) fn resolve_reaches(&mut self, file: FileId, e: &ast::EndEffectorItem) {
-        let Some(Entry::EndEffector(id)) = self.names.get(&e.name.text).copied() else {
-            return;
+        let id = match self.names.get(&e.name.text).copied() {
+            Some(Entry::EndEffector(id)) if self.cell.end_effectors[id].origin.span == e.span => id,
+            // A duplicate, already reported; its names are written.
+            _ => {
+                e.reaches.iter().for_each(|w| self.used(file, w));
+                return;
+            }
         };
-        if self.cell.end_effectors[id].origin.span != e.span {
-            return; // a duplicate, already reported
-        }
         let mut reaches: Vec<WorkspaceId> = e
             .reaches
             .iter()

@@ -1,15 +1,92 @@
 //! Name lookups: a name of the wanted sort, or a report (unknown, with a suggestion among
-//! names of that sort; or declared as something else).
+//! names of that sort; or declared as something else). Each lookup records the name it
+//! looked up in the table of names ([`crate::names`]), and the declaring passes record
+//! their declarations through [`Resolver::declared`] and [`Resolver::declared_grasp`].
 
 use cellc_lang::ast;
 use cellc_lang::diagnostic::did_you_mean;
-use cellc_lang::FileId;
+use cellc_lang::{FileId, Span};
 
 use super::{Entry, Resolver};
 use crate::diagnostics::{self, Sort};
 use crate::ids::*;
+use crate::names::{Key, Kind};
 
 impl Resolver<'_, '_> {
+    /// Records that `name` declares a name of the one namespace (or, for requests and
+    /// tasks, of theirs) in the item at `item`.
+    pub(super) fn declared(&mut self, file: FileId, name: &ast::Name, kind: Kind, item: Span) {
+        let key = match kind {
+            Kind::Request | Kind::Task => Key::Request(name.text.clone()),
+            _ => Key::Global(name.text.clone()),
+        };
+        self.written.declare(file, name.span, key, kind, item);
+    }
+
+    /// Records that `name` declares a grasp or resting pose of the object `object`.
+    pub(super) fn declared_grasp(
+        &mut self,
+        file: FileId,
+        object: &str,
+        name: &ast::Name,
+        kind: Kind,
+        item: Span,
+    ) {
+        let key = Key::Grasp {
+            object: object.to_string(),
+            grasp: name.text.clone(),
+        };
+        self.written.declare(file, name.span, key, kind, item);
+    }
+
+    /// Records a use of `name` in the one namespace.
+    pub(super) fn used(&mut self, file: FileId, name: &ast::Name) {
+        self.written
+            .uses(file, name.span, Key::Global(name.text.clone()));
+    }
+
+    /// Records a use of `name` as a grasp of the object named `object`.
+    pub(super) fn used_grasp(&mut self, file: FileId, object: &str, name: &ast::Name) {
+        let key = Key::Grasp {
+            object: object.to_string(),
+            grasp: name.text.clone(),
+        };
+        self.written.uses(file, name.span, key);
+    }
+
+    /// Records the names of `HOLDER` or `HOLDER.GRASP`, a placement of the object named
+    /// `object`, where the resolver does not look them up (the item is refused before).
+    pub(super) fn used_holder(&mut self, file: FileId, object: &str, holder: &ast::Qualified) {
+        match &holder.object {
+            Some(h) => {
+                self.used(file, h);
+                self.used_grasp(file, object, &holder.name);
+            }
+            None => self.used(file, &holder.name),
+        }
+    }
+
+    /// Records the names of a request placement of the object named `object` where the
+    /// resolver does not look them up.
+    pub(super) fn used_placement(&mut self, file: FileId, object: &str, p: &ast::RequestPlacement) {
+        self.used_holder(file, object, &p.holder);
+        if let ast::PlaceSpec::In(w) = &p.place {
+            self.used(file, w);
+        }
+    }
+
+    /// Records the names of one side of a transition of the object named `object`
+    /// (`g`, or `OTHER.g`) where the resolver does not look them up.
+    pub(super) fn used_side(&mut self, file: FileId, object: &str, q: &ast::Qualified) {
+        match &q.object {
+            Some(other) => {
+                self.used(file, other);
+                self.used_grasp(file, &other.text, &q.name);
+            }
+            None => self.used_grasp(file, object, &q.name),
+        }
+    }
+
     /// Looks a name up, wanting one sort. Reports unknown names (with a suggestion among
     /// names of the wanted sort) and names of the wrong sort.
     pub(super) fn lookup(
@@ -19,6 +96,7 @@ impl Resolver<'_, '_> {
         want: Sort,
         context: &str,
     ) -> Option<Entry> {
+        self.used(file, name);
         match self.names.get(&name.text) {
             Some(entry) if entry.sort() == want => Some(*entry),
             Some(entry) => {
@@ -87,6 +165,8 @@ impl Resolver<'_, '_> {
         object: ObjectId,
         name: &ast::Name,
     ) -> Option<GraspId> {
+        let object_name = self.cell.objects[object].name.clone();
+        self.used_grasp(file, &object_name, name);
         if let Some(&g) = self.grasp_names.get(object, &name.text) {
             return Some(g);
         }
@@ -100,7 +180,6 @@ impl Resolver<'_, '_> {
             }
             return None;
         }
-        let object_name = self.cell.objects[object].name.clone();
         let cell = &self.cell;
         let suggestion = self.suggestions.search(|| {
             did_you_mean(

@@ -21,9 +21,11 @@
 //!    and `adjacent` pairs (`items.rs`), then `expect` requirements and `request`s
 //!    (`requirements.rs`), the `world` and `task`s (`world.rs`).
 //!
-//! Name lookups with their "did you mean" live in `lookup.rs`. A reference that fails to
-//! resolve is reported and the item is dropped or left partial; resolution always goes
-//! on, so one run reports every problem.
+//! Name lookups with their "did you mean" live in `lookup.rs`; every declaration and
+//! every name looked up is recorded there in the compilation's table of names
+//! ([`crate::names::Names`]), which an editor reads instead of scoping names again. A
+//! reference that fails to resolve is reported and the item is dropped or left partial;
+//! resolution always goes on, so one run reports every problem.
 
 mod contacts;
 mod declare;
@@ -46,6 +48,7 @@ use crate::diagnostics::{self, Sort};
 use crate::ids::*;
 use crate::load::Loaded;
 use crate::model::*;
+use crate::names::Names;
 use crate::reach::ReachSolver;
 use crate::units::{Eval, FileUnits};
 
@@ -84,14 +87,15 @@ impl Entry {
 
 /// Resolves every loaded file into one cell, computing `reach auto` with `reach` and
 /// deriving workspaces on the way (see [`crate::reach`] and [`crate::workspaces`]).
-/// Diagnostics are appended to `diagnostics`.
+/// Diagnostics are appended to `diagnostics`; the names written in the files, with what
+/// each declares or refers to, are returned with the cell.
 pub fn resolve(
     files: &dyn Files,
     reach: &dyn ReachSolver,
     loaded: &Loaded,
     options: &crate::CompileOptions,
     diagnostics: &mut Vec<Diagnostic>,
-) -> Cell {
+) -> (Cell, Names) {
     let mut r = Resolver {
         files,
         packages: cellc_urdf::PackagePath::new(),
@@ -108,6 +112,7 @@ pub fn resolve(
         suggestions: SuggestionBudget::default(),
         workspaces_incomplete: false,
         urdfs: crate::urdf::UrdfCache::default(),
+        written: Names::default(),
         diagnostics,
     };
     if let Some(main) = loaded.files.first().and_then(|f| f.ast.as_ref()) {
@@ -183,7 +188,8 @@ pub fn resolve(
             }
         }
     }
-    r.cell
+    r.written.finish();
+    (r.cell, r.written)
 }
 
 struct Resolver<'w, 'd> {
@@ -219,6 +225,8 @@ struct Resolver<'w, 'd> {
     /// names it would have derived are then not known, and a reference to one is not
     /// reported as unknown on top of the error that caused it.
     workspaces_incomplete: bool,
+    /// Every name declared and looked up so far, where it is written.
+    written: Names,
     diagnostics: &'d mut Vec<Diagnostic>,
 }
 

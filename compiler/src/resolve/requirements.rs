@@ -9,6 +9,7 @@ use super::{origin, Resolver};
 use crate::diagnostics::{self, Sort};
 use crate::ids::*;
 use crate::model::*;
+use crate::names::Kind;
 use crate::units::FileUnits;
 
 impl Resolver<'_, '_> {
@@ -80,6 +81,7 @@ impl Resolver<'_, '_> {
 
     /// A `request`: every name resolved (all reported), poses in SI.
     pub(super) fn resolve_request(&mut self, file: FileId, units: FileUnits, q: &ast::RequestItem) {
+        self.declared(file, &q.name, Kind::Request, q.span);
         let object = self.object(file, &q.object);
         let from = self.request_placement(file, units, object, &q.from);
         let to = self.request_placement(file, units, object, &q.to);

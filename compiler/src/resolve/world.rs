@@ -10,6 +10,7 @@ use super::{origin, Resolver};
 use crate::diagnostics::{self, Incomplete, Sort};
 use crate::ids::*;
 use crate::model::*;
+use crate::names::Kind;
 use crate::units::FileUnits;
 
 impl Resolver<'_, '_> {
@@ -24,6 +25,11 @@ impl Resolver<'_, '_> {
         if let Some(first) = self.cell.world_origin {
             self.diagnostics
                 .push(diagnostics::second_world(first, here));
+            // Refused whole, but its names are written.
+            for entry in &w.entries {
+                self.used(file, &entry.object);
+                self.used_entry(file, entry);
+            }
             return;
         }
         self.cell.world_origin = Some(here);
@@ -38,6 +44,7 @@ impl Resolver<'_, '_> {
                         first,
                         line,
                     ));
+                    self.used_entry(file, entry);
                     continue;
                 }
                 placed.insert(object, line);
@@ -50,6 +57,14 @@ impl Resolver<'_, '_> {
                     origin: line,
                 });
             }
+        }
+    }
+
+    /// Records the names of a world line's placement where they are not looked up.
+    fn used_entry(&mut self, file: FileId, entry: &ast::WorldEntry) {
+        match &entry.placement {
+            ast::WorldPlacement::Placed(p) => self.used_placement(file, &entry.object.text, p),
+            ast::WorldPlacement::Bare(q) => self.used_holder(file, &entry.object.text, q),
         }
     }
 
@@ -112,6 +127,7 @@ impl Resolver<'_, '_> {
     /// names share the requests' namespace, so `cellc plan` and `cellc run` can take either
     /// name without ambiguity.
     pub(super) fn resolve_task(&mut self, file: FileId, units: FileUnits, t: &ast::TaskItem) {
+        self.declared(file, &t.name, Kind::Task, t.span);
         let here = origin(file, t.span, &t.name);
         if t.steps.is_empty() {
             self.diagnostics

@@ -5,7 +5,7 @@
 //! object per hand.
 
 use cellc_schema::world::{ObjectEntry, PlacedEntry};
-use cellc_schema::{Artifact, EndEffectorId, ObjectId, WorldDocument};
+use cellc_schema::{Artifact, ObjectId, WorldDocument};
 
 use super::{Whereabouts, World};
 use crate::math::{Iso, Quat, Vec3};
@@ -202,8 +202,9 @@ impl World {
         let whereabouts = match geometric.map(|s| (s, s.holders.get(holder.index()))) {
             Some((scene, Some(Holder::Arm { .. }))) => {
                 let grasp = hold_grasp(artifact, object, placement)?;
-                let tip = self.tip(scene, holder);
-                let fk = tip.map(|t| t * artifact.grasp_pose(object, grasp));
+                let fk = self.arm(holder).and_then(|q| {
+                    super::held_pose(scene, holder, q, &artifact.grasp_pose(object, grasp))
+                });
                 if let (Some(given), Some(fk)) = (placement.pose, fk) {
                     let symmetries = &artifact.objects[object.index()].symmetries;
                     let position_error = (given.translation.vector - fk.translation.vector).norm();
@@ -261,16 +262,6 @@ impl World {
         }
         self.set_object(object, whereabouts);
         Ok(())
-    }
-
-    /// The tip frame of arm `e` at its current joints.
-    pub(crate) fn tip(&self, scene: &Scene, e: EndEffectorId) -> Option<Iso> {
-        let Some(Holder::Arm { robot, base, .. }) = scene.holders.get(e.index()) else {
-            return None;
-        };
-        let robot = scene.robots.get(*robot)?;
-        let q = self.arm(e)?;
-        (q.len() == robot.n_joints()).then(|| robot.tip_pose(base, q))
     }
 }
 

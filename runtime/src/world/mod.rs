@@ -14,11 +14,13 @@
 //!
 //! `build.rs` turns the cell's `world` item and world documents (names, untrusted) into a
 //! world, with [`WorldError`]s that carry names and values for the caller to word;
-//! `after.rs` is the world a plan leaves ([`World::after`]), before it is carried out.
+//! `after.rs` is the world a plan leaves ([`World::after`]), before it is carried out;
+//! `held.rs` where a held object is ([`held_pose`]), the one answer for everyone.
 
 mod after;
 mod build;
 mod document;
+mod held;
 mod request;
 
 use cellc_schema::{Artifact, EndEffectorId, Node, ObjectId};
@@ -27,6 +29,7 @@ use crate::math::Iso;
 use crate::scene::{Holder, ObjectPlacement, Obstacle, Scene};
 
 pub use build::WorldError;
+pub use held::{arm_tip, held_pose};
 
 /// Where one object is.
 #[derive(Clone, Debug, PartialEq)]
@@ -113,9 +116,12 @@ impl World {
             )
         });
         match scene {
-            Some(scene) => {
-                Some(self.tip(scene, state.end_effector)? * artifact.grasp_pose(o, state.grasp))
-            }
+            Some(scene) => held_pose(
+                scene,
+                state.end_effector,
+                self.arm(state.end_effector)?,
+                &artifact.grasp_pose(o, state.grasp),
+            ),
             None => *pose,
         }
     }

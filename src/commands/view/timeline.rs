@@ -5,6 +5,7 @@
 
 use cellc_runtime::math::Iso;
 use cellc_runtime::scene::{Holder, Scene};
+use cellc_runtime::world::held_pose;
 use cellc_schema::{Artifact, EndEffectorId, GraspId, Node, ObjectId, WorkspaceId};
 use serde::Serialize;
 
@@ -164,16 +165,6 @@ pub fn moving(built: &Built) -> Vec<usize> {
     out
 }
 
-/// Tip pose of arm `e` at `q`.
-fn tip(scene: Option<&Scene>, e: EndEffectorId, q: &[f64]) -> Option<Iso> {
-    let scene = scene?;
-    let Some(Holder::Arm { robot, base, .. }) = scene.holders.get(e.index()) else {
-        return None;
-    };
-    let model = scene.robots.get(*robot)?;
-    (q.len() == model.n_joints()).then(|| model.tip_pose(base, q))
-}
-
 /// Poses of the moving bodies with the arms at `arms` and the objects where `objects` say.
 pub fn poses(
     built: &Built,
@@ -211,8 +202,7 @@ pub fn poses(
             Some(Whereabouts::Held(e, local)) => arms
                 .get(e.index())
                 .and_then(|q| q.as_deref())
-                .and_then(|q| tip(scene, *e, q))
-                .map(|t| t * local),
+                .and_then(|q| held_pose(scene?, *e, q, local)),
             Some(Whereabouts::Lying(p)) => Some(*p),
             None => None,
         };
@@ -265,8 +255,7 @@ fn object_pose(scene: Option<&Scene>, arms: &[Option<Vec<f64>>], w: &Whereabouts
         Whereabouts::Held(e, local) => arms
             .get(e.index())
             .and_then(|q| q.as_deref())
-            .and_then(|q| tip(scene, *e, q))
-            .map(|t| t * local),
+            .and_then(|q| held_pose(scene?, *e, q, local)),
         Whereabouts::Lying(p) => Some(*p),
     }
 }
