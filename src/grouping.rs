@@ -102,8 +102,13 @@ pub fn select(diagnostics: &[Diagnostic], cap: usize) -> Selection {
 mod tests {
     use super::*;
 
-    fn diagnostic(code: &'static str, severity: Severity) -> Diagnostic {
-        let mut d = Diagnostic::error(Code(code), "m");
+    use cellc_lang::codes::compile::{
+        ASYMMETRIC_TRANSITION, DEAD_END_STATE, DUPLICATE_NAME, DUPLICATE_TRANSITION, UNKNOWN_NAME,
+        UNUSED_GRASP,
+    };
+
+    fn diagnostic(code: Code, severity: Severity) -> Diagnostic {
+        let mut d = Diagnostic::error(code, "m");
         d.severity = severity;
         d
     }
@@ -115,17 +120,17 @@ mod tests {
         let w = Severity::Warning;
         let e = Severity::Error;
         let ds: Vec<Diagnostic> = [
-            ("W0003", w),
-            ("W0003", w),
-            ("W0005", w),
-            ("W0003", w),
-            ("W0003", w),
-            ("E0101", e),
-            ("W0003", w),
-            ("E0101", e),
-            ("E0101", e),
-            ("E0101", e),
-            ("W0005", w),
+            (UNUSED_GRASP, w),
+            (UNUSED_GRASP, w),
+            (DUPLICATE_TRANSITION, w),
+            (UNUSED_GRASP, w),
+            (UNUSED_GRASP, w),
+            (UNKNOWN_NAME, e),
+            (UNUSED_GRASP, w),
+            (UNKNOWN_NAME, e),
+            (UNKNOWN_NAME, e),
+            (UNKNOWN_NAME, e),
+            (DUPLICATE_TRANSITION, w),
         ]
         .into_iter()
         .map(|(c, s)| diagnostic(c, s))
@@ -136,12 +141,12 @@ mod tests {
             selection.hidden,
             vec![
                 Hidden {
-                    code: Code("E0101"),
+                    code: UNKNOWN_NAME,
                     severity: e,
                     count: 1
                 },
                 Hidden {
-                    code: Code("W0003"),
+                    code: UNUSED_GRASP,
                     severity: w,
                     count: 2
                 },
@@ -153,30 +158,34 @@ mod tests {
     #[test]
     fn the_cap_never_hides_an_error_behind_warnings() {
         let mut ds = Vec::new();
-        for code in ["W0001", "W0002", "W0003"] {
+        for code in [ASYMMETRIC_TRANSITION, DEAD_END_STATE, UNUSED_GRASP] {
             for _ in 0..3 {
                 ds.push(diagnostic(code, Severity::Warning));
             }
         }
-        ds.push(diagnostic("E0101", Severity::Error));
-        ds.push(diagnostic("E0102", Severity::Error));
+        ds.push(diagnostic(UNKNOWN_NAME, Severity::Error));
+        ds.push(diagnostic(DUPLICATE_NAME, Severity::Error));
         let selection = select(&ds, 4);
         assert_eq!(selection.shown, vec![0, 1, 9, 10]);
-        let counts: Vec<(&str, usize)> = selection
-            .hidden
-            .iter()
-            .map(|h| (h.code.as_str(), h.count))
-            .collect();
-        assert_eq!(counts, vec![("W0001", 1), ("W0002", 3), ("W0003", 3)]);
+        let counts: Vec<(Code, usize)> =
+            selection.hidden.iter().map(|h| (h.code, h.count)).collect();
+        assert_eq!(
+            counts,
+            vec![
+                (ASYMMETRIC_TRANSITION, 1),
+                (DEAD_END_STATE, 3),
+                (UNUSED_GRASP, 3)
+            ]
+        );
     }
 
     /// A code with an error and warnings keeps the error's place.
     #[test]
     fn a_codes_errors_and_warnings_are_counted_apart() {
         let mut ds: Vec<Diagnostic> = (0..5)
-            .map(|_| diagnostic("E0999", Severity::Warning))
+            .map(|_| diagnostic(UNKNOWN_NAME, Severity::Warning))
             .collect();
-        ds.push(diagnostic("E0999", Severity::Error));
+        ds.push(diagnostic(UNKNOWN_NAME, Severity::Error));
         let selection = select(&ds, 500);
         assert_eq!(selection.shown, vec![0, 1, 2, 5]);
         assert_eq!(selection.hidden.len(), 1);

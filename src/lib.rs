@@ -5,7 +5,6 @@
 pub mod args;
 pub mod artifact_io;
 pub mod commands;
-pub mod docs;
 pub mod export;
 pub mod fuzzing;
 pub mod graph_svg;
@@ -22,21 +21,6 @@ pub mod world_report;
 use std::process::ExitCode;
 
 use clap::Parser;
-
-/// Every diagnostic code any phase can produce.
-pub fn all_codes() -> Vec<cellc_lang::Code> {
-    let mut codes: Vec<cellc_lang::Code> = cellc_lang::phrases::codes::ALL.to_vec();
-    codes.extend_from_slice(cellc_compiler::diagnostics::codes::ALL);
-    codes.extend_from_slice(cellc_driver::load::artifact::codes::ALL);
-    codes.extend_from_slice(cellc_driver::verify_report::codes::ALL);
-    codes.extend_from_slice(cellc_driver::scene_report::codes::ALL);
-    codes.extend_from_slice(plan_report::codes::ALL);
-    codes.extend_from_slice(output::codes::ALL);
-    codes.extend_from_slice(import::diagnostics::codes::ALL);
-    codes.extend_from_slice(export::pddl::codes::ALL);
-    codes.extend_from_slice(commands::serve::codes::ALL);
-    codes
-}
 
 /// Parses the command line and runs the subcommand.
 pub fn dispatch() -> ExitCode {

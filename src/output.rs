@@ -21,26 +21,8 @@ use cellc_lang::Diagnostic;
 
 use cellc_driver::fs_files::FileId;
 
-/// Codes of writing outputs.
-pub mod codes {
-    use cellc_lang::Code;
-    /// An output file cannot be written.
-    pub const UNWRITABLE: Code = Code("E0505");
-    /// The output file is one of the command's inputs.
-    pub const OVERWRITES_INPUT: Code = Code("E0506");
-    /// `cellc explain` was asked about a code that does not exist.
-    pub const UNKNOWN_CODE: Code = Code("E0507");
-    /// `cellc run --fail-at N` names no step of the first plan executed (0, or past its
-    /// last step).
-    pub const FAIL_AT_OUT_OF_RANGE: Code = Code("E0509");
-    /// Every code of this phase.
-    pub const ALL: &[Code] = &[
-        UNWRITABLE,
-        OVERWRITES_INPUT,
-        UNKNOWN_CODE,
-        FAIL_AT_OUT_OF_RANGE,
-    ];
-}
+/// Codes of writing outputs (the registry's `cellc_lang::codes::output`).
+pub use cellc_lang::codes::output as codes;
 
 /// Writes `bytes` to `output`, refusing when `output` is one of `inputs` or any file the
 /// process has read.

@@ -31,8 +31,8 @@ fn pages_show_real_output() {
     let update = std::env::var_os("UPDATE_DOCS").is_some();
     let mut stale = Vec::new();
     let mut checked = 0;
-    for code in cellc::all_codes() {
-        let path = format!("docs/diagnostics/{}.md", code.as_str());
+    for &code in cellc_lang::codes::ALL {
+        let path = code.page_path();
         let Ok(page) = std::fs::read_to_string(&path) else {
             continue;
         };

@@ -48,8 +48,12 @@ fn a_base_on_its_table_gets_the_allow_contact_line_and_the_line_fixes_it() {
     assert!(found.blocks_verification());
     let diagnostics =
         cellc_driver::scene_report::diagnostics(&artifact, &found, &compilation.sources);
-    let codes: Vec<&str> = diagnostics.iter().map(|d| d.code.as_str()).collect();
-    assert_eq!(codes, ["E0421"], "{diagnostics:?}");
+    let codes: Vec<cellc_lang::Code> = diagnostics.iter().map(|d| d.code).collect();
+    assert_eq!(
+        codes,
+        [cellc_driver::scene_report::codes::PERMANENT_CONTACT],
+        "{diagnostics:?}"
+    );
     let line = "allow contact left.lwr_base_link table";
     assert!(
         diagnostics[0]

@@ -343,10 +343,11 @@ fn a_base_on_its_table_is_reported_at_check_time_rather_than_no_reach() {
     };
     assert_ne!(auto.text, text);
     let compilation = cellc_driver::compile(&auto, path, &Default::default());
-    let codes: Vec<&str> = compilation
-        .diagnostics
-        .iter()
-        .map(|d| d.code.as_str())
-        .collect();
-    assert_eq!(codes, ["E0421"], "{:?}", compilation.diagnostics);
+    let codes: Vec<cellc_lang::Code> = compilation.diagnostics.iter().map(|d| d.code).collect();
+    assert_eq!(
+        codes,
+        [cellc_driver::scene_report::codes::PERMANENT_CONTACT],
+        "{:?}",
+        compilation.diagnostics
+    );
 }

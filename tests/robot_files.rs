@@ -486,12 +486,8 @@ fn an_srdf_disabled_pair_changes_the_verdict() {
     // refuses the scene, naming the pair, before any arc.
     let without = built("tests/data/srdf/without_srdf.cell");
     assert!(without.artifact.is_none());
-    let codes: Vec<&str> = without
-        .diagnostics
-        .iter()
-        .map(|d| d.code.as_str())
-        .collect();
-    assert_eq!(codes, ["E0420"]);
+    let codes: Vec<cellc_lang::Code> = without.diagnostics.iter().map(|d| d.code).collect();
+    assert_eq!(codes, [cellc_driver::scene_report::codes::HOME_COLLIDES]);
     let message = &without.diagnostics[0].message;
     assert!(
         message.contains("shoulder_guard") && message.contains("lwr_link_2"),

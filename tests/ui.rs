@@ -51,6 +51,14 @@ fn ui() {
                 "{relative}: expected only {codes:?}, got {produced:?}"
             ));
         }
+        for d in &compilation.diagnostics {
+            if d.severity != d.code.severity() {
+                failures.push(format!(
+                    "{relative}: {} reported as {:?}",
+                    d.code, d.severity
+                ));
+            }
+        }
         let rendered = render::human(&compilation.diagnostics, &compilation.sources, Color::Never);
         insta::assert_snapshot!(format!("{source}\n----- diagnostics -----\n{rendered}"));
     });

@@ -212,7 +212,7 @@ mod tests {
         let (rows, d) = read(text);
         assert!(rows.failed);
         assert_eq!(d.len(), 1);
-        assert_eq!(d[0].code.as_str(), "E0327");
+        assert_eq!(d[0].code, crate::diagnostics::codes::BAD_GRASP_FILE);
         assert_eq!(&text[d[0].labels[0].span.range()], "zero");
     }
 
@@ -234,7 +234,7 @@ mod tests {
         }
         let (rows, d) = read(&text);
         assert!(rows.failed);
-        assert_eq!(d[0].code.as_str(), "E0324");
+        assert_eq!(d[0].code, crate::diagnostics::codes::FAMILY_TOO_LARGE);
         assert_eq!(rows.poses.len(), MAX_FAMILY_MEMBERS);
     }
 

@@ -3,6 +3,11 @@
 //! limits (E0323 to E0327).
 
 use cellc_compiler::{compile, Compilation, MemoryFiles};
+use cellc_lang::codes::compile::{
+    BAD_GRASP_FILE, DUPLICATE_NAME, FAMILY_EMPTY, FAMILY_MISMATCH, FAMILY_TOO_LARGE,
+    FILE_UNREADABLE,
+};
+use cellc_lang::{Code, Severity};
 
 fn compiled(files: &[(&str, &str)]) -> Compilation {
     compile(&MemoryFiles::new(files.iter().copied()), files[0].0)
@@ -30,11 +35,11 @@ fn cell(members: &str) -> String {
 }
 
 /// The codes of the errors (the unused-grasp warnings of the small cells left out).
-fn codes(c: &Compilation) -> Vec<&str> {
+fn codes(c: &Compilation) -> Vec<Code> {
     c.diagnostics
         .iter()
-        .map(|d| d.code.as_str())
-        .filter(|code| !code.starts_with('W'))
+        .map(|d| d.code)
+        .filter(|code| code.severity() == Severity::Error)
         .collect()
 }
 
@@ -151,18 +156,18 @@ fn families_join_every_pair_or_matching_pairs() {
 #[test]
 fn limits_and_misuse_are_coded() {
     let c = compiled(&[("f.cell", &cell("    grasp a by left every 0 deg about z"))]);
-    assert_eq!(codes(&c), ["E0323"]);
+    assert_eq!(codes(&c), [FAMILY_EMPTY]);
     let c = compiled(&[("f.cell", &cell("    grasp a by left every 0.1 deg about z"))]);
-    assert_eq!(codes(&c), ["E0324"]);
+    assert_eq!(codes(&c), [FAMILY_TOO_LARGE]);
     let c = compiled(&[("f.cell", &cell("    grasp a by left every 10 deg about z along z at (0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 16, 17, 18, 19, 20, 21, 22, 23, 24, 25, 26, 27, 28)"))]);
-    assert_eq!(codes(&c), ["E0324"]);
+    assert_eq!(codes(&c), [FAMILY_TOO_LARGE]);
     let c = compiled(&[("f.cell", &cell("    grasp a by left every 90 deg about z\n    grasp b by right along z at (0, 1)\n    transition a <-> b matching"))]);
-    assert_eq!(codes(&c), ["E0325"]);
+    assert_eq!(codes(&c), [FAMILY_MISMATCH]);
     let c = compiled(&[(
         "f.cell",
         &cell("    grasp a by left every 90 deg about z\n    grasp a_1 by right"),
     )]);
-    assert_eq!(codes(&c), ["E0102"]);
+    assert_eq!(codes(&c), [DUPLICATE_NAME]);
 }
 
 #[test]
@@ -180,12 +185,12 @@ fn a_grasp_set_file_gives_one_member_per_row() {
     // A bad row is an error in the file, and the family is not expanded.
     let bad = "x,y,z,qx,qy,qz,qw\n0,0,0,0,0,0,1\n0,0,nope,0,0,0,1\n";
     let c = compiled(&[("f.cell", &src), ("grasps/o.csv", bad)]);
-    assert_eq!(codes(&c), ["E0327"]);
+    assert_eq!(codes(&c), [BAD_GRASP_FILE]);
     let error = c.diagnostics.iter().find(|d| d.is_error()).unwrap();
     let label = &error.labels[0];
     assert_eq!(c.sources.get(label.file).path, "grasps/o.csv");
     assert_eq!(&bad[label.span.range()], "nope");
     // A missing file is reported at the name.
     let c = compiled(&[("f.cell", &src)]);
-    assert_eq!(codes(&c), ["E0308"]);
+    assert_eq!(codes(&c), [FILE_UNREADABLE]);
 }

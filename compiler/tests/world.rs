@@ -3,6 +3,11 @@
 //! validation, and refused with a coded diagnostic when they say too little or too much.
 
 use cellc_compiler::{compile, Compilation, MemoryFiles};
+use cellc_lang::codes::compile::{
+    DUPLICATE_NAME, EMPTY_TASK, PLACED_TWICE, PLACEMENT_GRASP_MISMATCH, SECOND_WORLD, UNKNOWN_NAME,
+    WORLD_PLACEMENT_INCOMPLETE,
+};
+use cellc_lang::Code;
 use cellc_schema::{Artifact, Encoding, EndEffectorId, GraspId, ObjectId, WorkspaceId};
 
 /// An abstract cell in the shape of `cells/fig3.cell`, with two objects (the box's grasps
@@ -217,13 +222,13 @@ fn geometric_cell(world: &str, task: &str) -> Compilation {
 }
 
 /// The code, message and help of each diagnostic of [`geometric_cell`].
-fn geometric(world: &str, task: &str) -> Vec<(String, String, String)> {
+fn geometric(world: &str, task: &str) -> Vec<(Code, String, String)> {
     geometric_cell(world, task)
         .diagnostics
         .iter()
         .map(|d| {
             (
-                d.code.as_str().to_string(),
+                d.code,
                 d.message.clone(),
                 d.help.clone().unwrap_or_default(),
             )
@@ -231,8 +236,8 @@ fn geometric(world: &str, task: &str) -> Vec<(String, String, String)> {
         .collect()
 }
 
-fn codes(found: &[(String, String, String)]) -> Vec<&str> {
-    found.iter().map(|(c, _, _)| c.as_str()).collect()
+fn codes(found: &[(Code, String, String)]) -> Vec<Code> {
+    found.iter().map(|(c, _, _)| *c).collect()
 }
 
 #[test]
@@ -254,7 +259,7 @@ fn a_bare_grasp_of_an_arm_is_a_hand_holding_the_object() {
 #[test]
 fn a_bare_placement_that_says_too_little_is_e0106() {
     let found = geometric("  world {\n    ball: table.on_table\n  }", "");
-    assert_eq!(codes(&found), ["E0106"], "{found:#?}");
+    assert_eq!(codes(&found), [WORLD_PLACEMENT_INCOMPLETE], "{found:#?}");
     assert_eq!(found[0].1, "the world does not say where `ball` is");
     assert!(
         found[0]
@@ -263,7 +268,7 @@ fn a_bare_placement_that_says_too_little_is_e0106() {
         "{found:#?}"
     );
     let found = geometric("  world {\n    cube: left\n  }", "");
-    assert_eq!(codes(&found), ["E0106"], "{found:#?}");
+    assert_eq!(codes(&found), [WORLD_PLACEMENT_INCOMPLETE], "{found:#?}");
     assert_eq!(found[0].1, "the world does not say how `left` holds `cube`");
     assert!(found[0].2.contains("e.g. `left.pinch`"), "{found:#?}");
 }
@@ -274,7 +279,11 @@ fn a_grasp_its_holder_cannot_hold_is_e0316_in_the_world_and_in_tasks() {
         "  world {\n    ball: left.on_table\n  }",
         "  task t {\n    cube to table.pinch at (0.5, 0, 0.875)\n  }",
     );
-    assert_eq!(codes(&found), ["E0316", "E0316"], "{found:#?}");
+    assert_eq!(
+        codes(&found),
+        [PLACEMENT_GRASP_MISMATCH, PLACEMENT_GRASP_MISMATCH],
+        "{found:#?}"
+    );
 }
 
 #[test]
@@ -289,7 +298,7 @@ fn an_object_placed_twice_is_e0105_naming_both_lines() {
     let [d] = compilation_errors(&found)[..] else {
         panic!("{:#?}", found.diagnostics);
     };
-    assert_eq!(d.code.as_str(), "E0105");
+    assert_eq!(d.code, PLACED_TWICE);
     assert_eq!(d.message, "`cylinder` is placed twice in the world");
     let source = found.sources.get(cellc_lang::FileId(0)).text.clone();
     let under: Vec<&str> = d
@@ -318,7 +327,7 @@ fn a_second_world_even_in_a_library_is_e0104() {
     let [d] = compilation_errors(&found)[..] else {
         panic!("{:#?}", found.diagnostics);
     };
-    assert_eq!(d.code.as_str(), "E0104");
+    assert_eq!(d.code, SECOND_WORLD);
     // The main file's world comes first; the library's is the second.
     let files: Vec<u32> = d.labels.iter().map(|l| l.file.0).collect();
     assert_eq!(files, [1, 0]);
@@ -337,7 +346,7 @@ fn a_task_without_steps_is_e0107() {
     let [d] = compilation_errors(&found)[..] else {
         panic!("{:#?}", found.diagnostics);
     };
-    assert_eq!(d.code.as_str(), "E0107");
+    assert_eq!(d.code, EMPTY_TASK);
     assert_eq!(d.message, "task `nothing` has no steps");
 }
 
@@ -348,15 +357,15 @@ fn tasks_and_requests_share_one_namespace() {
         ABSTRACT.trim_end().trim_end_matches('}')
     );
     let found = compiled(&[("w.cell", &source)]);
-    let messages: Vec<(&str, &str)> = compilation_errors(&found)
+    let messages: Vec<(Code, &str)> = compilation_errors(&found)
         .iter()
-        .map(|d| (d.code.as_str(), d.labels[0].message.as_str()))
+        .map(|d| (d.code, d.labels[0].message.as_str()))
         .collect();
     assert_eq!(
         messages,
         [
-            ("E0102", "request `clear` declared again here"),
-            ("E0102", "task `clear` declared again here"),
+            (DUPLICATE_NAME, "request `clear` declared again here"),
+            (DUPLICATE_NAME, "task `clear` declared again here"),
         ]
     );
 }
@@ -365,15 +374,15 @@ fn tasks_and_requests_share_one_namespace() {
 fn steps_resolve_names_like_requests_with_suggestions() {
     let source = ABSTRACT.replace("box to right_arm.held in w3", "bx to right_arm.hold in w3x");
     let found = compiled(&[("w.cell", &source)]);
-    let helps: Vec<(&str, Option<&str>)> = compilation_errors(&found)
+    let helps: Vec<(Code, Option<&str>)> = compilation_errors(&found)
         .iter()
-        .map(|d| (d.code.as_str(), d.help.as_deref()))
+        .map(|d| (d.code, d.help.as_deref()))
         .collect();
     assert_eq!(
         helps,
         [
-            ("E0101", Some("did you mean `box`?")),
-            ("E0101", Some("did you mean `w3`?")),
+            (UNKNOWN_NAME, Some("did you mean `box`?")),
+            (UNKNOWN_NAME, Some("did you mean `w3`?")),
         ]
     );
     // Nothing of a task with a broken step reaches the cell.

@@ -20,7 +20,8 @@ pub mod fixes;
 pub mod fs_files;
 pub mod load;
 pub mod reach;
-pub mod runtime_codes;
+/// Codes of planning requests (the registry's `cellc_lang::codes::request`).
+pub use cellc_lang::codes::request as runtime_codes;
 pub mod scene_report;
 pub mod verify_report;
 

@@ -12,18 +12,8 @@ use cellc_runtime::verify::preflight::{
 };
 use cellc_schema::Artifact;
 
-/// Codes of the preflight.
-pub mod codes {
-    use cellc_lang::Code;
-    /// An arm's home configuration collides.
-    pub const HOME_COLLIDES: Code = Code("E0420");
-    /// A link touches a fixed body in every configuration tried.
-    pub const PERMANENT_CONTACT: Code = Code("E0421");
-    /// A grasp puts its object away from every solid of the hand, or inside one.
-    pub const GRASP_OFF_HAND: Code = Code("W0010");
-    /// Every code of this phase.
-    pub const ALL: &[Code] = &[HOME_COLLIDES, PERMANENT_CONTACT, GRASP_OFF_HAND];
-}
+/// Codes of the preflight (the registry's `cellc_lang::codes::scene`).
+pub use cellc_lang::codes::scene as codes;
 
 /// Home collisions listed in notes beside the first, at most (a folded arm can touch
 /// itself in many places; the first few say what to change).

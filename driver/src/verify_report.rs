@@ -11,18 +11,8 @@ use cellc_schema::{ArcKind, Artifact, EndEffectorId, GraspId, Infeasibility, Obj
 
 use crate::explain_report::words::infeasibility;
 
-/// Codes of verification and of loading a scene.
-pub mod codes {
-    use cellc_lang::Code;
-    /// An arc found kinematically infeasible and removed from the graph.
-    pub const PRUNED_ARC: Code = Code("W0006");
-    /// A URDF changed since the artifact was built.
-    pub const STALE_URDF: Code = Code("R0001");
-    /// A robot model or mesh cannot be loaded for kinematics.
-    pub const MODEL_UNUSABLE: Code = Code("R0002");
-    /// Every code of this phase.
-    pub const ALL: &[Code] = &[PRUNED_ARC, STALE_URDF, MODEL_UNUSABLE];
-}
+/// Codes of verification and of loading a scene (the registry's `cellc_lang::codes::verify`).
+pub use cellc_lang::codes::verify as codes;
 
 /// A scene that cannot be built, labelled at the robot's declaration when the artifact
 /// knows it.

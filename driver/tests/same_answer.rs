@@ -3,7 +3,9 @@
 //! whatever the arc.
 
 use cellc_driver::fs_files::FsFiles;
+use cellc_driver::scene_report;
 use cellc_driver::BuildOptions;
+use cellc_lang::Code;
 use cellc_runtime::{Cell, VerifyOptions};
 
 #[test]
@@ -38,8 +40,8 @@ fn a_scene_the_build_refuses_is_not_verified_by_the_cell_either() {
     let path = "../tests/data/srdf/without_srdf.cell";
     let built = cellc_driver::build(&FsFiles, path, &Default::default());
     assert!(built.artifact.is_none());
-    let codes: Vec<&str> = built.diagnostics.iter().map(|d| d.code.as_str()).collect();
-    assert_eq!(codes, ["E0420"]);
+    let codes: Vec<Code> = built.diagnostics.iter().map(|d| d.code).collect();
+    assert_eq!(codes, [scene_report::codes::HOME_COLLIDES]);
     let compiled = cellc_driver::build(&FsFiles, path, &BuildOptions::unverified())
         .artifact
         .expect("compiles");

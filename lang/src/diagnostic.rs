@@ -8,21 +8,128 @@ use crate::span::{FileId, Span};
 
 /// A stable diagnostic code such as `E0101`.
 ///
-/// Codes are grouped by phase (E00xx syntax, E01xx names, E02xx units and values, E03xx
-/// cell semantics, E04xx robot models, W0xxx warnings) and are never reused once shipped.
-#[derive(Clone, Copy, PartialEq, Eq, Hash, Debug, PartialOrd, Ord)]
-pub struct Code(pub &'static str);
+/// Every value is one of the constants of the registry, [`crate::codes`]: there is no
+/// other way to make one, so a code cannot be misspelt, has a documentation page and is
+/// known to `cellc explain`. Codes are grouped by phase and never reused once shipped.
+#[derive(Clone, Copy)]
+pub struct Code(&'static CodeInfo);
+
+/// What the registry knows of a code. Only [`crate::codes`] writes these.
+#[derive(Debug)]
+pub(crate) struct CodeInfo {
+    pub(crate) code: &'static str,
+    pub(crate) name: &'static str,
+    pub(crate) phase: &'static str,
+    pub(crate) page: &'static str,
+}
+
+/// The four series of codes, by their letter.
+#[derive(Clone, Copy, PartialEq, Eq, Hash, Debug)]
+pub enum Family {
+    /// `E`: the cell or another input is wrong.
+    Error,
+    /// `W`: legal, but probably not what was meant.
+    Warning,
+    /// `R`: a verification or planning request failed.
+    Runtime,
+    /// `S`: the service could not take a request.
+    Service,
+}
 
 impl Code {
+    /// A registry entry as a code (the registry's constants are made with this).
+    pub(crate) const fn registered(info: &'static CodeInfo) -> Code {
+        Code(info)
+    }
+
     /// The code as text.
-    pub fn as_str(self) -> &'static str {
-        self.0
+    pub const fn as_str(self) -> &'static str {
+        self.0.code
+    }
+
+    /// The name of its constant in [`crate::codes`] (`UNKNOWN_NAME` for `E0101`).
+    pub fn name(self) -> &'static str {
+        self.0.name
+    }
+
+    /// The registry module of the phase that reports it (`compile`, `request`, ...).
+    pub fn phase(self) -> &'static str {
+        self.0.phase
+    }
+
+    /// Its documentation page, the text of `docs/diagnostics/CODE.md`.
+    pub fn page(self) -> &'static str {
+        self.0.page
+    }
+
+    /// Where its page is, relative to the repository root.
+    pub fn page_path(self) -> String {
+        format!("docs/diagnostics/{}.md", self.as_str())
+    }
+
+    /// Its series, from its letter.
+    pub fn family(self) -> Family {
+        match self.as_str().as_bytes().first() {
+            Some(b'W') => Family::Warning,
+            Some(b'R') => Family::Runtime,
+            Some(b'S') => Family::Service,
+            _ => Family::Error,
+        }
+    }
+
+    /// The severity its diagnostics have: warnings for `W` codes, errors for the rest.
+    pub fn severity(self) -> Severity {
+        match self.family() {
+            Family::Warning => Severity::Warning,
+            Family::Error | Family::Runtime | Family::Service => Severity::Error,
+        }
+    }
+
+    /// The registered code written `text` (exactly, e.g. `E0101`).
+    pub fn find(text: &str) -> Option<Code> {
+        crate::codes::ALL
+            .iter()
+            .copied()
+            .find(|c| c.as_str() == text)
+    }
+}
+
+// Identity is the text: two constants of one code are the same code.
+impl PartialEq for Code {
+    fn eq(&self, other: &Code) -> bool {
+        self.as_str() == other.as_str()
+    }
+}
+
+impl Eq for Code {}
+
+impl std::hash::Hash for Code {
+    fn hash<H: std::hash::Hasher>(&self, state: &mut H) {
+        self.as_str().hash(state);
+    }
+}
+
+impl PartialOrd for Code {
+    fn partial_cmp(&self, other: &Code) -> Option<std::cmp::Ordering> {
+        Some(self.cmp(other))
+    }
+}
+
+impl Ord for Code {
+    fn cmp(&self, other: &Code) -> std::cmp::Ordering {
+        self.as_str().cmp(other.as_str())
+    }
+}
+
+impl std::fmt::Debug for Code {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_tuple("Code").field(&self.as_str()).finish()
     }
 }
 
 impl std::fmt::Display for Code {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(self.0)
+        f.write_str(self.as_str())
     }
 }
 

@@ -6,6 +6,7 @@
 #![warn(missing_docs)]
 
 pub mod ast;
+pub mod codes;
 pub mod diagnostic;
 pub mod format;
 mod grammar;
@@ -15,7 +16,7 @@ pub mod phrases;
 pub mod screen;
 pub mod span;
 
-pub use diagnostic::{Code, Diagnostic, Label, Severity};
+pub use diagnostic::{Code, Diagnostic, Family, Label, Severity};
 pub use format::format;
 pub use keywords::written_name;
 pub use parser::{parse_placement, Parsed};

@@ -13,20 +13,8 @@ use crate::grammar::Rule;
 use crate::keywords::{is_reserved, Keyword, ITEM_KEYWORDS, MEMBER_KEYWORDS};
 use crate::span::{FileId, Span};
 
-/// Codes of the syntax phase.
-pub mod codes {
-    use crate::diagnostic::Code;
-    /// The text does not follow the grammar.
-    pub const SYNTAX: Code = Code("E0001");
-    /// Blocks nested deeper than any cell needs.
-    pub const TOO_DEEP: Code = Code("E0002");
-    /// A whole number too large to represent.
-    pub const INTEGER_TOO_LARGE: Code = Code("E0003");
-    /// A control character (other than tab and line breaks) in a cell file.
-    pub const CONTROL_CHARACTER: Code = Code("E0004");
-    /// Every code of this phase.
-    pub const ALL: &[Code] = &[SYNTAX, TOO_DEEP, INTEGER_TOO_LARGE, CONTROL_CHARACTER];
-}
+/// Codes of the syntax phase (the registry's [`crate::codes::parse`]).
+pub use crate::codes::parse as codes;
 
 /// Punctuation worth naming in "expected ..." (comment openers, quotes and `_` are
 /// technically expected almost everywhere and would only be noise).

@@ -2,12 +2,13 @@
 
 use std::process::ExitCode;
 
-/// Prints the documentation page of a diagnostic code.
+/// Prints the documentation page of a diagnostic code, found in the registry
+/// (`cellc_lang::codes`, which embeds every page when it is built).
 pub fn run(code: &str, color: crate::render::Color) -> ExitCode {
     let wanted = code.trim().to_ascii_uppercase();
-    match crate::docs::page(&wanted) {
-        Some(page) => {
-            print!("{page}");
+    match cellc_lang::Code::find(&wanted) {
+        Some(found) => {
+            print!("{}", found.page());
             ExitCode::SUCCESS
         }
         None => {

@@ -6,42 +6,8 @@
 
 use cellc_lang::Diagnostic;
 
-/// Codes of the import phase.
-pub mod codes {
-    use cellc_lang::Code;
-
-    /// The file cannot be opened or read as an SQLite database.
-    pub const CANNOT_OPEN: Code = Code("E0601");
-    /// A table or column is missing, or a value has the wrong type.
-    pub const BAD_SCHEMA: Code = Code("E0602");
-    /// A row refers to an id that no row of the referred table has.
-    pub const UNKNOWN_ID: Code = Code("E0603");
-    /// A transition between grasps of two different objects.
-    pub const CROSS_OBJECT_TRANSITION: Code = Code("E0604");
-    /// Two rows of one table with the same id.
-    pub const DUPLICATE_ID: Code = Code("E0605");
-    /// An end-effector whose `Movable` is neither 0 nor 1.
-    pub const BAD_MOVABLE: Code = Code("E0606");
-    /// A transition between grasps of two fixed end-effectors.
-    pub const FIXED_TO_FIXED: Code = Code("E0607");
-    /// A workspace no end-effector reaches, or an end-effector that reaches nothing.
-    pub const REACH_GAP: Code = Code("E0608");
-    /// Adjacency rows a cell cannot keep as they are.
-    pub const BAD_ADJACENCY: Code = Code("E0609");
-
-    /// Every code of the import phase.
-    pub const ALL: &[Code] = &[
-        CANNOT_OPEN,
-        BAD_SCHEMA,
-        UNKNOWN_ID,
-        CROSS_OBJECT_TRANSITION,
-        DUPLICATE_ID,
-        BAD_MOVABLE,
-        FIXED_TO_FIXED,
-        REACH_GAP,
-        BAD_ADJACENCY,
-    ];
-}
+/// Codes of the import phase (the registry's `cellc_lang::codes::import`).
+pub use cellc_lang::codes::import as codes;
 
 use codes::*;
 

@@ -63,7 +63,7 @@ pub fn by_file(
                 Severity::Warning => DiagnosticSeverity::WARNING,
             }),
             code: Some(NumberOrString::String(d.code.as_str().to_string())),
-            code_description: page(d.code.as_str()).map(|href| CodeDescription { href }),
+            code_description: page(d.code).map(|href| CodeDescription { href }),
             source: Some("cellc".to_string()),
             message: message(d),
             related_information: (!related.is_empty()).then_some(related),
@@ -94,8 +94,8 @@ fn message(d: &Diagnostic) -> String {
 
 /// The page of `code` (`docs/diagnostics/CODE.md`, also shown by `cellc explain CODE`)
 /// in the sources this binary was built from, when they are still there.
-fn page(code: &str) -> Option<Uri> {
-    let path = format!("{}/docs/diagnostics/{code}.md", env!("CARGO_MANIFEST_DIR"));
+fn page(code: cellc_lang::Code) -> Option<Uri> {
+    let path = format!("{}/{}", env!("CARGO_MANIFEST_DIR"), code.page_path());
     std::path::Path::new(&path)
         .is_file()
         .then(|| uri_of(&path))?

@@ -2,6 +2,7 @@
 //! pages of its codes against what it prints.
 
 use super::*;
+use cellc_lang::Code;
 
 fn cellc(args: &[&str]) -> std::process::Output {
     Command::new(env!("CARGO_BIN_EXE_cellc"))
@@ -64,26 +65,27 @@ fn command_writes_nothing_on_errors() {
 /// database the page's example was made from.
 #[test]
 fn pages_show_real_output() {
-    const PAGES: &[(&str, &str)] = &[
-        ("E0601", "E0601_not_sqlite.db"),
-        ("E0602", "E0602_missing_column.db"),
-        ("E0603", "E0603_unknown_grasp.db"),
-        ("E0604", "E0604_cross_object.db"),
-        ("E0605", "E0605_duplicate_id.db"),
-        ("E0606", "E0606_movable_two.db"),
-        ("E0607", "E0607_fixed_to_fixed.db"),
-        ("E0608", "E0608_unreached_workspace.db"),
-        ("E0609", "E0609_useless_adjacency.db"),
+    use cellc::import::diagnostics::codes;
+    const PAGES: &[(Code, &str)] = &[
+        (codes::CANNOT_OPEN, "E0601_not_sqlite.db"),
+        (codes::BAD_SCHEMA, "E0602_missing_column.db"),
+        (codes::UNKNOWN_ID, "E0603_unknown_grasp.db"),
+        (codes::CROSS_OBJECT_TRANSITION, "E0604_cross_object.db"),
+        (codes::DUPLICATE_ID, "E0605_duplicate_id.db"),
+        (codes::BAD_MOVABLE, "E0606_movable_two.db"),
+        (codes::FIXED_TO_FIXED, "E0607_fixed_to_fixed.db"),
+        (codes::REACH_GAP, "E0608_unreached_workspace.db"),
+        (codes::BAD_ADJACENCY, "E0609_useless_adjacency.db"),
     ];
     const COMMAND: &str = "$ cellc import dualmanip cell.db -o cell.cell\n";
-    let codes: Vec<&str> = cellc::import::diagnostics::codes::ALL
-        .iter()
-        .map(|c| c.as_str())
-        .collect();
-    assert_eq!(codes, PAGES.iter().map(|(c, _)| *c).collect::<Vec<_>>());
+    assert_eq!(
+        codes::ALL,
+        PAGES.iter().map(|(c, _)| *c).collect::<Vec<_>>()
+    );
     let mut stale = Vec::new();
     for (code, db) in PAGES {
-        let page = std::fs::read_to_string(format!("docs/diagnostics/{code}.md")).unwrap();
+        assert!(db.starts_with(code.as_str()), "{db} is not {code}'s");
+        let page = code.page();
         let start = page.find(COMMAND).expect("page shows the command") + COMMAND.len();
         let end = start + page[start..].find("```").unwrap();
         let dir = scratch(&format!("page-{code}"));

@@ -3,17 +3,18 @@
 //! Keeping them here (rather than formatting messages at each check) keeps wording
 //! consistent and makes the list of codes easy to audit against `docs/diagnostics/`.
 //!
-//! `codes.rs` lists the codes; the constructors are grouped by phase: here names (E01xx),
-//! cell semantics (E03xx) and warnings, `values.rs` units and values (E02xx), `urdf.rs` a
-//! robot's URDF (E04xx), `kinematics.rs`, `robots.rs`, `trust.rs` and `world.rs` as their
-//! headers say.
+//! The codes are the registry's (`cellc_lang::codes::compile`, here as `codes`); the
+//! constructors are grouped by phase: here names (E01xx), cell semantics (E03xx) and
+//! warnings, `values.rs` units and values (E02xx), `urdf.rs` a robot's URDF (E04xx),
+//! `kinematics.rs`, `robots.rs`, `trust.rs` and `world.rs` as their headers say.
 
-use cellc_lang::{Code, Diagnostic, FileId, Span};
+use cellc_lang::{Diagnostic, FileId, Span};
 use cellc_schema::FileError;
 
 use crate::model::Origin;
 
-pub mod codes;
+/// The compiler's codes (the registry's `cellc_lang::codes::compile`).
+pub use cellc_lang::codes::compile as codes;
 mod families;
 mod kinematics;
 mod robots;
@@ -385,9 +386,4 @@ pub fn same_holder_transition(holder: &str, from: &str, to: &str, origin: Origin
     )
     .primary(origin.file, origin.span, format!("both grasps belong to `{holder}`"))
     .help("an end-effector cannot hand an object to itself: regrasp through a surface or another hand")
-}
-
-/// Unused, kept so every code constant is referenced from the constructors' module.
-pub fn all_codes() -> &'static [Code] {
-    ALL
 }

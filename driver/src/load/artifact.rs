@@ -11,20 +11,8 @@ use cellc_schema::{Artifact, ReadError, MAGIC};
 
 use crate::fs_files::{FsFiles, PieceFile};
 
-/// Codes of artifact reading.
-pub mod codes {
-    use cellc_lang::Code;
-    /// The file is not a cellc artifact.
-    pub const NOT_AN_ARTIFACT: Code = Code("E0501");
-    /// The artifact is of another format version.
-    pub const WRONG_VERSION: Code = Code("E0502");
-    /// The artifact is truncated, corrupted or damaged (its checksum does not match).
-    pub const CORRUPT: Code = Code("E0503");
-    /// The artifact decodes and matches its checksum but is inconsistent.
-    pub const INVALID: Code = Code("E0504");
-    /// Every code of this phase.
-    pub const ALL: &[Code] = &[NOT_AN_ARTIFACT, WRONG_VERSION, CORRUPT, INVALID];
-}
+/// Codes of artifact reading (the registry's `cellc_lang::codes::artifact`).
+pub use cellc_lang::codes::artifact as codes;
 
 /// The coded diagnostic of the artifact at `path` that cannot be read.
 pub fn diagnostic(path: &str, error: &ReadError) -> Diagnostic {

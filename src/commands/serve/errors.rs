@@ -11,22 +11,8 @@ use cellc_lang::{Code, Diagnostic, SourceMap};
 use cellc_runtime::plan::PlanError;
 use cellc_runtime::{ExecutionError, TaskError};
 
-/// Codes of the service: requests it cannot take.
-pub mod codes {
-    use cellc_lang::Code;
-    /// The body is not what the endpoint takes (not JSON, wrong fields or types).
-    pub const BAD_BODY: Code = Code("S0001");
-    /// The body is larger than the endpoint accepts.
-    pub const TOO_LARGE: Code = Code("S0002");
-    /// No endpoint has this path, or not with this method.
-    pub const NO_ENDPOINT: Code = Code("S0003");
-    /// The request took longer than the service gives one.
-    pub const TIMED_OUT: Code = Code("S0004");
-    /// The service failed on this request (a bug): the request may be sent again.
-    pub const INTERNAL: Code = Code("S0005");
-    /// Every code of the service.
-    pub const ALL: &[Code] = &[BAD_BODY, TOO_LARGE, NO_ENDPOINT, TIMED_OUT, INTERNAL];
-}
+/// Codes of the service: requests it cannot take (the registry's `cellc_lang::codes::serve`).
+pub use cellc_lang::codes::serve as codes;
 
 /// What kind of failure a request met, which decides its HTTP status.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -25,14 +25,8 @@ use cellc_schema::{Artifact, NodeId, ObjectId};
 pub use names::{problem_ids, Names};
 pub use problem::{Problem, ProblemError};
 
-/// Codes of the PDDL export.
-pub mod codes {
-    use cellc_lang::Code;
-    /// Arc weights too large for whole-number PDDL costs.
-    pub const COSTS_TOO_LARGE: Code = Code("E0508");
-    /// Every code of the export.
-    pub const ALL: &[Code] = &[COSTS_TOO_LARGE];
-}
+/// Codes of the PDDL export (the registry's `cellc_lang::codes::export`).
+pub use cellc_lang::codes::export as codes;
 
 /// Action cost per unit of arc weight: costs are whole thousandths of a weight.
 pub const COST_SCALE: f64 = 1000.0;

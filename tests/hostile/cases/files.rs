@@ -1,6 +1,7 @@
 //! Files that are not regular or too large (E0317, E0318): refused before they are read.
 
 use super::{args, fifo, geometric, pick, write, Case, Expect, SMALL};
+use cellc_lang::codes;
 
 /// The cases of this module, in the order they run.
 pub(super) fn cases() -> Vec<Case> {
@@ -12,7 +13,7 @@ pub(super) fn cases() -> Vec<Case> {
                 args(&["check", "pick.cell"])
             },
             expect: Expect {
-                code: Some("E0318"),
+                code: Some(codes::compile::NOT_A_REGULAR_FILE),
                 seconds: 10,
                 ..SMALL
             },
@@ -25,7 +26,7 @@ pub(super) fn cases() -> Vec<Case> {
                 args(&["check", "pick.cell"])
             },
             expect: Expect {
-                code: Some("E0318"),
+                code: Some(codes::compile::NOT_A_REGULAR_FILE),
                 seconds: 10,
                 ..SMALL
             },
@@ -38,7 +39,7 @@ pub(super) fn cases() -> Vec<Case> {
                 args(&["check", "pick.cell"])
             },
             expect: Expect {
-                code: Some("E0318"),
+                code: Some(codes::compile::NOT_A_REGULAR_FILE),
                 seconds: 10,
                 ..SMALL
             },
@@ -50,7 +51,7 @@ pub(super) fn cases() -> Vec<Case> {
                 args(&["info", "pick.json"])
             },
             expect: Expect {
-                code: Some("E0318"),
+                code: Some(codes::compile::NOT_A_REGULAR_FILE),
                 seconds: 10,
                 ..SMALL
             },
@@ -62,7 +63,7 @@ pub(super) fn cases() -> Vec<Case> {
                 args(&["import", "dualmanip", "grasps.db", "-o", "out.cell"])
             },
             expect: Expect {
-                code: Some("E0601"),
+                code: Some(codes::import::CANNOT_OPEN),
                 seconds: 10,
                 ..SMALL
             },
@@ -71,7 +72,7 @@ pub(super) fn cases() -> Vec<Case> {
             name: "endless_device",
             setup: |_| args(&["check", "/dev/zero"]),
             expect: Expect {
-                code: Some("E0318"),
+                code: Some(codes::compile::NOT_A_REGULAR_FILE),
                 seconds: 10,
                 ..SMALL
             },
@@ -87,7 +88,7 @@ pub(super) fn cases() -> Vec<Case> {
             },
             // Refused by its size alone: never read, so a small address space suffices.
             expect: Expect {
-                code: Some("E0317"),
+                code: Some(codes::compile::FILE_TOO_LARGE),
                 memory_mib: 256,
                 ..SMALL
             },
@@ -100,7 +101,7 @@ pub(super) fn cases() -> Vec<Case> {
                 args(&["check", "pick.cell"])
             },
             expect: Expect {
-                code: Some("E0317"),
+                code: Some(codes::compile::FILE_TOO_LARGE),
                 memory_mib: 256,
                 ..SMALL
             },

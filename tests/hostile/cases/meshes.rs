@@ -4,6 +4,7 @@
 use std::path::Path;
 
 use super::{args, fifo, geometric, write, Case, Expect, SMALL};
+use cellc_lang::codes;
 
 /// A sound one-joint arm (base `base`, tip `boom`).
 const ARM_URDF: &str = r#"<robot name="swinger">
@@ -60,7 +61,7 @@ pub(super) fn cases() -> Vec<Case> {
                 build_with_mesh(f, "part.stl")
             },
             expect: Expect {
-                code: Some("R0002"),
+                code: Some(codes::verify::MODEL_UNUSABLE),
                 seconds: 10,
                 ..SMALL
             },
@@ -72,7 +73,7 @@ pub(super) fn cases() -> Vec<Case> {
                 build_with_mesh(f, "part.stl")
             },
             expect: Expect {
-                code: Some("R0002"),
+                code: Some(codes::verify::MODEL_UNUSABLE),
                 ..SMALL
             },
         },
@@ -83,7 +84,7 @@ pub(super) fn cases() -> Vec<Case> {
                 build_with_mesh(f, "part.stl")
             },
             expect: Expect {
-                code: Some("R0002"),
+                code: Some(codes::verify::MODEL_UNUSABLE),
                 memory_mib: 256,
                 ..SMALL
             },
@@ -105,7 +106,7 @@ pub(super) fn cases() -> Vec<Case> {
                 build_with_mesh(f, "part.obj")
             },
             expect: Expect {
-                code: Some("R0002"),
+                code: Some(codes::verify::MODEL_UNUSABLE),
                 seconds: 30,
                 ..SMALL
             },
@@ -121,7 +122,7 @@ pub(super) fn cases() -> Vec<Case> {
                 build_with_mesh(f, "part.dae")
             },
             expect: Expect {
-                code: Some("R0002"),
+                code: Some(codes::verify::MODEL_UNUSABLE),
                 ..SMALL
             },
         },
@@ -132,7 +133,7 @@ pub(super) fn cases() -> Vec<Case> {
                 build_with_mesh(f, "part.dae")
             },
             expect: Expect {
-                code: Some("R0002"),
+                code: Some(codes::verify::MODEL_UNUSABLE),
                 never: &[SECRET_WORD],
                 ..SMALL
             },
@@ -145,7 +146,7 @@ pub(super) fn cases() -> Vec<Case> {
                 build_with_mesh(f, "part.dae")
             },
             expect: Expect {
-                code: Some("R0002"),
+                code: Some(codes::verify::MODEL_UNUSABLE),
                 ..SMALL
             },
         },
@@ -162,7 +163,7 @@ pub(super) fn cases() -> Vec<Case> {
                 build_with_mesh(f, "part.dae")
             },
             expect: Expect {
-                code: Some("R0002"),
+                code: Some(codes::verify::MODEL_UNUSABLE),
                 ..SMALL
             },
         },
@@ -176,7 +177,7 @@ pub(super) fn cases() -> Vec<Case> {
                 build_with_mesh(f, "part.stl")
             },
             expect: Expect {
-                code: Some("R0002"),
+                code: Some(codes::verify::MODEL_UNUSABLE),
                 ..SMALL
             },
         },

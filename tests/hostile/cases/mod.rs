@@ -23,7 +23,7 @@ pub struct Case {
 pub struct Expect {
     pub exit: i32,
     /// The code that must be reported (`None`: no diagnostic code is required).
-    pub code: Option<&'static str>,
+    pub code: Option<cellc_lang::Code>,
     /// Wall-clock bound, for the unoptimised test build on a busy machine.
     pub seconds: u64,
     /// Address-space bound of the child.

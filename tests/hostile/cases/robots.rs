@@ -1,6 +1,7 @@
 //! Robot descriptions that are unsound (E0406, E0407), in `check` and in `build`.
 
 use super::{args, geometric, repo, write, Case, Expect, SMALL};
+use cellc_lang::codes;
 
 /// The cases of this module, in the order they run.
 pub(super) fn cases() -> Vec<Case> {
@@ -16,7 +17,7 @@ pub(super) fn cases() -> Vec<Case> {
                 args(&["check", "pick.cell"])
             },
             expect: Expect {
-                code: Some("E0407"),
+                code: Some(codes::compile::URDF_BAD_VALUE),
                 ..SMALL
             },
         },
@@ -31,7 +32,7 @@ pub(super) fn cases() -> Vec<Case> {
                 args(&["build", "pick.cell", "-o", "pick.json"])
             },
             expect: Expect {
-                code: Some("E0407"),
+                code: Some(codes::compile::URDF_BAD_VALUE),
                 ..SMALL
             },
         },
@@ -46,7 +47,7 @@ pub(super) fn cases() -> Vec<Case> {
                 args(&["build", "pick.cell", "-o", "pick.json"])
             },
             expect: Expect {
-                code: Some("E0406"),
+                code: Some(codes::compile::URDF_NOT_A_TREE),
                 ..SMALL
             },
         },
@@ -64,7 +65,7 @@ pub(super) fn cases() -> Vec<Case> {
                 args(&["check", "pick.cell"])
             },
             expect: Expect {
-                code: Some("E0407"),
+                code: Some(codes::compile::URDF_BAD_VALUE),
                 ..SMALL
             },
         },

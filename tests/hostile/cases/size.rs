@@ -4,6 +4,7 @@
 use std::path::Path;
 
 use super::{args, pick, repo, write, Case, Expect, SMALL};
+use cellc_lang::codes;
 
 /// `n` workspaces, a fixed table reaching all and a movable arm reaching every `step`-th,
 /// one object with two grasps and a transition; `adjacent` pairs along the arm's row when
@@ -82,7 +83,7 @@ pub(super) fn cases() -> Vec<Case> {
                 args(&["check", "big.cell"])
             },
             expect: Expect {
-                code: Some("E0320"),
+                code: Some(codes::compile::GRAPH_TOO_LARGE),
                 seconds: 30,
                 memory_mib: 1024,
                 ..SMALL
@@ -108,7 +109,7 @@ pub(super) fn cases() -> Vec<Case> {
                 args(&["check", "big.cell"])
             },
             expect: Expect {
-                code: Some("E0322"),
+                code: Some(codes::compile::EXPECT_TOO_COSTLY),
                 seconds: 45,
                 memory_mib: 1024,
                 ..SMALL
@@ -122,7 +123,7 @@ pub(super) fn cases() -> Vec<Case> {
                 args(&["check", "arms.cell"])
             },
             expect: Expect {
-                code: Some("E0321"),
+                code: Some(codes::compile::DERIVATION_TOO_LARGE),
                 seconds: 30,
                 ..SMALL
             },
@@ -153,7 +154,7 @@ pub(super) fn cases() -> Vec<Case> {
             },
             // Every name is reported; a few get a suggestion; human output shows 500.
             expect: Expect {
-                code: Some("E0101"),
+                code: Some(codes::compile::UNKNOWN_NAME),
                 seconds: 45,
                 memory_mib: 1024,
                 max_output_bytes: 1_000_000,
@@ -167,7 +168,7 @@ pub(super) fn cases() -> Vec<Case> {
                 args(&["check", "pick.cell", "--format", "short"])
             },
             expect: Expect {
-                code: Some("E0102"),
+                code: Some(codes::compile::DUPLICATE_NAME),
                 seconds: 30,
                 memory_mib: 1024,
                 max_output_bytes: 60_000_000,
@@ -186,7 +187,7 @@ pub(super) fn cases() -> Vec<Case> {
             },
             // The line is never printed: at most the place and its length.
             expect: Expect {
-                code: Some("E0001"),
+                code: Some(codes::parse::SYNTAX),
                 seconds: 30,
                 memory_mib: 1024,
                 never: &["workspace workspace workspace"],
@@ -204,7 +205,7 @@ pub(super) fn cases() -> Vec<Case> {
                 args(&["check", "pick.cell"])
             },
             expect: Expect {
-                code: Some("E0002"),
+                code: Some(codes::parse::TOO_DEEP),
                 seconds: 20,
                 ..SMALL
             },
@@ -230,7 +231,7 @@ pub(super) fn cases() -> Vec<Case> {
             },
             // The walk keeps its own stack; `w9` is reached by nothing (E0304).
             expect: Expect {
-                code: Some("E0304"),
+                code: Some(codes::compile::UNREACHED_WORKSPACE),
                 seconds: 30,
                 ..SMALL
             },

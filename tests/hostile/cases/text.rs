@@ -2,6 +2,7 @@
 //! refused at their place (E0004) and never printed.
 
 use super::{args, geometric, pick, write, Case, Expect, SMALL};
+use cellc_lang::codes;
 
 /// A file of secrets that no message may quote.
 const SECRET: &str = "API_TOKEN=sk-live-do-not-print\nDB_PASSWORD=hunter2\n";
@@ -17,7 +18,7 @@ pub(super) fn cases() -> Vec<Case> {
                 args(&["check", "pick.cell"])
             },
             expect: Expect {
-                code: Some("E0319"),
+                code: Some(codes::compile::NOT_A_CELL_FILE),
                 never: &["hunter2", "sk-live"],
                 ..SMALL
             },
@@ -29,7 +30,7 @@ pub(super) fn cases() -> Vec<Case> {
                 args(&["check", "secrets.env", "--format", "json"])
             },
             expect: Expect {
-                code: Some("E0319"),
+                code: Some(codes::compile::NOT_A_CELL_FILE),
                 never: &["hunter2", "sk-live"],
                 ..SMALL
             },
@@ -41,7 +42,7 @@ pub(super) fn cases() -> Vec<Case> {
                 args(&["fmt", "--check", "secrets.env"])
             },
             expect: Expect {
-                code: Some("E0319"),
+                code: Some(codes::compile::NOT_A_CELL_FILE),
                 never: &["hunter2", "sk-live"],
                 ..SMALL
             },
@@ -58,7 +59,7 @@ pub(super) fn cases() -> Vec<Case> {
                 args(&["check", "pick.cell"])
             },
             expect: Expect {
-                code: Some("E0402"),
+                code: Some(codes::compile::URDF_INVALID),
                 never: &["sk-live"],
                 ..SMALL
             },
@@ -70,7 +71,7 @@ pub(super) fn cases() -> Vec<Case> {
                 args(&["check", "pick.cell"])
             },
             expect: Expect {
-                code: Some("E0319"),
+                code: Some(codes::compile::NOT_A_CELL_FILE),
                 never: &["hunter2"],
                 ..SMALL
             },
@@ -82,7 +83,7 @@ pub(super) fn cases() -> Vec<Case> {
                 args(&["check", "pick.cell"])
             },
             expect: Expect {
-                code: Some("E0319"),
+                code: Some(codes::compile::NOT_A_CELL_FILE),
                 never: &["hunter2"],
                 ..SMALL
             },
@@ -96,7 +97,7 @@ pub(super) fn cases() -> Vec<Case> {
                 args(&["check", "pick.cell"])
             },
             expect: Expect {
-                code: Some("E0004"),
+                code: Some(codes::parse::CONTROL_CHARACTER),
                 never: &["\x1b", "\x07"],
                 ..SMALL
             },

@@ -1,6 +1,7 @@
 //! World documents (`cellc run --world`, R0008, R0009).
 
 use super::{args, fifo, pick, write, Case, Expect, SMALL};
+use cellc_lang::codes;
 
 /// A task for [`pick`]'s cube, so `cellc run --task t` reads a world document first.
 const WORLD_TASK: &str = "  task t {\n    cube to left_arm.held in w1\n  }\n";
@@ -16,7 +17,7 @@ pub(super) fn cases() -> Vec<Case> {
                 args(&["run", "pick.cell", "--task", "t", "--world", "w.json"])
             },
             expect: Expect {
-                code: Some("R0008"),
+                code: Some(codes::request::WORLD_DOCUMENT),
                 seconds: 10,
                 ..SMALL
             },
@@ -32,7 +33,7 @@ pub(super) fn cases() -> Vec<Case> {
                 args(&["run", "pick.cell", "--task", "t", "--world", "w.json"])
             },
             expect: Expect {
-                code: Some("R0008"),
+                code: Some(codes::request::WORLD_DOCUMENT),
                 ..SMALL
             },
         },
@@ -50,7 +51,7 @@ pub(super) fn cases() -> Vec<Case> {
                 args(&["run", "pick.cell", "--task", "t", "--world", "w.json"])
             },
             expect: Expect {
-                code: Some("R0008"),
+                code: Some(codes::request::WORLD_DOCUMENT),
                 ..SMALL
             },
         },
@@ -66,7 +67,7 @@ pub(super) fn cases() -> Vec<Case> {
                 args(&["run", "pick.cell", "--task", "t", "--world", "w.json"])
             },
             expect: Expect {
-                code: Some("R0009"),
+                code: Some(codes::request::WORLD),
                 ..SMALL
             },
         },
