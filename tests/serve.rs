@@ -91,17 +91,7 @@ impl Server {
             assert!(status == 404 || status == 405, "{method} {path}: {status}");
             report
         };
-        let schema = json!({
-            "$schema": "https://json-schema.org/draft/2020-12/schema",
-            "allOf": [name],
-            "components": self.openapi["components"],
-        });
-        let validator = jsonschema::validator_for(&schema)
-            .unwrap_or_else(|e| panic!("the OpenAPI document's schema {name} is not valid: {e}"));
-        let problems: Vec<String> = validator
-            .iter_errors(body)
-            .map(|e| format!("{e} at {}", e.instance_path()))
-            .collect();
+        let problems = self.problems(&name, body);
         assert!(
             problems.is_empty(),
             "{method} {path} {status}: the answer does not fit {name}: {problems:?}\n{body}"
@@ -110,6 +100,31 @@ impl Server {
             .lock()
             .unwrap()
             .insert((method.to_string(), path.to_string(), status));
+    }
+
+    /// What is wrong with `body` as the OpenAPI document's schema `name` describes it.
+    fn problems(&self, name: &Value, body: &Value) -> Vec<String> {
+        let schema = json!({
+            "$schema": "https://json-schema.org/draft/2020-12/schema",
+            "allOf": [name],
+            "components": self.openapi["components"],
+        });
+        let validator = jsonschema::validator_for(&schema)
+            .unwrap_or_else(|e| panic!("the OpenAPI document's schema {name} is not valid: {e}"));
+        validator
+            .iter_errors(body)
+            .map(|e| format!("{e} at {}", e.instance_path()))
+            .collect()
+    }
+
+    /// Whether a request's JSON body fits the schema the OpenAPI document gives for the
+    /// endpoint's body (`None`: the endpoint takes none, or the body is not JSON).
+    fn request_fits(&self, method: &str, target: &str, body: &[u8]) -> Option<bool> {
+        let path = target.split('?').next().unwrap_or(target);
+        let operation = &self.openapi["paths"][path][method.to_ascii_lowercase()];
+        let name = &operation["requestBody"]["content"]["application/json"]["schema"];
+        let body: Value = serde_json::from_slice(body).ok()?;
+        (!name.is_null()).then(|| self.problems(name, &body).is_empty())
     }
 
     /// Sends one request and reads the whole answer: (status, JSON body).
@@ -128,6 +143,14 @@ impl Server {
             .and_then(|()| stream.write_all(body));
         let (status, answer) = read_answer(&mut stream);
         self.check(method, path, status, &answer);
+        // A request the service carried out was one its OpenAPI document describes.
+        if status == 200 && !self.openapi.is_null() {
+            assert_ne!(
+                self.request_fits(method, path, body),
+                Some(false),
+                "{method} {path} was answered 200, but its body does not fit the document's request schema"
+            );
+        }
         (status, answer)
     }
 
@@ -497,6 +520,29 @@ fn the_service_on_vito() {
         json!({"objects": {"ball": {"holder": "table", "pos": [0.45, -0.25, 0.95]}}}),
     );
     assert_eq!((status, first_code(&report)), (400, "R0008"), "{report}");
+    // The request schema is the one the service reads with: the misspelt key and a word
+    // other than "absent" are outside it, the documents it takes are inside.
+    for (document, fits) in [
+        (
+            r#"{"objects": {"ball": {"holder": "table", "pos": [0, 0, 1]}}}"#,
+            false,
+        ),
+        (r#"{"objects": {"ball": "gone"}}"#, false),
+        (
+            r#"{"objects": {"ball": "absent"}, "arms": {"left": {"a1": 0.5}}}"#,
+            true,
+        ),
+        (
+            r#"{"objects": {"ball": {"holder": "left", "grasp": "top"}}}"#,
+            true,
+        ),
+    ] {
+        assert_eq!(
+            server.request_fits("PUT", "/v1/world", document.as_bytes()),
+            Some(fits),
+            "{document}"
+        );
+    }
     let (status, report) = server.json(
         "PUT",
         "/v1/world",

@@ -432,6 +432,8 @@ NOT_MIRRORED: dict[str, str] = {
     "Pruned": "part of the explanation's dict",
     "MoveRequest": "written by `Client.plan`, `execute`, `explain`",
     "TaskRequest": "written by `Client.task`",
+    "WorldDocument": "written by `World.document` for `Client.set_world`",
+    "PlacedEntry": "part of the dict `World.document` writes",
     "TaskMove": "written by `Client.task`",
     "Options": "written from the methods' keyword arguments",
 }

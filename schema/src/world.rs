@@ -10,6 +10,7 @@
 
 use std::collections::BTreeMap;
 
+use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
 use crate::ids::ObjectId;
@@ -57,7 +58,7 @@ pub struct TaskStep {
 /// A world document: every arm's joints (by URDF joint name, radians or metres; joints
 /// not named stay at home, arms not named stand at home) and every object's placement
 /// (objects not named are absent from the scene).
-#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct WorldDocument {
     /// Arm name -> joint name -> value.
@@ -98,8 +99,25 @@ impl TryFrom<serde_json::Value> for ObjectEntry {
     }
 }
 
+/// Written by hand: the entry is read through a JSON value (for its errors), so a derived
+/// schema would say "any value"; this one says what the reader accepts.
+impl JsonSchema for ObjectEntry {
+    fn schema_name() -> std::borrow::Cow<'static, str> {
+        "ObjectEntry".into()
+    }
+
+    fn json_schema(generator: &mut schemars::SchemaGenerator) -> schemars::Schema {
+        let absent = generator.subschema_for::<AbsentWord>();
+        let placed = generator.subschema_for::<PlacedEntry>();
+        schemars::json_schema!({
+            "description": "`\"absent\"`, or where the object is: a holder and a grasp, workspace or pose",
+            "anyOf": [absent, placed],
+        })
+    }
+}
+
 /// The one word an absent object's entry may be.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum AbsentWord {
     /// Not in the scene.
@@ -109,7 +127,7 @@ pub enum AbsentWord {
 /// A placement by name: `HOLDER[.GRASP] in WORKSPACE` or `HOLDER[.GRASP] at POSE`, or, for
 /// a hand, just `HOLDER.GRASP` (the pose follows from the arm's joints; a pose given as
 /// well is checked against it).
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct PlacedEntry {
     /// The end-effector that holds it or that it rests on.

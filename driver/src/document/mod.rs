@@ -51,5 +51,6 @@ pub fn schemas() -> serde_json::Map<String, serde_json::Value> {
     add::<cell::Health>(&mut generator);
     add::<cell::MoveRequest>(&mut generator);
     add::<cell::TaskRequest>(&mut generator);
+    add::<cellc_schema::WorldDocument>(&mut generator);
     generator.take_definitions(true)
 }

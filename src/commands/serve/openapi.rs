@@ -116,12 +116,6 @@ pub fn document() -> Value {
         },
     });
     let mut schemas = cellc_driver::document::schemas();
-    // Taken as `cellc_schema::WorldDocument` reads it (docs/world.md), not a document
-    // this service writes.
-    schemas.insert("WorldDocument".into(), json!({
-        "type": "object",
-        "description": "a world document: `arms` (arm -> joint -> value) and `objects` (object -> placement or \"absent\"); docs/world.md",
-    }));
     schemas.insert(
         "OpenApi".into(),
         json!({"type": "object", "description": "this document (OpenAPI 3.1)"}),
