@@ -379,6 +379,14 @@ impl Cell {
     ) -> Result<Execution, ExecutionError> {
         let object = plan.object;
         let result = self.planner().execute(plan, executor, options);
+        self.observe(world, object, executor);
+        result
+    }
+
+    /// Brings `world` up to date with what `executor` reports of `object` and the arms:
+    /// the arms where they stand, the object where it is (its pose kept only when it
+    /// rests on a surface; a held one follows its hand).
+    pub(crate) fn observe(&self, world: &mut World, object: ObjectId, executor: &dyn Executor) {
         for (e, q) in executor.arms().into_iter().enumerate() {
             if let Some(q) = q {
                 world.set_arm(EndEffectorId(e as u32), q);
@@ -400,7 +408,6 @@ impl Cell {
                 pose: if rests { observed.pose } else { None },
             },
         );
-        result
     }
 
     /// The moves of the task the cell declares under `name`, in order: each object and

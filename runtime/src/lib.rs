@@ -55,6 +55,7 @@ pub mod world;
 // Internal: reached through the items re-exported below, or not at all.
 mod collada;
 mod execute;
+mod observe;
 mod rest;
 mod swept;
 mod symmetry;
@@ -71,6 +72,7 @@ pub use execute::{
 };
 pub use explain::{Explanation, NoStates};
 pub use math::Iso;
+pub use observe::StepObserver;
 pub use plan::{
     Around, Command, Detour, Goal, GoalByName, LocateError, Placement, PlacementByName, Plan,
     PlanError, PlanGoal, PlanOptions, Request, Step, Strategy, Trajectory, Unreachable,

@@ -11,6 +11,7 @@ use cellc_schema::ObjectId;
 
 use crate::cell::Cell;
 use crate::execute::{ExecuteOptions, Execution, ExecutionError, SimulatorTolerance};
+use crate::observe::{Observed, StepObserver};
 use crate::plan::{Goal, Plan, PlanError, PlanOptions};
 use crate::world::World;
 
@@ -149,6 +150,18 @@ impl Cell {
         moves: &[(ObjectId, Goal)],
         options: &TaskOptions,
     ) -> TaskRun {
+        self.run_task_observed(world, moves, options, None)
+    }
+
+    /// [`Cell::run_task`], with `observer` told of every step carried out and the world
+    /// it left (clearing moves and replans included), before the next step starts.
+    pub fn run_task_observed(
+        &self,
+        world: &mut World,
+        moves: &[(ObjectId, Goal)],
+        options: &TaskOptions,
+        mut observer: Option<&mut dyn StepObserver>,
+    ) -> TaskRun {
         let mut record: Vec<Executed> = Vec::new();
         for (index, (object, goal)) in moves.iter().enumerate() {
             let fail = |error| TaskFailure { index, error };
@@ -178,7 +191,8 @@ impl Cell {
                         }
                     };
                 }
-                let executed = self.simulate(world, plan, options, record.is_empty());
+                let first = record.is_empty();
+                let executed = self.simulate(world, plan, options, first, observer.as_deref_mut());
                 replanned |= executed.result.as_ref().is_ok_and(|r| r.plans.len() > 1);
                 let error = executed.result.as_ref().err().cloned();
                 record.push(Executed {
@@ -224,6 +238,7 @@ impl Cell {
         plan: Plan,
         options: &TaskOptions,
         first: bool,
+        observer: Option<&mut (dyn StepObserver + '_)>,
     ) -> Executed {
         let made = plan.clone();
         // An object let go above its surface by no more than the planner calls resting
@@ -241,7 +256,15 @@ impl Cell {
             max_replans: options.max_replans,
             plan: options.plan.clone(),
         };
-        let result = self.execute(world, plan, &mut simulator, &execute);
+        let result = match observer {
+            Some(observer) => {
+                let start = world.clone();
+                let object = plan.object;
+                let mut observed = Observed::new(&mut simulator, self, object, start, observer);
+                self.execute(world, plan, &mut observed, &execute)
+            }
+            None => self.execute(world, plan, &mut simulator, &execute),
+        };
         Executed {
             index: 0,
             plan: made,
