@@ -202,16 +202,7 @@ fn done_text(
         let _ = writeln!(out, "replan {i}, from where the object was:");
         out.push_str(&describe(artifact, label, replan));
     }
-    let object = run.plans[0].object;
-    let s = run.final_state;
-    let _ = writeln!(
-        out,
-        "done: `{}` held by `{}` with `{}` in `{}`",
-        artifact.object_name(object),
-        artifact.end_effector_name(s.end_effector),
-        artifact.grasp_name(object, s.grasp),
-        artifact.workspace_name(s.workspace)
-    );
+    let _ = writeln!(out, "done: {}", where_it_ended(artifact, run));
     if let Some(pose) = run.final_pose {
         let t = pose.translation.vector;
         let _ = write!(
@@ -253,15 +244,10 @@ fn short(loaded: &Loaded, executed: &Executed, label: &str, record: &Move) -> St
             replan,
         ));
     }
-    let s = run.final_state;
-    let object = run.plans[0].object;
     let _ = write!(
         out,
-        "plan `{label}` done: `{}` held by `{}` with `{}` in `{}`",
-        artifact.object_name(object),
-        artifact.end_effector_name(s.end_effector),
-        artifact.grasp_name(object, s.grasp),
-        artifact.workspace_name(s.workspace)
+        "plan `{label}` done: {}",
+        where_it_ended(artifact, run)
     );
     if let Some((p, r)) = record.position_error.zip(record.rotation_error) {
         let _ = write!(
@@ -313,4 +299,18 @@ fn execution_error(
         e => Diagnostic::error(codes::EXECUTION_FAILED, format!("execution failed: {e}"))
             .help("see the simulation log above; the world is where it stopped"),
     }
+}
+
+/// Where an execution left its object, as both reports say it: "`OBJECT` held by `HOLDER`
+/// with `GRASP` in `WORKSPACE`".
+fn where_it_ended(artifact: &cellc_schema::Artifact, run: &Execution) -> String {
+    let object = run.plans[0].object;
+    let s = run.final_state;
+    format!(
+        "`{}` held by `{}` with `{}` in `{}`",
+        artifact.object_name(object),
+        artifact.end_effector_name(s.end_effector),
+        artifact.grasp_name(object, s.grasp),
+        artifact.workspace_name(s.workspace)
+    )
 }
