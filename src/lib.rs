@@ -16,6 +16,7 @@ pub mod packages;
 pub mod plan_report;
 pub mod render;
 pub mod snippet;
+pub mod state;
 pub mod world_report;
 
 use std::process::ExitCode;

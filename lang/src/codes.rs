@@ -294,6 +294,27 @@ registry! {
         TIMED_OUT = "S0004";
         /// The service failed on this request (a bug): the request may be sent again.
         INTERNAL = "S0005";
+        /// A write or execution whose precondition (`If-Match`, `"revision"`) names a
+        /// world revision the world has moved on from, or another store's.
+        PRECONDITION_FAILED = "S0006";
+        /// An interrupted execution left objects or arms uncertain: planning waits until a
+        /// client confirms where they are.
+        WORLD_UNCERTAIN = "S0007";
+        /// An `Idempotency-Key` already used for a different request.
+        KEY_REUSED = "S0008";
+        /// A header the service reads (`If-Match`, `Idempotency-Key`) is malformed.
+        BAD_HEADER = "S0009";
+        /// The state file cannot take a write (disk full, read-only, damaged): nothing of
+        /// the request was stored or done.
+        STATE_WRITE = "S0010";
+        /// The state file cannot be used at all: another process has it, it is not a
+        /// cellc state file, a newer cellc wrote it, or its world does not fit the cell.
+        STATE_OPEN = "S0011";
+        /// The execution an `Idempotency-Key` names was interrupted by a stop of the
+        /// service: it is not run again under that key.
+        INTERRUPTED = "S0012";
+        /// No journaled execution has that number (never, or pruned by retention).
+        UNKNOWN_EXECUTION = "S0013";
     }
 
 }
