@@ -193,7 +193,13 @@ fn main() {
         .and_then(|v| v.parse().ok())
         .unwrap_or(10_000);
     let mut server = Command::new(env!("CARGO_BIN_EXE_cellc"))
-        .args(["serve", "cells/vito.cell", "--addr", "127.0.0.1:0"])
+        .args([
+            "serve",
+            "cells/vito.cell",
+            "--addr",
+            "127.0.0.1:0",
+            "--ephemeral",
+        ])
         .stdout(Stdio::piped())
         .stderr(Stdio::null())
         .spawn()

@@ -302,6 +302,28 @@ pub enum Command {
         /// Seed of verification and of plans that give none.
         #[arg(long, default_value_t = 0)]
         seed: u64,
+        /// The state file keeping the world and the execution journal (SQLite), created
+        /// when absent [default: INPUT's name with `.state.sqlite`, next to it].
+        #[arg(long, value_name = "PATH", conflicts_with = "ephemeral")]
+        state: Option<PathBuf>,
+        /// Keep the world in memory only: nothing survives a stop (tests, benchmarks).
+        #[arg(long)]
+        ephemeral: bool,
+        /// How far an acknowledged write survives: `full` a power loss, `normal` a crash
+        /// of the process (SQLite's `synchronous`).
+        #[arg(long, value_enum, default_value_t = DurabilityArg::Full)]
+        durability: DurabilityArg,
+        /// Ended executions the journal keeps (the newest).
+        #[arg(long, value_name = "N", default_value_t = 10_000)]
+        journal_keep: u32,
+        /// Days the journal keeps ended executions.
+        #[arg(long, value_name = "DAYS", default_value_t = 30)]
+        journal_days: u32,
+        /// Execute in the simulator at a robot's pace times F: each step takes its
+        /// trajectory's time (a hand 0.3 s) times F before it is done; 0, the default,
+        /// at once. For trying clients' timeouts and recovery against real timing.
+        #[arg(long, value_name = "F", default_value_t = 0.0, value_parser = pace)]
+        sim_pace: f64,
         /// Where ROS packages are.
         #[command(flatten)]
         packages: PackageArgs,
@@ -330,6 +352,23 @@ pub enum Command {
         #[command(flatten)]
         packages: PackageArgs,
     },
+}
+
+/// `--sim-pace`: a finite factor from 0 to 10.
+fn pace(text: &str) -> Result<f64, String> {
+    match text.parse::<f64>() {
+        Ok(f) if (0.0..=10.0).contains(&f) => Ok(f),
+        _ => Err("a factor from 0 to 10".to_string()),
+    }
+}
+
+/// `cellc serve --durability`.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum DurabilityArg {
+    /// Every commit waits for the disk: a power loss loses nothing acknowledged.
+    Full,
+    /// A crash of the process loses nothing; a power loss may lose the last writes.
+    Normal,
 }
 
 /// What `cellc import` reads.

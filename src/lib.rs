@@ -152,14 +152,42 @@ pub fn dispatch() -> ExitCode {
             input,
             addr,
             seed,
+            state,
+            ephemeral,
+            durability,
+            journal_keep,
+            journal_days,
+            sim_pace,
             packages,
-        } => commands::serve::run(&commands::serve::ServeArgs {
-            input: input.to_string_lossy().into_owned(),
-            addr: *addr,
-            seed: *seed,
-            compile: packages::compile_options(packages),
-            color,
-        }),
+        } => {
+            let durability = match durability {
+                args::DurabilityArg::Full => cellc_store::Durability::Full,
+                args::DurabilityArg::Normal => cellc_store::Durability::Normal,
+            };
+            let state = if *ephemeral {
+                Some(commands::serve::StateAt::Memory)
+            } else {
+                Some(commands::serve::StateAt::File(
+                    state
+                        .clone()
+                        .unwrap_or_else(|| crate::state::default_path(input)),
+                    durability,
+                ))
+            };
+            commands::serve::run(&commands::serve::ServeArgs {
+                input: input.to_string_lossy().into_owned(),
+                addr: *addr,
+                seed: *seed,
+                compile: packages::compile_options(packages),
+                color,
+                state,
+                retention: cellc_store::Retention {
+                    max_executions: *journal_keep,
+                    max_age_ms: Some(i64::from(*journal_days) * 24 * 3600 * 1000),
+                },
+                pace: *sim_pace,
+            })
+        }
         args::Command::Import { source } => match source {
             args::ImportSource::Dualmanip { db, output, report } => {
                 commands::import::dualmanip(db, output, style(report))

@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 use cellc_lang::Diagnostic;
 use cellc_runtime::plan::PlanOptions;
 use cellc_runtime::{Cell, World};
-use cellc_store::{StoreError, StoredWorld, Subjects};
+use cellc_store::{StoreError, StoredWorld, Subjects, Uncertainty};
 
 pub use cellc_lang::codes::serve as codes;
 
@@ -61,10 +61,7 @@ pub fn diagnostic(e: &StoreError, path: &str, when: When) -> Diagnostic {
             "give a state file this process can read and write with `--state PATH`",
         ),
         StoreError::Corrupt { reason } => write(
-            format!(
-                "`{shown}` is damaged: {}",
-                crate::render::escape(reason)
-            ),
+            format!("`{shown}` is damaged: {}", crate::render::escape(reason)),
             "restore it from a backup, or move it away to start from the cell's initial world",
         ),
         StoreError::InUse => Diagnostic::error(
@@ -80,11 +77,10 @@ pub fn diagnostic(e: &StoreError, path: &str, when: When) -> Diagnostic {
             ),
         )
         .help("give the path of a cellc state file, or a new path, with `--state PATH`"),
-        StoreError::TooNew { .. } => Diagnostic::error(
-            codes::STATE_OPEN,
-            format!("`{shown}`: {e}"),
-        )
-        .help("open it with the cellc that wrote it, or a newer one"),
+        StoreError::TooNew { .. } => {
+            Diagnostic::error(codes::STATE_OPEN, format!("`{shown}`: {e}"))
+                .help("open it with the cellc that wrote it, or a newer one")
+        }
         other => write(
             format!("`{shown}`: {other}"),
             "report this with the state file; the world is as its last acknowledged write left it",
@@ -114,7 +110,16 @@ pub fn world_of(cell: &Cell, stored: &StoredWorld, path: &str) -> Result<World, 
 /// S0007: the world has objects or arms an interrupted execution left unknown. `confirm`
 /// says how to confirm them where this is said (the service's PUT/PATCH, or a world file).
 pub fn uncertain(stored: &StoredWorld, confirm: &str) -> Diagnostic {
-    let subjects = stored.uncertain_subjects();
+    uncertain_of(&stored.uncertain, confirm)
+}
+
+/// [`uncertain`] of the interruptions themselves.
+pub fn uncertain_of(interrupted: &[Uncertainty], confirm: &str) -> Diagnostic {
+    let mut subjects = Subjects::default();
+    for u in interrupted {
+        subjects.objects.extend(u.subjects.objects.iter().cloned());
+        subjects.arms.extend(u.subjects.arms.iter().cloned());
+    }
     let mut d = Diagnostic::error(
         codes::WORLD_UNCERTAIN,
         format!(
@@ -122,7 +127,7 @@ pub fn uncertain(stored: &StoredWorld, confirm: &str) -> Diagnostic {
             names(&subjects)
         ),
     );
-    for u in &stored.uncertain {
+    for u in interrupted {
         d = d.note(format!(
             "execution {} was interrupted after step {}; it was moving {}",
             u.execution,

@@ -12,7 +12,7 @@ mod support;
 struct Seen(Vec<(Command, World)>);
 
 impl StepObserver for Seen {
-    fn stepped(&mut self, world: &World, step: &Step) {
+    fn stepped(&mut self, world: &World, _object: cellc_runtime::ObjectId, step: &Step) {
         self.0.push((step.command.clone(), world.clone()));
     }
 }

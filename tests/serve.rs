@@ -15,6 +15,8 @@ use serde_json::{json, Value};
 /// A running server; killed if the test fails before it is shut down.
 struct Server {
     child: Child,
+    /// The folder of its state file, removed with the server.
+    _state: tempfile::TempDir,
     addr: String,
     log: Arc<Mutex<String>>,
     /// The server's own OpenAPI document, every answer is validated against.
@@ -25,8 +27,10 @@ struct Server {
 
 impl Server {
     fn start(cell: &str) -> Server {
+        let state = tempfile::tempdir().expect("a temporary folder");
         let mut child = Command::new(env!("CARGO_BIN_EXE_cellc"))
-            .args(["serve", cell, "--addr", "127.0.0.1:0"])
+            .args(["serve", cell, "--addr", "127.0.0.1:0", "--state"])
+            .arg(state.path().join("state.sqlite"))
             .stdout(Stdio::piped())
             .stderr(Stdio::piped())
             .spawn()
@@ -57,6 +61,7 @@ impl Server {
         });
         let mut server = Server {
             child,
+            _state: state,
             addr,
             log,
             openapi: Value::Null,
@@ -76,7 +81,8 @@ impl Server {
         if self.openapi.is_null() {
             return;
         }
-        let path = target.split('?').next().unwrap_or(target);
+        let path = self.template(target.split('?').next().unwrap_or(target));
+        let path = path.as_str();
         let endpoint = &self.openapi["paths"][path];
         let report = json!({"$ref": "#/components/schemas/Report"});
         let name = if endpoint.is_object() {
@@ -100,6 +106,29 @@ impl Server {
             .lock()
             .unwrap()
             .insert((method.to_string(), path.to_string(), status));
+    }
+
+    /// The OpenAPI path `path` is an instance of (`/v1/executions/4` is
+    /// `/v1/executions/{id}`), or `path` itself.
+    fn template(&self, path: &str) -> String {
+        let Some(paths) = self.openapi["paths"].as_object() else {
+            return path.to_string();
+        };
+        if paths.contains_key(path) {
+            return path.to_string();
+        }
+        let segments: Vec<&str> = path.split('/').collect();
+        paths
+            .keys()
+            .find(|t| {
+                let ts: Vec<&str> = t.split('/').collect();
+                ts.len() == segments.len()
+                    && ts.iter().zip(&segments).all(|(t, s)| {
+                        (t.starts_with('{') && t.ends_with('}') && !s.is_empty()) || t == s
+                    })
+            })
+            .cloned()
+            .unwrap_or_else(|| path.to_string())
     }
 
     /// What is wrong with `body` as the OpenAPI document's schema `name` describes it.
@@ -129,19 +158,43 @@ impl Server {
 
     /// Sends one request and reads the whole answer: (status, JSON body).
     fn call(&self, method: &str, path: &str, body: &[u8]) -> (u16, Value) {
+        let (status, _, answer) = self.call_with(method, path, &[], body);
+        (status, answer)
+    }
+
+    /// [`Server::call`] with headers (`Name: value` each; a `Content-Type` among them
+    /// replaces the JSON one), answering the head too.
+    fn call_with(
+        &self,
+        method: &str,
+        path: &str,
+        headers: &[&str],
+        body: &[u8],
+    ) -> (u16, String, Value) {
         let mut stream = TcpStream::connect(&self.addr).expect("connects");
         stream
             .set_read_timeout(Some(Duration::from_secs(120)))
             .unwrap();
+        let typed = headers
+            .iter()
+            .any(|h| h.to_ascii_lowercase().starts_with("content-type:"));
+        let mut extra = String::new();
+        if !typed {
+            extra.push_str("Content-Type: application/json\r\n");
+        }
+        for h in headers {
+            extra.push_str(h);
+            extra.push_str("\r\n");
+        }
         let head = format!(
-            "{method} {path} HTTP/1.1\r\nHost: test\r\nContent-Type: application/json\r\nContent-Length: {}\r\nConnection: close\r\n\r\n",
+            "{method} {path} HTTP/1.1\r\nHost: test\r\n{extra}Content-Length: {}\r\nConnection: close\r\n\r\n",
             body.len()
         );
         // A body over the limit is refused before it is all read: writing may fail.
         let _ = stream
             .write_all(head.as_bytes())
             .and_then(|()| stream.write_all(body));
-        let (status, answer) = read_answer(&mut stream);
+        let (status, head, answer) = read_answer_head(&mut stream);
         self.check(method, path, status, &answer);
         // A request the service carried out was one its OpenAPI document describes.
         if status == 200 && !self.openapi.is_null() {
@@ -151,7 +204,7 @@ impl Server {
                 "{method} {path} was answered 200, but its body does not fit the document's request schema"
             );
         }
-        (status, answer)
+        (status, head, answer)
     }
 
     fn json(&self, method: &str, path: &str, body: Value) -> (u16, Value) {
@@ -198,6 +251,19 @@ impl Drop for Server {
 }
 
 fn read_answer(stream: &mut TcpStream) -> (u16, Value) {
+    let (status, _, body) = read_answer_head(stream);
+    (status, body)
+}
+
+/// The value of header `name` (lower case) in an answer's head.
+fn header<'h>(head: &'h str, name: &str) -> Option<&'h str> {
+    head.lines().find_map(|l| {
+        let (n, v) = l.split_once(':')?;
+        (n.trim().eq_ignore_ascii_case(name)).then(|| v.trim())
+    })
+}
+
+fn read_answer_head(stream: &mut TcpStream) -> (u16, String, Value) {
     let mut raw = Vec::new();
     let _ = stream.read_to_end(&mut raw);
     let text = String::from_utf8_lossy(&raw);
@@ -215,7 +281,7 @@ fn read_answer(stream: &mut TcpStream) -> (u16, Value) {
         "{head}"
     );
     let body = serde_json::from_str(body).unwrap_or_else(|e| panic!("not JSON ({e}): {body}"));
-    (status, body)
+    (status, head.to_string(), body)
 }
 
 fn first_code(report: &Value) -> &str {
@@ -233,8 +299,9 @@ fn holder_of(world: &Value, object: &str) -> String {
         .unwrap_or_default()
 }
 
-/// The requests of `tests/ui/serve/`: `METHOD PATH STATUS CODE [repeat=N | stall]` then
-/// the body.
+/// The requests of `tests/ui/serve/`: `METHOD PATH STATUS CODE [repeat=N | stall | prime]`,
+/// then `Name: value` header lines, then the body (with `prime`, two bodies split by a
+/// `---` line: the first sets the scene, the second is checked).
 fn ui_requests(server: &Server) {
     let mut files: Vec<_> = std::fs::read_dir("tests/ui/serve")
         .unwrap()
@@ -245,7 +312,20 @@ fn ui_requests(server: &Server) {
     let mut stalled = Vec::new();
     for path in files {
         let text = std::fs::read_to_string(&path).unwrap();
-        let (line, body) = text.split_once('\n').unwrap_or((&text, ""));
+        let (line, rest) = text.split_once('\n').unwrap_or((&text, ""));
+        // `Name: value` lines after the request line are headers; the body follows.
+        let mut headers: Vec<&str> = Vec::new();
+        let mut body = rest;
+        while let Some((first, after)) = body.split_once('\n') {
+            let is_header = first.split_once(": ").is_some_and(|(n, _)| {
+                !n.is_empty() && n.bytes().all(|b| b.is_ascii_alphanumeric() || b == b'-')
+            });
+            if !is_header {
+                break;
+            }
+            headers.push(first);
+            body = after;
+        }
         let words: Vec<&str> = line.split_whitespace().collect();
         let (method, target, status, code) = (words[0], words[1], words[2], words[3]);
         let status: u16 = status.parse().unwrap();
@@ -310,8 +390,21 @@ fn ui_requests(server: &Server) {
                 server.check("GET", "/v1/health", got, &report);
                 assert_eq!((got, first_code(&report)), (status, code), "{name}");
             }
+            Some("prime") => {
+                // The first body is sent to set the scene (its answer is not checked); the
+                // second is the request under test. Both with the file's headers.
+                let (first, second) = body.split_once("\n---\n").expect("two bodies");
+                server.call_with(method, target, &headers, first.as_bytes());
+                let (got, _, report) =
+                    server.call_with(method, target, &headers, second.as_bytes());
+                assert_eq!(
+                    (got, first_code(&report)),
+                    (status, code),
+                    "{name}: {report}"
+                );
+            }
             _ => {
-                let (got, report) = server.call(method, target, body.as_bytes());
+                let (got, _, report) = server.call_with(method, target, &headers, body.as_bytes());
                 assert_eq!(
                     (got, first_code(&report)),
                     (status, code),
@@ -553,6 +646,141 @@ fn the_service_on_vito() {
         holder_of(&server.call("GET", "/v1/world", b"").1, "ball"),
         "\"table\""
     );
+
+    // Revisions: the world carries its store and revision, and its ETag says both.
+    let (status, head, world) = server.call_with("GET", "/v1/world", &[], b"");
+    assert_eq!(status, 200);
+    let etag = header(&head, "etag").expect("an ETag").to_string();
+    let revision = world["revision"].as_u64().expect("a revision");
+    let instance = world["instance"].as_str().expect("an instance").to_string();
+    assert_eq!(etag, format!("\"{instance}-{revision}\""));
+    let (_, health) = server.call("GET", "/v1/health", b"");
+    assert_eq!(
+        (&health["revision"], &health["instance"]),
+        (&json!(revision), &json!(instance))
+    );
+    // A merge patch under If-Match moves the ball and produces the next revision.
+    let if_match = format!("If-Match: {etag}");
+    let (status, head, patched) = server.call_with(
+        "PATCH",
+        "/v1/world",
+        &[&if_match, "Content-Type: application/merge-patch+json"],
+        br#"{"objects": {"ball": {"holder": "table", "at": [0.45, -0.2, 0.95]}}}"#,
+    );
+    assert_eq!(status, 200, "{patched}");
+    assert_eq!(patched["revision"], json!(revision + 1));
+    let ball_y = |w: &Value| {
+        w["objects"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|o| o["object"] == "ball")
+            .unwrap()["pose"]["position"][1]
+            .clone()
+    };
+    assert_eq!(ball_y(&patched), json!(-0.2));
+    let fresh = header(&head, "etag").expect("an ETag").to_string();
+    assert_ne!(fresh, etag);
+    // The old ETag is refused, by PUT and by PATCH, and nothing changes.
+    let (status, _, report) =
+        server.call_with("PUT", "/v1/world", &[&if_match], br#"{"objects": {}}"#);
+    assert_eq!((status, first_code(&report)), (412, "S0006"), "{report}");
+    let (status, _, report) = server.call_with(
+        "PATCH",
+        "/v1/world",
+        &[&if_match],
+        br#"{"objects": {"ball": "absent"}}"#,
+    );
+    assert_eq!((status, first_code(&report)), (412, "S0006"), "{report}");
+    let (_, now) = server.call("GET", "/v1/world", b"");
+    assert_eq!(
+        (now["revision"].clone(), ball_y(&now)),
+        (json!(revision + 1), json!(-0.2))
+    );
+    // JSON Patch operations, without a precondition: serialised, the answer says which
+    // revision they produced.
+    let (status, _, patched) = server.call_with(
+        "PATCH",
+        "/v1/world",
+        &["Content-Type: application/json-patch+json"],
+        br#"[{"op": "replace", "path": "/objects/ball/at", "value": [0.45, -0.25, 0.95]}]"#,
+    );
+    assert_eq!(
+        (status, &patched["revision"]),
+        (200, &json!(revision + 2)),
+        "{patched}"
+    );
+    assert_eq!(ball_y(&patched), json!(-0.25));
+    // A patch whose result does not fit the cell is refused like a PUT of it.
+    let (status, _, report) = server.call_with(
+        "PATCH",
+        "/v1/world",
+        &["Content-Type: application/json-patch+json"],
+        br#"[{"op": "add", "path": "/arms/left", "value": {"lwr_a9_joint": 0.0}}]"#,
+    );
+    assert_eq!((status, first_code(&report)), (422, "R0009"), "{report}");
+    // An execute against an old revision is refused; against the current one it runs and
+    // answers with the revision it produced and its journal entry.
+    let stale = json!({"object": "ball", "to": "bin in ws_right_bin", "options": {"motions": false}, "revision": revision});
+    let (status, report) = server.json("POST", "/v1/execute", stale);
+    assert_eq!((status, first_code(&report)), (412, "S0006"), "{report}");
+    let key = "Idempotency-Key: 6f1c2a52-ball-to-bin";
+    let go = json!({"object": "ball", "to": "bin in ws_right_bin", "options": {"motions": false}, "revision": revision + 2});
+    let (status, head, run) =
+        server.call_with("POST", "/v1/execute", &[key], go.to_string().as_bytes());
+    assert_eq!((status, &run["ok"]), (200, &json!(true)), "{run}");
+    let produced = run["world"]["revision"]
+        .as_u64()
+        .expect("the revision it produced");
+    assert!(produced > revision + 2, "{produced}");
+    assert_eq!(
+        header(&head, "etag"),
+        Some(format!("\"{instance}-{produced}\"").as_str())
+    );
+    let execution = run["execution"].as_u64().expect("a journal entry");
+    // The same request under the same key is the first answer again: nothing moves.
+    let (status, head, again) =
+        server.call_with("POST", "/v1/execute", &[key], go.to_string().as_bytes());
+    assert_eq!(status, 200);
+    assert_eq!(header(&head, "idempotent-replayed"), Some("true"));
+    assert_eq!(again, run);
+    assert_eq!(
+        server.call("GET", "/v1/world", b"").1["revision"],
+        json!(produced)
+    );
+    // The key with another request is refused.
+    let other = json!({"object": "pitcher", "to": "bin in ws_right_bin"});
+    let (status, _, report) =
+        server.call_with("POST", "/v1/execute", &[key], other.to_string().as_bytes());
+    assert_eq!((status, first_code(&report)), (422, "S0008"), "{report}");
+    // The journal has it, step by step, each step a revision of the world.
+    let (status, listed) = server.call("GET", "/v1/executions?limit=5", b"");
+    assert_eq!(status, 200);
+    assert_eq!(listed["executions"][0]["id"], json!(execution), "{listed}");
+    assert_eq!(listed["executions"][0]["status"], json!("succeeded"));
+    let (status, one) = server.call("GET", &format!("/v1/executions/{execution}"), b"");
+    assert_eq!(status, 200, "{one}");
+    let steps = one["steps"].as_array().unwrap();
+    assert_eq!(
+        steps.len(),
+        run["moves"][0]["plans"][0]["steps"]
+            .as_array()
+            .unwrap()
+            .len()
+    );
+    let revisions: Vec<u64> = steps
+        .iter()
+        .map(|s| s["revision"].as_u64().unwrap())
+        .collect();
+    assert!(
+        revisions.windows(2).all(|w| w[1] == w[0] + 1),
+        "{revisions:?}"
+    );
+    assert!(*revisions.last().unwrap() <= produced);
+    assert_eq!(steps[0]["report"]["object"], json!("ball"));
+    assert_eq!(one["outcome"]["body"], run);
+    let (status, report) = server.call("GET", "/v1/executions?limit=0", b"");
+    assert_eq!((status, first_code(&report)), (400, "S0001"), "{report}");
 
     ui_requests(&server);
 

@@ -27,7 +27,7 @@ def binary() -> str:
 @pytest.fixture()
 def client():
     server = subprocess.Popen(
-        [binary(), "serve", "cells/vito.cell", "--addr", "127.0.0.1:0"],
+        [binary(), "serve", "cells/vito.cell", "--addr", "127.0.0.1:0", "--ephemeral"],
         cwd=ROOT,
         stdout=subprocess.PIPE,
         stderr=subprocess.DEVNULL,

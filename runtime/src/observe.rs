@@ -17,9 +17,9 @@ use crate::world::World;
 /// Told of every step an execution carried out, in order, with the world as that step
 /// left it.
 pub trait StepObserver {
-    /// `step` is done; `world` is the cell after it (every object, the moved one where
-    /// the executor says it is, the arms where they stand).
-    fn stepped(&mut self, world: &World, step: &Step);
+    /// `step` of a plan moving `object` is done; `world` is the cell after it (every
+    /// object, the moved one where the executor says it is, the arms where they stand).
+    fn stepped(&mut self, world: &World, object: ObjectId, step: &Step);
 }
 
 /// An executor whose steps a [`StepObserver`] sees.
@@ -55,7 +55,7 @@ impl Executor for Observed<'_, '_> {
         self.inner.execute(step)?;
         self.cell
             .observe(&mut self.world, self.object, &*self.inner);
-        self.observer.stepped(&self.world, step);
+        self.observer.stepped(&self.world, self.object, step);
         Ok(())
     }
 

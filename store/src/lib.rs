@@ -278,8 +278,10 @@ pub struct ExecutionRecord {
     pub subjects: Subjects,
     /// Steps in the plan.
     pub steps_total: u32,
-    /// Steps recorded, in order.
+    /// Steps recorded, in order (empty in [`Store::recent`]'s list).
     pub steps: Vec<StepRecord>,
+    /// How many steps are recorded (also in a list).
+    pub steps_done: u32,
     /// Where it is.
     pub status: Status,
     /// The outcome document (JSON), once ended by the service.
@@ -500,9 +502,17 @@ pub trait Store: Send {
     /// The file cannot be read.
     fn execution(&mut self, id: ExecutionId) -> Result<Option<ExecutionRecord>, StoreError>;
 
-    /// The newest executions, newest first, without their steps.
+    /// The newest executions, newest first, without their steps and outcomes.
     ///
     /// # Errors
     /// The file cannot be read.
     fn recent(&mut self, limit: u32) -> Result<Vec<ExecutionRecord>, StoreError>;
+
+    /// The execution journaled under `key`, with its steps: a retry finds its first
+    /// outcome here before anything else is checked (a retry of a move that succeeded
+    /// must not fail on the revision that very move produced).
+    ///
+    /// # Errors
+    /// The file cannot be read.
+    fn keyed(&mut self, key: &IdempotencyKey) -> Result<Option<ExecutionRecord>, StoreError>;
 }

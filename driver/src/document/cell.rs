@@ -15,6 +15,17 @@ pub struct Health {
     pub cell: String,
     /// The service's version.
     pub version: String,
+    /// The store the world is kept in (32 hex digits, made when the state file was
+    /// created): a client that sees another one knows the service lost its state.
+    pub instance: String,
+    /// The world's revision.
+    pub revision: u64,
+    /// Whether the world survives a stop: `file` (the state file) or `memory`
+    /// (`--ephemeral`).
+    pub durability: String,
+    /// Executions found in flight at start-up whose objects and arms are still
+    /// uncertain; empty when the world is certain.
+    pub interrupted: Vec<super::state::Interrupted>,
 }
 
 /// `GET /v1/cell`: what a client needs to form its requests, by names.
@@ -268,6 +279,10 @@ pub struct MoveRequest {
     /// Planning options.
     #[serde(default)]
     pub options: Options,
+    /// The world revision the request was made against (as `If-Match` says it): an
+    /// execute is refused with S0006 when the world has moved on.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub revision: Option<u64>,
 }
 
 /// A task: moves in order.
@@ -279,6 +294,10 @@ pub struct TaskRequest {
     /// Planning options.
     #[serde(default)]
     pub options: Options,
+    /// The world revision the task was made against: refused with S0006 when the world
+    /// has moved on.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub revision: Option<u64>,
 }
 
 /// One move of a task.

@@ -11,6 +11,7 @@
 //! - [`explain::Explained`]: why a move has no plan (`POST /v1/explain`).
 //! - [`report::Report`]: the error document, the diagnostics report every failure is.
 //! - [`cell`]: the service's own documents (the cell, health, request bodies).
+//! - [`state`]: the durable state (interruptions, the execution journal).
 //!
 //! Names instead of ids, metres and radians, every joint value next to its URDF joint
 //! name, so a task planner reads a result without the artifact. The command line writes
@@ -23,6 +24,7 @@ pub mod explain;
 pub mod plan;
 pub mod report;
 pub mod run;
+pub mod state;
 pub mod world;
 
 use schemars::generate::SchemaSettings;
@@ -52,5 +54,7 @@ pub fn schemas() -> serde_json::Map<String, serde_json::Value> {
     add::<cell::MoveRequest>(&mut generator);
     add::<cell::TaskRequest>(&mut generator);
     add::<cellc_schema::WorldDocument>(&mut generator);
+    add::<state::Execution>(&mut generator);
+    add::<state::Executions>(&mut generator);
     generator.take_definitions(true)
 }

@@ -3,7 +3,7 @@
 //! without the artifact.
 
 use cellc_runtime::math::Iso;
-use cellc_runtime::plan::{Around, Command, Plan as RuntimePlan};
+use cellc_runtime::plan::{Around, Command, Plan as RuntimePlan, Step as RuntimeStep};
 use cellc_schema::{Artifact, EndEffectorId, GraspId, Node, ObjectId};
 use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
@@ -188,11 +188,88 @@ pub struct Point {
     pub positions: Vec<f64>,
 }
 
+impl Step {
+    /// One step of a plan for `object`, by names.
+    pub fn of(artifact: &Artifact, object: ObjectId, step: &RuntimeStep) -> Step {
+        let grasp = |g: GraspId| Some(artifact.grasp_name(object, g).to_string());
+        let (command, holder, g, w, p, configurations) = match &step.command {
+            Command::Move {
+                holder,
+                workspace,
+                object,
+                configurations,
+            } => (
+                StepCommand::Move,
+                *holder,
+                None,
+                *workspace,
+                object,
+                configurations.as_slice(),
+            ),
+            Command::Grasp {
+                holder,
+                grasp: g,
+                workspace,
+                object,
+                configurations,
+            } => (
+                StepCommand::Grasp,
+                *holder,
+                grasp(*g),
+                *workspace,
+                object,
+                configurations.as_slice(),
+            ),
+            Command::Ungrasp {
+                holder,
+                grasp: g,
+                workspace,
+                object,
+            } => (
+                StepCommand::Ungrasp,
+                *holder,
+                grasp(*g),
+                *workspace,
+                object,
+                &[][..],
+            ),
+        };
+        Step {
+            command,
+            end_effector: artifact.end_effector_name(holder).to_string(),
+            grasp: g,
+            workspace: artifact.workspace_name(w).to_string(),
+            object: p.as_ref().map(Pose::of),
+            configurations: configurations
+                .iter()
+                .map(|(e, q)| Joints::of(artifact, *e, q))
+                .collect(),
+            motion: step.motion.as_ref().map(|t| Trajectory {
+                arms: t
+                    .arms
+                    .iter()
+                    .map(|&e| ArmJoints {
+                        arm: artifact.end_effector_name(e).to_string(),
+                        joints: names(artifact, e),
+                    })
+                    .collect(),
+                points: t
+                    .points
+                    .iter()
+                    .map(|(time, q)| Point {
+                        time: *time,
+                        positions: q.clone(),
+                    })
+                    .collect(),
+            }),
+        }
+    }
+}
+
 impl Plan {
     /// `plan` by names; `name` is the request's name (or "command line").
     pub fn of(artifact: &Artifact, name: &str, plan: &RuntimePlan) -> Plan {
         let object = plan.object;
-        let grasp = |g: GraspId| Some(artifact.grasp_name(object, g).to_string());
         let mut holders: Vec<String> = Vec::new();
         for s in &plan.states {
             let h = artifact.end_effector_name(s.end_effector);
@@ -203,79 +280,7 @@ impl Plan {
         let steps = plan
             .steps
             .iter()
-            .map(|step| {
-                let (command, holder, g, w, p, configurations) = match &step.command {
-                    Command::Move {
-                        holder,
-                        workspace,
-                        object,
-                        configurations,
-                    } => (
-                        StepCommand::Move,
-                        *holder,
-                        None,
-                        *workspace,
-                        object,
-                        configurations.as_slice(),
-                    ),
-                    Command::Grasp {
-                        holder,
-                        grasp: g,
-                        workspace,
-                        object,
-                        configurations,
-                    } => (
-                        StepCommand::Grasp,
-                        *holder,
-                        grasp(*g),
-                        *workspace,
-                        object,
-                        configurations.as_slice(),
-                    ),
-                    Command::Ungrasp {
-                        holder,
-                        grasp: g,
-                        workspace,
-                        object,
-                    } => (
-                        StepCommand::Ungrasp,
-                        *holder,
-                        grasp(*g),
-                        *workspace,
-                        object,
-                        &[][..],
-                    ),
-                };
-                Step {
-                    command,
-                    end_effector: artifact.end_effector_name(holder).to_string(),
-                    grasp: g,
-                    workspace: artifact.workspace_name(w).to_string(),
-                    object: p.as_ref().map(Pose::of),
-                    configurations: configurations
-                        .iter()
-                        .map(|(e, q)| Joints::of(artifact, *e, q))
-                        .collect(),
-                    motion: step.motion.as_ref().map(|t| Trajectory {
-                        arms: t
-                            .arms
-                            .iter()
-                            .map(|&e| ArmJoints {
-                                arm: artifact.end_effector_name(e).to_string(),
-                                joints: names(artifact, e),
-                            })
-                            .collect(),
-                        points: t
-                            .points
-                            .iter()
-                            .map(|(time, q)| Point {
-                                time: *time,
-                                positions: q.clone(),
-                            })
-                            .collect(),
-                    }),
-                }
-            })
+            .map(|step| Step::of(artifact, object, step))
             .collect();
         Plan {
             request: name.to_string(),

@@ -50,6 +50,10 @@ pub struct Run {
     pub errors: usize,
     /// Number of warnings among them.
     pub warnings: usize,
+    /// The service's execution journal entry of this run (`GET /v1/executions/{id}`);
+    /// absent from the command line's documents and from plans.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub execution: Option<u64>,
 }
 
 impl Run {
@@ -72,6 +76,7 @@ impl Run {
             diagnostics: report.diagnostics,
             errors: report.errors,
             warnings: report.warnings,
+            execution: None,
         }
     }
 

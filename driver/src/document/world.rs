@@ -16,6 +16,17 @@ pub struct World {
     pub objects: Vec<Placed>,
     /// Every arm whose joints the world knows.
     pub arms: Vec<Joints>,
+    /// The service's store this world is kept in (absent from the command line's
+    /// documents, whose worlds are kept nowhere).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub instance: Option<String>,
+    /// The world's revision in that store: one more for every write.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub revision: Option<u64>,
+    /// Executions a stop of the service interrupted, whose objects and arms are
+    /// uncertain until a client confirms them (docs/service.md).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub uncertain: Vec<super::state::Interrupted>,
 }
 
 /// Where one object is.
@@ -58,6 +69,12 @@ impl World {
             .enumerate()
             .filter_map(|(e, q)| Some(Joints::of(a, EndEffectorId(e as u32), q.as_ref()?)))
             .collect();
-        World { objects, arms }
+        World {
+            objects,
+            arms,
+            instance: None,
+            revision: None,
+            uncertain: Vec::new(),
+        }
     }
 }

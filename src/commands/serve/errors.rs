@@ -36,6 +36,12 @@ pub enum Failure {
     /// The request is well-formed but cannot be done in this cell: names the cell lacks,
     /// unreachable goals, worlds that do not fit, failed executions.
     CannotDo,
+    /// The world moved on from the request's precondition (S0006).
+    Precondition,
+    /// The state file could not take the write (S0010).
+    Storage,
+    /// No such execution in the journal (S0013).
+    NotFound,
 }
 
 impl Failure {
@@ -51,6 +57,9 @@ impl Failure {
             Failure::Conflict => StatusCode::CONFLICT,
             Failure::OutOfTime => StatusCode::SERVICE_UNAVAILABLE,
             Failure::CannotDo => StatusCode::UNPROCESSABLE_ENTITY,
+            Failure::Precondition => StatusCode::PRECONDITION_FAILED,
+            Failure::Storage => StatusCode::INSUFFICIENT_STORAGE,
+            Failure::NotFound => StatusCode::NOT_FOUND,
         }
     }
 
@@ -75,6 +84,7 @@ impl Failure {
 }
 
 /// A request that failed: what failed, and its diagnostics report.
+#[derive(Debug)]
 pub struct ApiError {
     /// What failed (its status).
     pub failure: Failure,

@@ -8,14 +8,17 @@
 //! reports. HTTP/1.1 only, on loopback unless `--addr` says otherwise; every error is the
 //! diagnostics report (docs/service.md).
 
+mod durable;
 mod errors;
 mod execute;
+mod executions;
 mod openapi;
+mod patch;
 mod routes;
 
 use std::net::SocketAddr;
 use std::process::ExitCode;
-use std::sync::{Arc, Mutex};
+use std::sync::{Arc, Mutex, RwLock};
 use std::time::{Duration, Instant};
 
 use axum::body::Body;
@@ -25,7 +28,8 @@ use axum::middleware::Next;
 use axum::response::{IntoResponse, Response};
 use axum::routing::{get, post};
 use axum::Router;
-use cellc_runtime::World;
+pub use durable::StateAt;
+use durable::{Durable, Snapshot};
 use serde::de::DeserializeOwned;
 
 use super::plan::{load, LoadArgs, Loaded};
@@ -48,6 +52,8 @@ const MAX_BUDGET: Duration = Duration::from_secs(60);
 /// A request still running by then is answered S0004 (the planning budget is smaller,
 /// so this catches only what the budget does not bound, e.g. a long task).
 const REQUEST_TIMEOUT: Duration = Duration::from_secs(300);
+/// The longest a simulated step waits at any `--sim-pace`.
+const MAX_STEP_SECONDS: f64 = 30.0;
 /// How long shutdown waits for requests in flight.
 const SHUTDOWN_GRACE: Duration = Duration::from_secs(10);
 
@@ -63,28 +69,51 @@ pub struct ServeArgs {
     pub compile: cellc_compiler::CompileOptions,
     /// Colour of the diagnostics printed when the cell does not load.
     pub color: crate::render::Color,
+    /// Where the world is kept (`None`: the state file next to the input).
+    pub state: Option<StateAt>,
+    /// How long the journal keeps ended executions.
+    pub retention: cellc_store::Retention,
+    /// How many times a robot's time each simulated step takes (0: at once).
+    pub pace: f64,
 }
 
-/// What every request shares: the cell (read-only) and the world.
+/// What every request shares: the cell (read-only) and the durable world.
 pub struct Service {
     /// The cell and its sources.
     loaded: Loaded,
-    /// The world plans start from and executions update.
-    world: Mutex<World>,
+    /// The world plans start from and executions update, with its store. Held by every
+    /// writer for the whole write (an execution: from planning to its last step).
+    state: Mutex<Durable>,
+    /// The world as last stored, which readers take without waiting for a writer: an
+    /// execution publishes the world after each step it journaled.
+    published: RwLock<Arc<Snapshot>>,
+    /// `file` or `memory`.
+    durability: &'static str,
     /// Seed of plans that give none.
     seed: u64,
+    /// `--sim-pace`.
+    pace: f64,
 }
 
 impl Service {
-    /// A copy of the world as it is now.
-    fn world_now(&self) -> World {
-        self.lock_world().clone()
+    /// The world as last stored, with its revision.
+    fn snapshot(&self) -> Arc<Snapshot> {
+        self.published
+            .read()
+            .unwrap_or_else(|e| e.into_inner())
+            .clone()
     }
 
-    /// The world's lock. A request that panicked while holding it left a world that is
-    /// still whole (executions replace it in one assignment), so poisoning is ignored.
-    fn lock_world(&self) -> std::sync::MutexGuard<'_, World> {
-        self.world.lock().unwrap_or_else(|e| e.into_inner())
+    /// Makes `now` what readers see; called after every write the store took.
+    fn publish(&self, now: Snapshot) {
+        *self.published.write().unwrap_or_else(|e| e.into_inner()) = Arc::new(now);
+    }
+
+    /// The writers' lock. A request that panicked while holding it left a world that is
+    /// still whole (the world is replaced in one assignment, after the store took it),
+    /// so poisoning is ignored.
+    fn lock_state(&self) -> std::sync::MutexGuard<'_, Durable> {
+        self.state.lock().unwrap_or_else(|e| e.into_inner())
     }
 }
 
@@ -106,25 +135,51 @@ pub fn run(args: &ServeArgs) -> ExitCode {
         Ok(l) => l,
         Err(code) => return code,
     };
-    let world = match loaded
-        .cell
-        .initial_world(&cellc_runtime::plan::PlanOptions {
-            seed: args.seed,
-            ..Default::default()
-        }) {
-        Ok(w) => w,
-        Err(e) => {
-            loaded.report(&[crate::world_report::world_diagnostic(
-                &e,
-                "the cell's `world`",
-            )]);
+    let at = args.state.clone().unwrap_or_else(|| {
+        StateAt::File(
+            durable::default_state(&args.input),
+            cellc_store::Durability::Full,
+        )
+    });
+    let initial = || {
+        loaded
+            .cell
+            .initial_world(&cellc_runtime::plan::PlanOptions {
+                seed: args.seed,
+                ..Default::default()
+            })
+            .map_err(|e| crate::world_report::world_diagnostic(&e, "the cell's `world`"))
+    };
+    let state = match Durable::open(&at, args.retention, &loaded.cell, initial) {
+        Ok(s) => s,
+        Err(d) => {
+            loaded.report(&[d]);
             return ExitCode::from(1);
         }
     };
+    let recovered: Vec<u64> = state.store.recovered().iter().map(|id| id.0).collect();
+    eprintln!(
+        "{}",
+        serde_json::json!({
+            "event": "state",
+            "state": state.shown,
+            "instance": state.instance().as_str(),
+            "revision": state.revision.0,
+            "recovered": recovered,
+            "uncertain": state.interrupted(),
+        })
+    );
+    let durability = match at {
+        StateAt::File(..) => "file",
+        StateAt::Memory => "memory",
+    };
     let service = Arc::new(Service {
         loaded,
-        world: Mutex::new(world),
+        published: RwLock::new(Arc::new(state.snapshot())),
+        durability,
+        state: Mutex::new(state),
         seed: args.seed,
+        pace: args.pace,
     });
     let workers = std::thread::available_parallelism().map_or(2, |n| n.get());
     let runtime = match tokio::runtime::Builder::new_multi_thread()
@@ -150,7 +205,14 @@ fn router(service: Arc<Service>) -> Router {
     Router::new()
         .route("/v1/health", get(routes::health))
         .route("/v1/cell", get(routes::cell))
-        .route("/v1/world", get(routes::get_world).put(routes::put_world))
+        .route(
+            "/v1/world",
+            get(routes::get_world)
+                .put(routes::put_world)
+                .patch(patch::patch_world),
+        )
+        .route("/v1/executions", get(executions::list))
+        .route("/v1/executions/{id}", get(executions::one))
         .route("/v1/plan", post(routes::plan))
         .route("/v1/execute", post(execute::execute))
         .route("/v1/tasks", post(execute::tasks))
@@ -276,7 +338,7 @@ async fn time_and_log(request: Request, next: Next) -> Response {
 /// The largest body `method path` accepts: world documents are larger than planning
 /// requests.
 fn body_limit(method: &Method, path: &str) -> usize {
-    if method == Method::PUT && path == "/v1/world" {
+    if (method == Method::PUT || method == Method::PATCH) && path == "/v1/world" {
         MAX_WORLD
     } else {
         MAX_BODY

@@ -78,6 +78,48 @@ fn plan_failures(name: &str) -> Map<String, Value> {
     e
 }
 
+/// Failures of the endpoints that write the world or run executions: preconditions,
+/// keys, the state file.
+fn write_failures(failures: &mut Map<String, Value>) {
+    failures.insert(
+        status(Failure::Precondition),
+        answer(
+            "the world moved on from `If-Match` / `\"revision\"` (S0006)",
+            "Report",
+        ),
+    );
+    failures.insert(
+        status(Failure::Storage),
+        answer(
+            "the state file could not take the write; nothing was done (S0010)",
+            "Report",
+        ),
+    );
+}
+
+/// Failures of executions (besides planning's): the world is uncertain (S0007), a key
+/// interrupted (S0012), a key reused (S0008, 422 among planning's).
+fn execution_failures(name: &str) -> Map<String, Value> {
+    let mut e = plan_failures(name);
+    e.insert(status(Failure::Conflict), document_or_report("the goal is taken or the object is absent (R0010); the world is uncertain (S0007); the key's execution was interrupted (S0012)", name));
+    e.insert(status(Failure::CannotDo), document_or_report("names the cell lacks (R0003), no plan (R0004), a world that does not fit (R0009), execution failed (R0007), an idempotency key used for another request (S0008)", name));
+    write_failures(&mut e);
+    e
+}
+
+/// `failures` with 409 also answering S0007 (the world is uncertain) as a report.
+fn uncertain_too(mut failures: Map<String, Value>) -> Map<String, Value> {
+    let conflict = status(Failure::Conflict);
+    if let Some(existing) = failures.get(&conflict) {
+        let schema = existing["content"]["application/json"]["schema"].clone();
+        failures.insert(
+            conflict,
+            json!({"description": "the goal is taken or the object is absent (R0010); the world is uncertain (S0007)", "content": {"application/json": {"schema": schema}}}),
+        );
+    }
+    failures
+}
+
 /// The responses: 200 with `ok`, then `failures`, then the errors of every endpoint.
 fn responses(ok: Value, failures: Map<String, Value>, with_body: bool) -> Value {
     let mut r = Map::new();
@@ -107,14 +149,47 @@ pub fn document() -> Value {
         status(Failure::CannotDo),
         answer("the document does not fit the cell (R0009)", "Report"),
     );
+    write_failures(&mut put_failures);
+    let tagged = |description: &str| {
+        let mut a = answer(description, "World");
+        a["headers"] = json!({"ETag": {"description": "the world's entity tag, `\"INSTANCE-REVISION\"`", "schema": {"type": "string"}}});
+        a
+    };
+    let if_match = json!({"name": "If-Match", "in": "header", "required": false, "description": "write only if the world is still at this ETag (412, S0006, otherwise)", "schema": {"type": "string"}});
+    let key = json!({"name": "Idempotency-Key", "in": "header", "required": false, "description": "the same key again returns the first answer instead of executing again (S0008 for another request)", "schema": {"type": "string", "minLength": 1, "maxLength": 255}});
     let world = json!({
-        "get": get("The world: every object's whereabouts, every arm's joints", "World"),
+        "get": {"summary": "The world: every object's whereabouts, every arm's joints, its revision and what is uncertain", "responses": responses(tagged("ok"), Map::new(), false)},
         "put": {
-            "summary": "Replace the world with a world document (docs/world.md), at once",
+            "summary": "Replace the world with a world document (docs/world.md), at once; confirms everything uncertain",
+            "parameters": [if_match],
             "requestBody": {"required": true, "content": {"application/json": {"schema": schema("WorldDocument")}}},
-            "responses": responses(answer("the new world", "World"), put_failures, true),
+            "responses": responses(tagged("the new world"), put_failures.clone(), true),
+        },
+        "patch": {
+            "summary": "Change part of the world: a JSON Merge Patch (RFC 7396) or JSON Patch operations (RFC 6902) of the world document; confirms what it names",
+            "parameters": [if_match],
+            "requestBody": {"required": true, "content": {
+                "application/merge-patch+json": {"schema": {"type": "object"}},
+                "application/json-patch+json": {"schema": {"type": "array", "items": {"type": "object"}}},
+            }},
+            "responses": responses(tagged("the new world"), put_failures, true),
         },
     });
+    let execution = |summary: &str, body: &str| {
+        let mut p = post(summary, body, "Run", execution_failures("Run"));
+        p["post"]["parameters"] = json!([if_match, key]);
+        p
+    };
+    let mut not_found = Map::new();
+    not_found.insert(
+        status(Failure::NotFound),
+        answer("no such execution in the journal (S0013)", "Report"),
+    );
+    let mut bad_limit = Map::new();
+    bad_limit.insert(
+        status(Failure::BadBody),
+        answer("`limit` is not a number from 1 to 200 (S0001)", "Report"),
+    );
     let mut schemas = cellc_driver::document::schemas();
     schemas.insert(
         "OpenApi".into(),
@@ -131,10 +206,12 @@ pub fn document() -> Value {
             "/v1/health": {"get": get("Liveness, and which cell is loaded", "Health")},
             "/v1/cell": {"get": get("The cell: objects, end-effectors, workspaces, arms", "Cell")},
             "/v1/world": world,
-            "/v1/plan": post("Plan a move against a copy of the world (the world is not changed)", "MoveRequest", "Run", plan_failures("Run")),
-            "/v1/execute": post("Plan and execute a move in the simulator; the world is updated, whether it succeeds or not", "MoveRequest", "Run", plan_failures("Run")),
-            "/v1/tasks": post("Execute moves in order; stops at the first that fails, the moves before it stay done", "TaskRequest", "Run", plan_failures("Run")),
-            "/v1/explain": post("Why a move has no plan (or its plan when it has one)", "MoveRequest", "Explained", plan_failures("Report")),
+            "/v1/plan": post("Plan a move against a copy of the world (the world is not changed); refused while the world is uncertain (S0007)", "MoveRequest", "Run", uncertain_too(plan_failures("Run"))),
+            "/v1/execute": execution("Plan and execute a move in the simulator, journaled step by step; the world is updated, whether it succeeds or not", "MoveRequest"),
+            "/v1/tasks": execution("Execute moves in order, journaled step by step; stops at the first that fails, the moves before it stay done", "TaskRequest"),
+            "/v1/executions": {"get": {"summary": "The journal's newest executions (`?limit=N`, default 50)", "parameters": [{"name": "limit", "in": "query", "required": false, "schema": {"type": "integer", "minimum": 1, "maximum": 200}}], "responses": responses(answer("ok", "Executions"), bad_limit, false)}},
+            "/v1/executions/{id}": {"get": {"summary": "One execution of the journal, with its steps and outcome", "parameters": [{"name": "id", "in": "path", "required": true, "schema": {"type": "integer", "minimum": 1}}], "responses": responses(answer("ok", "Execution"), not_found, false)}},
+            "/v1/explain": post("Why a move has no plan (or its plan when it has one); refused while the world is uncertain (S0007)", "MoveRequest", "Explained", uncertain_too(plan_failures("Report"))),
             "/v1/openapi.json": {"get": get("This document", "OpenApi")},
         },
         "components": {"schemas": schemas},

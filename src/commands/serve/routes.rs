@@ -15,14 +15,17 @@ use cellc_runtime::{ObjectId, TaskError, TaskOptions, World};
 use cellc_schema::world::WorldDocumentError;
 use cellc_schema::WorldDocument;
 
+use super::durable::Precondition;
 use super::errors::{ApiError, Failure};
-use super::{read_body, read_json, Service, MAX_BODY, MAX_WORLD};
+use super::{read_body, read_json, Service, Snapshot, MAX_BODY, MAX_WORLD};
 use crate::plan_report::codes;
+use axum::http::HeaderMap;
 use cellc_driver::advice::FrontEnd;
 use cellc_driver::document::explain::{Explained, Explanation};
 use cellc_driver::document::plan::Plan as PlanDocument;
 use cellc_driver::document::run::{Kind, Run};
 use cellc_driver::document::world::World as WorldAnswer;
+use cellc_store::Confirms;
 
 pub(super) type Shared = State<Arc<Service>>;
 
@@ -78,14 +81,24 @@ where
     result.unwrap_or_else(|e| super::errors::worker_failed(&e).into_response())
 }
 
-/// `GET /v1/health`.
+/// `GET /v1/health`: liveness, and which store and revision the world is at, with any
+/// interruption a client must confirm.
+/// On the blocking pool: an execution holds the world's lock while it runs.
 pub async fn health(State(service): Shared) -> Response {
-    Json(cellc_driver::document::cell::Health {
-        status: "ok".to_string(),
-        cell: service.loaded.cell.artifact().cell.clone(),
-        version: env!("CARGO_PKG_VERSION").to_string(),
+    blocking(service, |service, _| {
+        let now = service.snapshot();
+        Json(cellc_driver::document::cell::Health {
+            status: "ok".to_string(),
+            cell: service.loaded.cell.artifact().cell.clone(),
+            version: env!("CARGO_PKG_VERSION").to_string(),
+            instance: now.instance.to_string(),
+            revision: now.revision.0,
+            durability: service.durability.to_string(),
+            interrupted: now.interrupted(),
+        })
+        .into_response()
     })
-    .into_response()
+    .await
 }
 
 /// `GET /v1/cell`.
@@ -101,50 +114,111 @@ pub async fn openapi() -> Response {
     Json(super::openapi::document()).into_response()
 }
 
+/// The world answer of a snapshot: the world by names, its instance, revision and
+/// uncertainty, and its `ETag`.
+pub(super) fn world_answer(service: &Service, now: &Snapshot) -> Response {
+    let mut answer = WorldAnswer::of(&service.loaded.cell, &now.world);
+    answer.instance = Some(now.instance.to_string());
+    answer.revision = Some(now.revision.0);
+    answer.uncertain = now.interrupted();
+    let mut response = Json(answer).into_response();
+    if let Some(tag) = super::durable::etag_header(&now.etag()) {
+        response.headers_mut().insert("etag", tag);
+    }
+    response
+}
+
 /// `GET /v1/world`.
 /// On the blocking pool: an execution holds the world's lock for as long as it runs, and
 /// waiting for it must not stop a thread that serves connections.
 pub async fn get_world(State(service): Shared) -> Response {
     blocking(service, |service, _| {
-        let world = service.world_now();
-        Json(WorldAnswer::of(&service.loaded.cell, &world)).into_response()
+        world_answer(service, &service.snapshot())
     })
     .await
 }
 
-/// `PUT /v1/world`: a world document replacing the world at once.
-pub async fn put_world(State(service): Shared, body: Body) -> Response {
+/// `PUT /v1/world`: a world document replacing the world at once, stored before it is
+/// answered. It confirms everything an interruption left uncertain.
+pub async fn put_world(State(service): Shared, headers: HeaderMap, body: Body) -> Response {
+    let precondition = match Precondition::from_headers(&headers) {
+        Ok(p) => p,
+        Err(e) => return e.into_response(),
+    };
     let bytes = match read_body(body, MAX_WORLD).await {
         Ok(b) => b,
         Err(e) => return e.into_response(),
     };
     blocking(service, move |service, _| {
-        let fail = |failure, d: Diagnostic| {
-            ApiError::from_diagnostic(failure, &d, service.loaded.sources())
-        };
         let document = match WorldDocument::from_json(&bytes) {
             Ok(d) => d,
-            Err(e) => return fail(Failure::BadBody, document_error(e)).into_response(),
-        };
-        let cell = &service.loaded.cell;
-        match cell.world(&document, &PlanOptions::default()) {
-            Ok(world) => {
-                let answer = WorldAnswer::of(cell, &world);
-                *service.lock_world() = world;
-                Json(answer).into_response()
+            Err(e) => {
+                return ApiError::from_diagnostic(
+                    Failure::BadBody,
+                    &document_error(e),
+                    service.loaded.sources(),
+                )
+                .into_response()
             }
-            Err(e) => fail(
-                Failure::CannotDo,
-                crate::world_report::world_diagnostic(&e, "the world document"),
-            )
-            .into_response(),
-        }
+        };
+        store_world(service, &precondition, &document, &Confirms::Everything)
     })
     .await
 }
 
+/// Checks `document` against the cell (R0009), then stores it under `precondition` and
+/// makes it the world. `confirms` says which uncertainty it settles.
+pub(super) fn store_world(
+    service: &Service,
+    precondition: &Precondition,
+    document: &WorldDocument,
+    confirms: &Confirms,
+) -> Response {
+    let cell = &service.loaded.cell;
+    let world = match cell.world(document, &PlanOptions::default()) {
+        Ok(w) => w,
+        Err(e) => {
+            return ApiError::from_diagnostic(
+                Failure::CannotDo,
+                &crate::world_report::world_diagnostic(&e, "the world document"),
+                service.loaded.sources(),
+            )
+            .into_response()
+        }
+    };
+    let mut state = service.lock_state();
+    let expect = match state.check(precondition) {
+        Ok(e) => e,
+        Err(e) => return e.into_response(),
+    };
+    // What is stored is the document as the world reads back, so the file and the
+    // service hold the same world bit for bit.
+    let stored = cell.world_document(&world);
+    match state.store.put_world(expect, &stored, confirms) {
+        Ok(revision) => {
+            state.world = world;
+            state.revision = revision;
+            match confirms {
+                Confirms::Everything => state.uncertain.clear(),
+                Confirms::Only(named) => {
+                    for u in &mut state.uncertain {
+                        u.subjects.objects.retain(|o| !named.objects.contains(o));
+                        u.subjects.arms.retain(|a| !named.arms.contains(a));
+                    }
+                    state.uncertain.retain(|u| !u.subjects.is_empty());
+                }
+            }
+            let now = state.snapshot();
+            service.publish(state.snapshot());
+            drop(state);
+            world_answer(service, &now)
+        }
+        Err(e) => state.failed(&e).into_response(),
+    }
+}
+
 /// R0008 for a body that is not a world document.
-fn document_error(e: WorldDocumentError) -> Diagnostic {
+pub(super) fn document_error(e: WorldDocumentError) -> Diagnostic {
     let help = "a world document has `arms` (arm -> joint -> value) and `objects` (object -> placement or \"absent\"); see docs/world.md";
     match e {
         WorldDocumentError::TooLarge { bytes } => Diagnostic::error(
@@ -255,6 +329,13 @@ fn placement(text: &str, what: &str) -> Result<cellc_runtime::PlacementByName, A
     })
 }
 
+/// The world as last stored, or S0007 when an interruption left it uncertain.
+fn certain(service: &Service) -> Result<std::sync::Arc<Snapshot>, ApiError> {
+    let now = service.snapshot();
+    now.refuse_uncertain(service.loaded.sources())?;
+    Ok(now)
+}
+
 /// `POST /v1/plan`: plans against a copy of the world; the world is not changed.
 pub async fn plan(State(service): Shared, body: Body) -> Response {
     let body: MoveBody = match read_json(body, MAX_BODY).await {
@@ -262,8 +343,11 @@ pub async fn plan(State(service): Shared, body: Body) -> Response {
         Err(e) => return e.into_response(),
     };
     blocking(service, move |service, cancel| {
-        let world = service.world_now();
-        let located = match locate(service, &body, &world) {
+        let now = match certain(service) {
+            Ok(n) => n,
+            Err(e) => return e.into_response(),
+        };
+        let located = match locate(service, &body, &now.world) {
             Ok(l) => l,
             Err(e) => return e.into_response(),
         };
@@ -332,8 +416,11 @@ pub async fn explain(State(service): Shared, body: Body) -> Response {
         Err(e) => return e.into_response(),
     };
     blocking(service, move |service, cancel| {
-        let world = service.world_now();
-        let located = match locate(service, &body, &world) {
+        let now = match certain(service) {
+            Ok(n) => n,
+            Err(e) => return e.into_response(),
+        };
+        let located = match locate(service, &body, &now.world) {
             Ok(l) => l,
             Err(e) => return e.into_response(),
         };

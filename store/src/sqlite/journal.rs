@@ -252,7 +252,14 @@ impl SqliteStore {
 }
 
 const COLUMNS: &str = "id, key, base, intent, subjects, steps_total, status, outcome, result,
-                       started_ms, finished_ms";
+                       started_ms, finished_ms,
+                       (SELECT count(*) FROM steps s WHERE s.execution = executions.id)";
+
+/// [`COLUMNS`] without the outcome, which a list does not show (an outcome holds a whole
+/// run document; a thousand of them need not be read to list their executions).
+const LISTED: &str = "id, key, base, intent, subjects, steps_total, status, NULL, result,
+                      started_ms, finished_ms,
+                      (SELECT count(*) FROM steps s WHERE s.execution = executions.id)";
 
 fn record(row: &Row<'_>) -> rusqlite::Result<RawRecord> {
     Ok(RawRecord {
@@ -267,6 +274,7 @@ fn record(row: &Row<'_>) -> rusqlite::Result<RawRecord> {
         result: row.get(8)?,
         started_ms: row.get(9)?,
         finished_ms: row.get(10)?,
+        steps_done: row.get(11)?,
     })
 }
 
@@ -283,6 +291,7 @@ struct RawRecord {
     result: Option<i64>,
     started_ms: i64,
     finished_ms: Option<i64>,
+    steps_done: u32,
 }
 
 fn revision_of(value: i64) -> Result<Revision, StoreError> {
@@ -307,7 +316,30 @@ impl RawRecord {
             result: self.result.map(revision_of).transpose()?,
             started_ms: self.started_ms,
             finished_ms: self.finished_ms,
+            steps_done: self.steps_done,
         })
+    }
+}
+
+/// The execution journaled under `key`, if any.
+pub(super) fn keyed(
+    conn: &Connection,
+    key: &IdempotencyKey,
+) -> Result<Option<ExecutionRecord>, StoreError> {
+    let id: Option<i64> = conn
+        .query_row(
+            "SELECT id FROM executions WHERE key = ?1",
+            [key.as_str()],
+            |r| r.get(0),
+        )
+        .optional()
+        .map_err(sqlite_error)?;
+    match id {
+        None => Ok(None),
+        Some(id) => {
+            let id = ExecutionId(u64::try_from(id).map_err(|e| corrupt("execution id", e))?);
+            execution(conn, id)
+        }
     }
 }
 
@@ -353,7 +385,7 @@ pub(super) fn execution(
 pub(super) fn recent(conn: &Connection, limit: u32) -> Result<Vec<ExecutionRecord>, StoreError> {
     let mut statement = conn
         .prepare(&format!(
-            "SELECT {COLUMNS} FROM executions ORDER BY id DESC LIMIT ?1"
+            "SELECT {LISTED} FROM executions ORDER BY id DESC LIMIT ?1"
         ))
         .map_err(sqlite_error)?;
     let rows = statement

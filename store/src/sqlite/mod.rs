@@ -23,8 +23,9 @@ use rusqlite::limits::Limit;
 use rusqlite::{params, Connection, ErrorCode, OpenFlags, OptionalExtension, TransactionBehavior};
 
 use crate::{
-    Begun, Confirms, End, ExecutionId, ExecutionRecord, InstanceId, NewExecution, Retention,
-    Revision, Store, StoreError, StoredWorld, Uncertainty, WorldDocument, MAX_RECORD_BYTES,
+    Begun, Confirms, End, ExecutionId, ExecutionRecord, IdempotencyKey, InstanceId, NewExecution,
+    Retention, Revision, Store, StoreError, StoredWorld, Uncertainty, WorldDocument,
+    MAX_RECORD_BYTES,
 };
 
 /// The layout version this build writes and reads.
@@ -503,6 +504,10 @@ impl Store for SqliteStore {
 
     fn recent(&mut self, limit: u32) -> Result<Vec<ExecutionRecord>, StoreError> {
         journal::recent(&self.conn, limit)
+    }
+
+    fn keyed(&mut self, key: &IdempotencyKey) -> Result<Option<ExecutionRecord>, StoreError> {
+        journal::keyed(&self.conn, key)
     }
 }
 

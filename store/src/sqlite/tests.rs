@@ -185,6 +185,11 @@ fn a_repeated_key_returns_the_first_execution_and_a_reused_one_is_refused() {
         }
         other => panic!("a repeated key must not start again: {other:?}"),
     }
+    let key = IdempotencyKey::new("same").expect("a key");
+    let found = store.keyed(&key).expect("readable").expect("journaled");
+    assert_eq!((found.id, found.intent.as_str()), (id, "A"));
+    let unused = IdempotencyKey::new("unused").expect("a key");
+    assert_eq!(store.keyed(&unused).expect("readable"), None);
     assert_eq!(
         store.begin(&new_execution(Some("same"), "B")),
         Err(StoreError::KeyReused { execution: id })
