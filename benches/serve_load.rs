@@ -9,12 +9,16 @@
 //! `cargo bench --bench serve_load` (`CELLC_LOAD_REQUESTS` sets the number of high-level
 //! plans, 10,000 by default; a tenth as many are planned with motions).
 
-use std::io::{BufRead, BufReader, Read, Write};
+use std::io::{Read, Write};
 use std::net::TcpStream;
-use std::process::{Command, Stdio};
+use std::process::Command;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
+
+#[path = "support/load.rs"]
+mod load;
+use load::{memory, percentile, Connection};
 
 const CLIENTS: usize = 8;
 
@@ -25,99 +29,6 @@ const MOVES: [&str; 3] = [
     r#"{"object":"cylinder","to":"bin in ws_right_bin"#,
     r#"{"object":"ball","to":"table at (0.3, -0.35, 0.95)"#,
 ];
-
-struct Connection {
-    addr: String,
-    stream: Option<BufReader<TcpStream>>,
-}
-
-impl Connection {
-    fn new(addr: &str) -> Connection {
-        Connection {
-            addr: addr.to_string(),
-            stream: None,
-        }
-    }
-
-    /// Sends one request and reads its answer: the status. The connection is opened again
-    /// when the server closed it (after an error answer, for instance).
-    fn send(&mut self, method: &str, path: &str, body: &[u8]) -> std::io::Result<u16> {
-        for attempt in 0..2 {
-            if self.stream.is_none() {
-                self.stream = Some(BufReader::new(TcpStream::connect(&self.addr)?));
-            }
-            let result = self.exchange(method, path, body);
-            match result {
-                Ok(status) => return Ok(status),
-                Err(_) if attempt == 0 => self.stream = None,
-                Err(e) => return Err(e),
-            }
-        }
-        unreachable!("two attempts")
-    }
-
-    fn exchange(&mut self, method: &str, path: &str, body: &[u8]) -> std::io::Result<u16> {
-        let reader = self.stream.as_mut().expect("connected");
-        let head = format!(
-            "{method} {path} HTTP/1.1\r\nHost: load\r\nContent-Type: application/json\r\nContent-Length: {}\r\n\r\n",
-            body.len()
-        );
-        let stream = reader.get_mut();
-        stream.write_all(head.as_bytes())?;
-        stream.write_all(body)?;
-        let mut line = String::new();
-        reader.read_line(&mut line)?;
-        let status: u16 = line
-            .split_whitespace()
-            .nth(1)
-            .and_then(|s| s.parse().ok())
-            .ok_or_else(|| std::io::Error::other(format!("no status line: {line:?}")))?;
-        let mut length = 0usize;
-        let mut close = false;
-        loop {
-            let mut header = String::new();
-            reader.read_line(&mut header)?;
-            let h = header.trim_end();
-            if h.is_empty() {
-                break;
-            }
-            let lower = h.to_ascii_lowercase();
-            if let Some(v) = lower.strip_prefix("content-length:") {
-                length = v.trim().parse().unwrap_or(0);
-            }
-            if lower == "connection: close" {
-                close = true;
-            }
-        }
-        let mut sink = vec![0u8; length];
-        reader.read_exact(&mut sink)?;
-        if close {
-            self.stream = None;
-        }
-        Ok(status)
-    }
-}
-
-/// Resident and peak resident memory of `pid`, KiB.
-fn memory(pid: u32) -> (u64, u64) {
-    let status = std::fs::read_to_string(format!("/proc/{pid}/status")).unwrap_or_default();
-    let field = |name: &str| {
-        status
-            .lines()
-            .find(|l| l.starts_with(name))
-            .and_then(|l| l.split_whitespace().nth(1))
-            .and_then(|v| v.parse().ok())
-            .unwrap_or(0)
-    };
-    (field("VmRSS:"), field("VmHWM:"))
-}
-
-fn percentile(sorted: &[f64], p: f64) -> f64 {
-    if sorted.is_empty() {
-        return f64::NAN;
-    }
-    sorted[((sorted.len() - 1) as f64 * p).round() as usize]
-}
 
 /// Sends `total` requests from `CLIENTS` threads; latencies (ms) of the plans, and the
 /// number of unexpected answers.
@@ -192,28 +103,8 @@ fn main() {
         .ok()
         .and_then(|v| v.parse().ok())
         .unwrap_or(10_000);
-    let mut server = Command::new(env!("CARGO_BIN_EXE_cellc"))
-        .args([
-            "serve",
-            "cells/vito.cell",
-            "--addr",
-            "127.0.0.1:0",
-            "--ephemeral",
-        ])
-        .stdout(Stdio::piped())
-        .stderr(Stdio::null())
-        .spawn()
-        .expect("cellc serve starts");
+    let (mut server, addr) = load::start(&["--ephemeral"]);
     let pid = server.id();
-    let mut first = String::new();
-    BufReader::new(server.stdout.take().expect("stdout"))
-        .read_line(&mut first)
-        .expect("the listening line");
-    let addr = first
-        .trim()
-        .strip_prefix("listening on http://")
-        .expect("listening on http://ADDR")
-        .to_string();
     let (rss_loaded, _) = memory(pid);
     // A client that keeps stalling: half a request, then silence until the server cuts it.
     let stop = Arc::new(AtomicBool::new(false));
