@@ -110,6 +110,8 @@ fn run(extra: &[&str], executes: usize) -> [Measured; 4] {
     let seconds = t.elapsed().as_secs_f64();
     let mixed_plans = measured(plans.into_inner().expect("not poisoned"), seconds);
     let mixed_exec = measured(mixed_exec, seconds);
+    let (_, peak) = load::memory(server.id());
+    eprintln!("server peak resident memory: {} MiB", peak / 1024);
     let _ = std::process::Command::new("kill")
         .args(["-TERM", &server.id().to_string()])
         .status();
