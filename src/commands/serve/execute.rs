@@ -202,10 +202,20 @@ fn replay(record: &ExecutionRecord) -> Response {
                 .and_then(|s| u16::try_from(s).ok())
                 .and_then(|s| StatusCode::from_u16(s).ok())
                 .unwrap_or(StatusCode::OK);
+            let world = &outcome["body"]["world"];
+            let tag = match (world["instance"].as_str(), world["revision"].as_u64()) {
+                (Some(instance), Some(revision)) => {
+                    etag_header(&format!("\"{instance}-{revision}\""))
+                }
+                _ => None,
+            };
             let mut response = (status, Json(outcome["body"].clone())).into_response();
-            response
-                .headers_mut()
-                .insert("idempotent-replayed", HeaderValue::from_static("true"));
+            let headers = response.headers_mut();
+            headers.insert("idempotent-replayed", HeaderValue::from_static("true"));
+            if let Some(tag) = tag {
+                // The ETag of the world the first answer produced, as it said then.
+                headers.insert("etag", tag);
+            }
             response
         }
         _ => ApiError::new(
