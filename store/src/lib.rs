@@ -173,6 +173,26 @@ pub enum Confirms {
     Only(Subjects),
 }
 
+impl Confirms {
+    /// What is still uncertain of `uncertain` once this write confirmed its part: the
+    /// one rule the store applies and the service mirrors in memory.
+    pub fn settle(&self, uncertain: Vec<Uncertainty>) -> Vec<Uncertainty> {
+        match self {
+            Confirms::Everything => Vec::new(),
+            Confirms::Only(confirmed) => uncertain
+                .into_iter()
+                .filter_map(|mut u| {
+                    u.subjects
+                        .objects
+                        .retain(|o| !confirmed.objects.contains(o));
+                    u.subjects.arms.retain(|a| !confirmed.arms.contains(a));
+                    (!u.subjects.is_empty()).then_some(u)
+                })
+                .collect(),
+        }
+    }
+}
+
 /// An execution about to start.
 #[derive(Clone, Debug, PartialEq)]
 pub struct NewExecution {

@@ -23,6 +23,10 @@ use super::routes::{document_error, store_world, Shared};
 use super::{read_body, MAX_WORLD};
 use cellc_lang::codes::serve as codes;
 
+/// How often a patch without a precondition is applied again to a world that changed
+/// while it was being checked, before the request gives up (S0004).
+const MOST_ATTEMPTS: usize = 20;
+
 /// Which form of patch the body is.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Form {
@@ -52,7 +56,7 @@ pub async fn patch_world(State(service): Shared, headers: HeaderMap, body: Body)
         // (under `store_world`'s lock) refuses it if the world moves on meanwhile and a
         // precondition was given; without one, a world changed in between is patched
         // again from its new state.
-        loop {
+        for _ in 0..MOST_ATTEMPTS {
             let now = service.snapshot();
             let cell = &service.loaded.cell;
             let before = cell.world_document(&now.world);
@@ -83,6 +87,13 @@ pub async fn patch_world(State(service): Shared, headers: HeaderMap, body: Body)
                 return answer;
             }
         }
+        ApiError::new(
+            Failure::TimedOut,
+            cellc_lang::codes::serve::TIMED_OUT,
+            format!("the world changed {MOST_ATTEMPTS} times while the patch was applied"),
+            "send the patch again, or a whole world with PUT /v1/world",
+        )
+        .into_response()
     })
     .await
 }

@@ -198,16 +198,7 @@ pub(super) fn store_world(
         Ok(revision) => {
             state.world = world;
             state.revision = revision;
-            match confirms {
-                Confirms::Everything => state.uncertain.clear(),
-                Confirms::Only(named) => {
-                    for u in &mut state.uncertain {
-                        u.subjects.objects.retain(|o| !named.objects.contains(o));
-                        u.subjects.arms.retain(|a| !named.arms.contains(a));
-                    }
-                    state.uncertain.retain(|u| !u.subjects.is_empty());
-                }
-            }
+            state.uncertain = confirms.settle(std::mem::take(&mut state.uncertain));
             let now = state.snapshot();
             service.publish(state.snapshot());
             drop(state);

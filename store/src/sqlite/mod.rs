@@ -454,22 +454,12 @@ impl Store for SqliteStore {
             .map_err(sqlite_error)?;
         let current = read_world(&tx)?;
         check_expected(expect, current.as_ref())?;
-        let uncertain: Vec<Uncertainty> = match confirms {
-            Confirms::Everything => Vec::new(),
-            Confirms::Only(confirmed) => current
+        let uncertain = confirms.settle(
+            current
                 .as_ref()
                 .map(|w| w.uncertain.clone())
-                .unwrap_or_default()
-                .into_iter()
-                .filter_map(|mut u| {
-                    u.subjects
-                        .objects
-                        .retain(|o| !confirmed.objects.contains(o));
-                    u.subjects.arms.retain(|a| !confirmed.arms.contains(a));
-                    (!u.subjects.is_empty()).then_some(u)
-                })
-                .collect(),
-        };
+                .unwrap_or_default(),
+        );
         let revision = write_world(&tx, current.as_ref(), document, &uncertain, now)?;
         tx.commit().map_err(sqlite_error)?;
         Ok(revision)
