@@ -227,13 +227,18 @@ impl Durable {
                 format!("the world is at revision {current}, not the expected {expected}"),
                 "read the world again (GET /v1/world) and decide whether the request still holds",
             ),
-            e => ApiError::from_diagnostic(
-                Failure::Storage,
-                &state::diagnostic(e, &self.shown, When::Serving),
-                &SourceMap::new(),
-            ),
+            e => serving_error(e, &self.shown),
         }
     }
+}
+
+/// A store error while serving (not a conflict): S0010, 507.
+pub fn serving_error(e: &StoreError, shown: &str) -> ApiError {
+    ApiError::from_diagnostic(
+        Failure::Storage,
+        &state::diagnostic(e, shown, When::Serving),
+        &SourceMap::new(),
+    )
 }
 
 /// `"INSTANCE-REVISION"`, quotes included, as `ETag` and `If-Match` carry it.

@@ -41,13 +41,12 @@ pub async fn list(State(service): Shared, Query(query): Query<ListQuery>) -> Res
         }
     };
     blocking(service, move |service, _| {
-        let mut state = service.lock_state();
-        match state.store.recent(limit) {
+        match service.read_journal(|store| store.recent(limit)) {
             Ok(records) => Json(Executions {
                 executions: records.iter().map(summary).collect(),
             })
             .into_response(),
-            Err(e) => state.failed(&e).into_response(),
+            Err(e) => e.into_response(),
         }
     })
     .await
@@ -71,8 +70,7 @@ pub async fn one(State(service): Shared, Path(id): Path<String>) -> Response {
         return unknown(&format!("`{shown}`")).into_response();
     };
     blocking(service, move |service, _| {
-        let mut state = service.lock_state();
-        match state.store.execution(ExecutionId(number)) {
+        match service.read_journal(|store| store.execution(ExecutionId(number))) {
             Ok(Some(record)) => Json(Execution {
                 summary: summary(&record),
                 steps: record
@@ -88,7 +86,7 @@ pub async fn one(State(service): Shared, Path(id): Path<String>) -> Response {
             })
             .into_response(),
             Ok(None) => unknown(&number.to_string()).into_response(),
-            Err(e) => state.failed(&e).into_response(),
+            Err(e) => e.into_response(),
         }
     })
     .await

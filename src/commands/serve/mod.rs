@@ -87,8 +87,14 @@ pub struct Service {
     /// The world as last stored, which readers take without waiting for a writer: an
     /// execution publishes the world after each step it journaled.
     published: RwLock<Arc<Snapshot>>,
+    /// A second, read-only connection to the state file, for reading the journal while
+    /// an execution holds the writers' lock (WAL lets it read the last commit); `None`
+    /// in memory, where the journal is read under the writers' lock.
+    reader: Option<Mutex<cellc_store::SqliteStore>>,
     /// `file` or `memory`.
     durability: &'static str,
+    /// The state file's path as given, for messages.
+    shown: String,
     /// Seed of plans that give none.
     seed: u64,
     /// `--sim-pace`.
@@ -114,6 +120,26 @@ impl Service {
     /// so poisoning is ignored.
     fn lock_state(&self) -> std::sync::MutexGuard<'_, Durable> {
         self.state.lock().unwrap_or_else(|e| e.into_inner())
+    }
+
+    /// Runs `read` on the journal without waiting for a writer where the state file
+    /// allows it, else under the writers' lock. Errors are worded as store errors while
+    /// serving (S0010).
+    fn read_journal<T>(
+        &self,
+        read: impl FnOnce(&mut dyn cellc_store::Store) -> Result<T, cellc_store::StoreError>,
+    ) -> Result<T, errors::ApiError> {
+        match &self.reader {
+            Some(reader) => {
+                let mut reader = reader.lock().unwrap_or_else(|e| e.into_inner());
+                read(&mut *reader).map_err(|e| durable::serving_error(&e, &self.shown))
+            }
+            None => {
+                let mut state = self.lock_state();
+                let result = read(state.store.as_mut());
+                result.map_err(|e| state.failed(&e))
+            }
+        }
     }
 }
 
@@ -169,13 +195,26 @@ pub fn run(args: &ServeArgs) -> ExitCode {
             "uncertain": state.interrupted(),
         })
     );
-    let durability = match at {
-        StateAt::File(..) => "file",
-        StateAt::Memory => "memory",
+    let (durability, reader) = match &at {
+        StateAt::File(path, _) => match cellc_store::SqliteStore::open_read_only(path) {
+            Ok(r) => ("file", Some(Mutex::new(r))),
+            Err(e) => {
+                loaded.report(&[crate::state::diagnostic(
+                    &e,
+                    &state.shown,
+                    crate::state::When::Opening,
+                )]);
+                return ExitCode::from(1);
+            }
+        },
+        StateAt::Memory => ("memory", None),
     };
+    let shown = state.shown.clone();
     let service = Arc::new(Service {
         loaded,
         published: RwLock::new(Arc::new(state.snapshot())),
+        reader,
+        shown,
         durability,
         state: Mutex::new(state),
         seed: args.seed,
