@@ -82,6 +82,7 @@ mod rrt;
 mod segment;
 mod shortcut;
 mod timing;
+pub mod topp;
 mod tree;
 
 use std::fmt;
