@@ -2,18 +2,25 @@
 
     from cellc import Client
     c = Client("http://127.0.0.1:7878")
-    for name, placed in c.world().objects.items(): ...
-    run = c.execute("ball", "bin in ws_right_bin")
+    world = c.world()                       # with .revision, .etag, .uncertain
+    for name, placed in world.objects.items(): ...
+    run = c.execute("ball", "bin in ws_right_bin", revision=world.revision,
+                    idempotency_key=True, retries=2)
 
 Standard library only; Python 3.10 or later.
 """
 
-from .client import CellcError, Client
+from .client import CellcError, Client, PreconditionFailed, WorldUncertain
 from .types import (
     Arm,
     CellInfo,
     Diagnostic,
     EndEffector,
+    Execution,
+    ExecutionStep,
+    ExecutionSummary,
+    Health,
+    Interrupted,
     Joint,
     Joints,
     ObjectInfo,
@@ -25,6 +32,11 @@ __all__ = [
     "Arm",
     "CellInfo",
     "EndEffector",
+    "Execution",
+    "ExecutionStep",
+    "ExecutionSummary",
+    "Health",
+    "Interrupted",
     "Joint",
     "ObjectInfo",
     "Workspace",
@@ -36,9 +48,11 @@ __all__ = [
     "Placed",
     "Plan",
     "Pose",
+    "PreconditionFailed",
     "Run",
     "State",
     "Step",
     "Trajectory",
     "World",
+    "WorldUncertain",
 ]

@@ -7,7 +7,7 @@ the cell's names, lengths are metres, angles radians, rotations unit quaternions
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields
 from typing import Any
 
 
@@ -174,20 +174,72 @@ class Placed:
 
 
 @dataclass(frozen=True)
+class Interrupted:
+    """An execution a stop of the service interrupted: its journal id, the steps it had
+    recorded, and the objects and arms that are uncertain until a client confirms them
+    (`Client.put_world` confirms everything, `Client.patch_world` what it names)."""
+
+    execution: int
+    steps_done: int
+    objects: tuple[str, ...]
+    arms: tuple[str, ...]
+
+    @staticmethod
+    def parse(d: dict[str, Any]) -> "Interrupted":
+        return Interrupted(
+            execution=int(d["execution"]),
+            steps_done=int(d.get("steps_done", 0)),
+            objects=tuple(d.get("objects") or ()),
+            arms=tuple(d.get("arms") or ()),
+        )
+
+
+@dataclass(frozen=True)
 class World:
-    """The world: every object's whereabouts and every arm's joints."""
+    """The world: every object's whereabouts and every arm's joints. A world the service
+    keeps also says which store holds it (`instance`), its `revision` there (one more for
+    every write), what interruptions left `uncertain`, and its `etag` (the `ETag` header,
+    `"INSTANCE-REVISION"`, to send back as `if_match`). Worlds inside plan answers and
+    from the command line are kept nowhere: those four are then None / empty."""
 
     objects: dict[str, Placed] = field(default_factory=dict)
     arms: dict[str, Joints] = field(default_factory=dict)
+    instance: str | None = None
+    revision: int | None = None
+    uncertain: tuple[Interrupted, ...] = ()
+    etag: str | None = None
 
     @staticmethod
-    def parse(d: dict[str, Any]) -> "World":
+    def parse(d: dict[str, Any], etag: str | None = None) -> "World":
         objects = {}
         for o in d.get("objects") or ():
             name = str(o["object"])
             objects[name] = Placed(name, State.parse(o.get("state")), Pose.parse(o.get("pose")))
         arms = {str(a["arm"]): Joints.parse(a) for a in d.get("arms") or ()}
-        return World(objects, arms)
+        revision = d.get("revision")
+        instance = d.get("instance")
+        if etag is None and instance is not None and revision is not None:
+            # The service's tag is documented as exactly this (docs/service.md); a world
+            # read from a run answer or a replay, which carry no header, gets it too.
+            etag = f'"{instance}-{revision}"'
+        return World(
+            objects,
+            arms,
+            instance=instance,
+            revision=None if revision is None else int(revision),
+            uncertain=tuple(Interrupted.parse(u) for u in d.get("uncertain") or ()),
+            etag=etag,
+        )
+
+    @property
+    def uncertain_objects(self) -> tuple[str, ...]:
+        """Every object some interruption left uncertain, each once."""
+        return tuple(dict.fromkeys(o for u in self.uncertain for o in u.objects))
+
+    @property
+    def uncertain_arms(self) -> tuple[str, ...]:
+        """Every arm some interruption left uncertain, each once."""
+        return tuple(dict.fromkeys(a for u in self.uncertain for a in u.arms))
 
     def document(self) -> dict[str, Any]:
         """The world document (docs/world.md) that puts the cell back in this world:
@@ -248,21 +300,35 @@ class Move:
 
 @dataclass(frozen=True)
 class Run:
-    """Moves carried out: each one's record, and the world at the end."""
+    """Moves carried out: each one's record, and the world at the end. From the service,
+    `execution` is the run's id in its journal (`Client.execution(id)`), the world carries
+    the revision the run produced, and `replayed` is True when the answer is the stored
+    first answer of an earlier request with the same idempotency key (nothing moved
+    this time)."""
 
     ok: bool
     moves: tuple[Move, ...]
     world: World | None
     diagnostics: tuple[Diagnostic, ...]
+    execution: int | None = None
+    replayed: bool = False
 
     @staticmethod
-    def parse(d: dict[str, Any]) -> "Run":
+    def parse(d: dict[str, Any], etag: str | None = None, replayed: bool = False) -> "Run":
+        execution = d.get("execution")
         return Run(
             ok=bool(d.get("ok", True)),
             moves=tuple(Move.parse(m) for m in d.get("moves") or ()),
-            world=World.parse(d["world"]) if d.get("world") else None,
+            world=World.parse(d["world"], etag) if d.get("world") else None,
             diagnostics=diagnostics_of(d),
+            execution=None if execution is None else int(execution),
+            replayed=replayed,
         )
+
+    @property
+    def revision(self) -> int | None:
+        """The world revision the run left (None outside the service)."""
+        return self.world.revision if self.world else None
 
 
 @dataclass(frozen=True)
@@ -386,6 +452,122 @@ class CellInfo:
         )
 
 
+@dataclass(frozen=True)
+class Health:
+    """What `GET /v1/health` says: the cell and version, the store the world is kept in
+    (`instance`) and its `revision`, `durability` (`"file"`: a state file, `"memory"`:
+    `--ephemeral`, nothing survives a stop), and the executions a stop `interrupted`
+    whose objects and arms are still uncertain. `health["status"]` still works, for
+    callers of the time when `Client.health` gave a dict."""
+
+    status: str
+    cell: str
+    version: str
+    instance: str
+    revision: int
+    durability: str
+    interrupted: tuple[Interrupted, ...]
+
+    @staticmethod
+    def parse(d: dict[str, Any]) -> "Health":
+        return Health(
+            status=str(d.get("status", "")),
+            cell=str(d.get("cell", "")),
+            version=str(d.get("version", "")),
+            instance=str(d.get("instance", "")),
+            revision=int(d.get("revision", 0)),
+            durability=str(d.get("durability", "")),
+            interrupted=tuple(Interrupted.parse(u) for u in d.get("interrupted") or ()),
+        )
+
+    def __getitem__(self, name: str) -> Any:
+        if name not in {f.name for f in fields(self)}:
+            raise KeyError(name)
+        return getattr(self, name)
+
+
+@dataclass(frozen=True)
+class ExecutionSummary:
+    """One execution of the service's journal: its `id`, the idempotency `key` it was sent
+    with, its `status` (`running`, `succeeded`, `failed`, `cancelled`, `interrupted`), the
+    revision it started from (`base`) and the one its end left (`result`, None while
+    running or interrupted), the steps it recorded, the objects and arms it moves, when it
+    started and ended (ms since the Unix epoch) and what was asked (`intent`:
+    `{"endpoint": ..., "request": ...}`)."""
+
+    id: int
+    key: str | None
+    status: str
+    base: int
+    result: int | None
+    steps_done: int
+    objects: tuple[str, ...]
+    arms: tuple[str, ...]
+    started_ms: int
+    finished_ms: int | None
+    intent: dict[str, Any]
+
+    @staticmethod
+    def fields_of(d: dict[str, Any]) -> dict[str, Any]:
+        result = d.get("result")
+        finished = d.get("finished_ms")
+        return dict(
+            id=int(d["id"]),
+            key=d.get("key"),
+            status=str(d["status"]),
+            base=int(d.get("base", 0)),
+            result=None if result is None else int(result),
+            steps_done=int(d.get("steps_done", 0)),
+            objects=tuple(d.get("objects") or ()),
+            arms=tuple(d.get("arms") or ()),
+            started_ms=int(d.get("started_ms", 0)),
+            finished_ms=None if finished is None else int(finished),
+            intent=d.get("intent") if isinstance(d.get("intent"), dict) else {},
+        )
+
+    @staticmethod
+    def parse(d: dict[str, Any]) -> "ExecutionSummary":
+        return ExecutionSummary(**ExecutionSummary.fields_of(d))
+
+
+@dataclass(frozen=True)
+class ExecutionStep:
+    """One recorded step of an execution: its index (1 for the first), the world revision
+    it left, and what the executor reported (`{"object": ..., "step": <plan step>}`)."""
+
+    index: int
+    revision: int
+    report: Any
+
+    @staticmethod
+    def parse(d: dict[str, Any]) -> "ExecutionStep":
+        return ExecutionStep(int(d["index"]), int(d["revision"]), d.get("report"))
+
+
+@dataclass(frozen=True)
+class Execution(ExecutionSummary):
+    """One execution with its recorded steps and, once it ended, the answer it was given
+    (`outcome`: `{"status": HTTP status, "body": run document}`; `run()` parses it)."""
+
+    steps: tuple[ExecutionStep, ...] = ()
+    outcome: dict[str, Any] | None = None
+
+    @staticmethod
+    def parse(d: dict[str, Any]) -> "Execution":
+        outcome = d.get("outcome")
+        return Execution(
+            **ExecutionSummary.fields_of(d),
+            steps=tuple(ExecutionStep.parse(s) for s in d.get("steps") or ()),
+            outcome=outcome if isinstance(outcome, dict) else None,
+        )
+
+    def run(self) -> Run | None:
+        """The run document the execution was answered with, or None before it ended."""
+        if self.outcome is None or not isinstance(self.outcome.get("body"), dict):
+            return None
+        return Run.parse(self.outcome["body"])
+
+
 # --- the schema these types mirror ----------------------------------------------------
 #
 # The documents are defined once, as Rust types (driver/src/document in the cellc
@@ -405,14 +587,26 @@ MIRRORS: dict[type, tuple[str, dict[str, str], frozenset[str]]] = {
     Plan: ("Plan", {}, frozenset()),
     Placed: ("Placed", {}, frozenset()),
     World: ("World", {}, frozenset()),
+    Interrupted: ("Interrupted", {}, frozenset()),
     Move: ("Move", {}, frozenset()),
     Run: ("Run", {}, frozenset({"version", "kind", "plans", "errors", "warnings"})),
+    Health: ("Health", {}, frozenset()),
+    ExecutionSummary: ("ExecutionSummary", {}, frozenset()),
+    ExecutionStep: ("ExecutionStep", {}, frozenset()),
+    Execution: ("Execution", {}, frozenset()),
     Joint: ("Joint", {}, frozenset()),
     Arm: ("Arm", {}, frozenset()),
     EndEffector: ("EndEffector", {}, frozenset()),
     Workspace: ("Workspace", {}, frozenset()),
     ObjectInfo: ("Object", {}, frozenset()),
     CellInfo: ("Cell", {}, frozenset()),
+}
+
+# Fields a class has that its schema does not, because the client reads them from the
+# answer's headers rather than its body: the `ETag`, and `idempotent-replayed`.
+FROM_HEADERS: dict[type, frozenset[str]] = {
+    World: frozenset({"etag"}),
+    Run: frozenset({"replayed"}),
 }
 
 # Schemas with properties that no class mirrors, and how the client gives them instead.
@@ -425,7 +619,7 @@ NOT_MIRRORED: dict[str, str] = {
     "Point": "kept as (time, positions) in `Trajectory.points`",
     "Grasp": "kept by name in `ObjectInfo`",
     "Box3": "kept as (min, max) in `Workspace.boxes`",
-    "Health": "returned as a dict by `Client.health`",
+    "Executions": "returned as a list of `ExecutionSummary` by `Client.executions`",
     "Explanation": "returned as a dict by `Client.explain`",
     "CutEntry": "part of the explanation's dict",
     "Suggestion": "part of the explanation's dict",
