@@ -299,7 +299,7 @@ fn holder_of(world: &Value, object: &str) -> String {
         .unwrap_or_default()
 }
 
-/// The requests of `tests/ui/serve/`: `METHOD PATH STATUS CODE [repeat=N | stall | prime]`,
+/// The requests of `tests/ui/serve/` (not its `faults/` folder): `METHOD PATH STATUS CODE [repeat=N | stall | prime]`,
 /// then `Name: value` header lines, then the body (with `prime`, two bodies split by a
 /// `---` line: the first sets the scene, the second is checked).
 fn ui_requests(server: &Server) {
@@ -307,6 +307,9 @@ fn ui_requests(server: &Server) {
         .unwrap()
         .filter_map(Result::ok)
         .map(|e| e.path())
+        // `faults/` holds the requests that need a fault set up first
+        // (tests/serve_faults.rs sends them).
+        .filter(|p| p.is_file())
         .collect();
     files.sort();
     let mut stalled = Vec::new();

@@ -294,9 +294,10 @@ impl StepObserver for Journal<'_> {
             Ok(r) => {
                 self.revision = r;
                 self.steps += 1;
-                self.last = Some((world.clone(), document));
+                let stored = as_stored(self.cell, &document, world);
+                self.last = Some((stored.clone(), document));
                 self.service.publish(super::Snapshot {
-                    world: world.clone(),
+                    world: stored,
                     revision: r,
                     instance: self.instance.clone(),
                     uncertain: self.uncertain.clone(),
@@ -305,6 +306,21 @@ impl StepObserver for Journal<'_> {
             Err(e) => self.error = Some(e),
         }
     }
+}
+
+/// The world as the state file gives it back (`document` read into the cell), which the
+/// service serves instead of the simulator's own: a pose read back from its document is
+/// not always the same float as the simulator's (a quaternion's last digit), and an
+/// answer, the published world and the world after a restart must be the same bit for
+/// bit. A document that does not read back (which a restart would refuse, S0011) leaves
+/// the simulator's world.
+fn as_stored(
+    cell: &cellc_runtime::Cell,
+    document: &cellc_schema::WorldDocument,
+    simulated: &World,
+) -> World {
+    cell.world(document, &cellc_runtime::plan::PlanOptions::default())
+        .unwrap_or_else(|_| simulated.clone())
 }
 
 impl Execution {
@@ -359,6 +375,7 @@ impl Execution {
         let changed = finished != *last_stored;
         // `finish` writes the world once more when it changed since the last step.
         let result = Revision(revision.0 + u64::from(changed));
+        let simulated = as_stored(cell, &finished, &simulated);
         let (status, mut document) = run_document(service, &self.moves, &run, &simulated);
         document.execution = Some(id.0);
         if let Some(w) = document.world.as_mut() {

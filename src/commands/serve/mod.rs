@@ -277,6 +277,7 @@ async fn serve(service: Arc<Service>, addr: SocketAddr) -> ExitCode {
             return ExitCode::from(1);
         }
     };
+    let stop = shutdown_signal();
     match listener.local_addr() {
         Ok(bound) => println!("listening on http://{bound}"),
         Err(e) => {
@@ -286,7 +287,7 @@ async fn serve(service: Arc<Service>, addr: SocketAddr) -> ExitCode {
     }
     let app = router(service);
     let graceful = hyper_util::server::graceful::GracefulShutdown::new();
-    let mut stop = std::pin::pin!(shutdown_signal());
+    let mut stop = std::pin::pin!(stop);
     loop {
         tokio::select! {
             accepted = listener.accept() => {
@@ -321,25 +322,34 @@ async fn serve(service: Arc<Service>, addr: SocketAddr) -> ExitCode {
     ExitCode::SUCCESS
 }
 
-/// SIGINT (Ctrl-C) or SIGTERM.
-async fn shutdown_signal() {
-    let interrupt = async {
-        let _ = tokio::signal::ctrl_c().await;
-    };
+/// SIGINT (Ctrl-C) or SIGTERM. The handlers are installed when this is called, not when
+/// the future is first polled: the service calls it before it says it listens, so a stop
+/// sent as soon as the listening line is read is a clean shutdown (state file closed,
+/// exit 0), not the signal's default death.
+fn shutdown_signal() -> impl std::future::Future<Output = ()> {
     #[cfg(unix)]
-    let terminate = async {
-        match tokio::signal::unix::signal(tokio::signal::unix::SignalKind::terminate()) {
-            Ok(mut s) => {
-                s.recv().await;
+    {
+        use tokio::signal::unix::{signal, Signal, SignalKind};
+        let interrupt = signal(SignalKind::interrupt()).ok();
+        let terminate = signal(SignalKind::terminate()).ok();
+        async fn received(signal: Option<Signal>) {
+            match signal {
+                Some(mut s) => {
+                    s.recv().await;
+                }
+                None => std::future::pending::<()>().await,
             }
-            Err(_) => std::future::pending::<()>().await,
         }
-    };
+        async move {
+            tokio::select! {
+                () = received(interrupt) => {}
+                () = received(terminate) => {}
+            }
+        }
+    }
     #[cfg(not(unix))]
-    let terminate = std::future::pending::<()>();
-    tokio::select! {
-        () = interrupt => {}
-        () = terminate => {}
+    async {
+        let _ = tokio::signal::ctrl_c().await;
     }
 }
 

@@ -323,6 +323,14 @@ fn io_error(path: &Path, e: &std::io::Error) -> StoreError {
     }
 }
 
+/// The extended I/O codes of a write the system refused: of the file, of growing it, of
+/// the write-ahead log's shared index.
+const WRITES_REFUSED: [i32; 3] = [
+    rusqlite::ffi::SQLITE_IOERR_WRITE,
+    rusqlite::ffi::SQLITE_IOERR_TRUNCATE,
+    rusqlite::ffi::SQLITE_IOERR_SHMSIZE,
+];
+
 /// SQLite's result codes in the store's words. Messages are SQLite's own, never a row's
 /// content.
 pub(crate) fn sqlite_error(e: rusqlite::Error) -> StoreError {
@@ -340,6 +348,15 @@ pub(crate) fn sqlite_error(e: rusqlite::Error) -> StoreError {
             ErrorCode::TooBig => StoreError::TooLarge {
                 bytes: MAX_RECORD_BYTES * 2,
             },
+            // A write the system refused other than for want of space (`ENOSPC` is
+            // `DiskFull` above): past the process's file-size limit (`EFBIG`), a quota,
+            // or a failing disk. SQLite's own words, "Error code 778: disk I/O error",
+            // would leave the operator guessing.
+            ErrorCode::SystemIoFailure if WRITES_REFUSED.contains(&failure.extended_code) => {
+                StoreError::Io {
+                    reason: "SQLite could not write to it (the disk may be full, the file past this process's size limit, or the disk failing)".into(),
+                }
+            }
             _ => StoreError::Io {
                 reason: format!("SQLite: {}", failure),
             },

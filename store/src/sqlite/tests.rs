@@ -319,6 +319,32 @@ fn files_that_are_not_state_files_are_refused_untouched() {
     ));
 }
 
+/// A write the system refused for another reason than space (`EFBIG` past a file-size
+/// limit comes out of SQLite as `SQLITE_IOERR_WRITE`) is said as such, not as SQLite's
+/// bare "Error code 778"; other I/O errors keep SQLite's words.
+#[test]
+fn a_refused_write_is_worded_as_one() {
+    let failure = |code: i32| {
+        sqlite_error(rusqlite::Error::SqliteFailure(
+            rusqlite::ffi::Error::new(code),
+            None,
+        ))
+    };
+    for code in WRITES_REFUSED {
+        match failure(code) {
+            StoreError::Io { reason } => {
+                assert!(reason.contains("could not write"), "{code}: {reason}")
+            }
+            other => panic!("{code}: {other:?}"),
+        }
+    }
+    match failure(rusqlite::ffi::SQLITE_IOERR_READ) {
+        StoreError::Io { reason } => assert!(!reason.contains("could not write"), "{reason}"),
+        other => panic!("{other:?}"),
+    }
+    assert_eq!(failure(rusqlite::ffi::SQLITE_FULL), StoreError::Full);
+}
+
 #[test]
 fn a_full_disk_is_a_coded_error_and_the_last_commit_stands() {
     let mut store = SqliteStore::in_memory(Retention::default()).expect("in memory");
