@@ -462,3 +462,93 @@ fn a_torn_write_ahead_log_opens_to_an_acknowledged_world_or_a_refusal() {
     );
     drop(store);
 }
+
+fn folder_listing(dir: &Path) -> Vec<PathBuf> {
+    let mut names: Vec<PathBuf> = std::fs::read_dir(dir)
+        .expect("a folder")
+        .map(|e| e.expect("an entry").path())
+        .collect();
+    names.sort();
+    names
+}
+
+#[test]
+fn a_reader_of_a_file_no_writer_has_open_leaves_nothing_beside_it() {
+    let dir = tempfile::tempdir().expect("a temporary folder");
+    let path = state_file(&dir);
+    {
+        let mut store = open(&path);
+        store
+            .put_world(None, &world("table", 0.0), &Confirms::Everything)
+            .expect("written");
+    }
+    let listing = folder_listing(dir.path());
+    assert_eq!(listing, vec![path.clone()], "a closed store is one file");
+    let bytes = std::fs::read(&path).expect("readable");
+    let modified = std::fs::metadata(&path)
+        .and_then(|m| m.modified())
+        .expect("a time");
+    {
+        let mut reader = SqliteStore::open_read_only(&path).expect("a reader");
+        let seen = reader.world().expect("readable").expect("a world");
+        assert_eq!(seen.document, world("table", 0.0));
+        assert!(reader.recent(10).expect("readable").is_empty());
+        assert!(reader.still.is_some(), "read as a file no writer has open");
+    }
+    assert_eq!(folder_listing(dir.path()), listing, "no -wal or -shm made");
+    assert_eq!(std::fs::read(&path).expect("readable"), bytes);
+    assert_eq!(
+        std::fs::metadata(&path)
+            .and_then(|m| m.modified())
+            .expect("a time"),
+        modified
+    );
+}
+
+#[test]
+fn a_reader_opened_before_a_writer_came_reads_what_the_writer_wrote() {
+    let dir = tempfile::tempdir().expect("a temporary folder");
+    let path = state_file(&dir);
+    open(&path)
+        .put_world(None, &world("table", 0.0), &Confirms::Everything)
+        .expect("written");
+    // A writer that comes while the reader is open, and is still there.
+    let mut reader = SqliteStore::open_read_only(&path).expect("a reader");
+    assert!(reader.still.is_some());
+    let mut writer = open(&path);
+    writer
+        .put_world(None, &world("bin", 0.0), &Confirms::Everything)
+        .expect("written");
+    let seen = reader.world().expect("readable").expect("a world");
+    assert_eq!(
+        (seen.revision, seen.document),
+        (Revision(2), world("bin", 0.0))
+    );
+    assert!(reader.still.is_none(), "reopened as an ordinary reader");
+    drop(writer);
+    drop(reader);
+    // The log the live reader kept from being checked in, checked in by a writer alone.
+    drop(open(&path));
+    assert!(!dir.path().join("cell.state-wal").exists());
+
+    // A writer that came, wrote and went (checking its log into the file) between the
+    // reader's open and its read.
+    let mut reader = SqliteStore::open_read_only(&path).expect("a reader");
+    assert!(reader.still.is_some());
+    {
+        let mut writer = open(&path);
+        writer
+            .put_world(None, &world("left", 0.2), &Confirms::Everything)
+            .expect("written");
+    }
+    assert!(
+        !dir.path().join("cell.state-wal").exists(),
+        "the log was checked in"
+    );
+    let seen = reader.world().expect("readable").expect("a world");
+    assert_eq!(
+        (seen.revision, seen.document),
+        (Revision(3), world("left", 0.2))
+    );
+    assert!(reader.still.is_none(), "the file changed since the open");
+}
