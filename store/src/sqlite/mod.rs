@@ -535,6 +535,10 @@ impl Store for SqliteStore {
     fn recent(&mut self, limit: u32) -> Result<Vec<ExecutionRecord>, StoreError> {
         self.read(|conn| journal::recent(conn, limit))
     }
+
+    fn in_flight(&mut self) -> Result<Vec<Uncertainty>, StoreError> {
+        self.read(journal::in_flight)
+    }
 }
 
 #[cfg(test)]
