@@ -9,7 +9,7 @@ use std::path::{Path, PathBuf};
 use cellc_lang::Diagnostic;
 use cellc_runtime::plan::PlanOptions;
 use cellc_runtime::{Cell, World};
-use cellc_store::{SqliteStore, Store, StoreError, StoredWorld, Subjects};
+use cellc_store::{SqliteStore, Store, StoreError, StoredWorld, Subjects, Uncertainty};
 
 pub use cellc_lang::codes::serve as codes;
 
@@ -137,17 +137,26 @@ fn reading(e: &StoreError, shown: &str) -> Option<Diagnostic> {
 /// opened read-only (never created nor written, and without the writer's lock, so a
 /// running `cellc serve` keeps the file and this reads beside it), refused (S0011) when
 /// it is absent, not a state file, newer, damaged or holds no world yet, and (S0007,
-/// with `confirm` as its help) when that world is uncertain.
+/// with `confirm` in its help) when that world is uncertain or an execution is running
+/// in it (the service may be moving what it reads).
 pub fn read(path: &str, confirm: &str) -> Result<StoredWorld, Diagnostic> {
     let refused = |e: StoreError| diagnostic(&e, path, When::Reading);
     let mut store = SqliteStore::open_read_only(Path::new(path)).map_err(refused)?;
+    // An execution running before or after the world is read may be moving what it
+    // holds (or its service stopped during it and has not found it interrupted yet).
+    let mut running = store.in_flight().map_err(refused)?;
     let stored = store
         .world()
         .map_err(refused)?
         .ok_or(StoreError::NoWorld)
         .map_err(refused)?;
-    if !stored.uncertain.is_empty() {
-        return Err(uncertain(&stored, confirm));
+    for u in store.in_flight().map_err(refused)? {
+        if !running.iter().any(|r| r.execution == u.execution) {
+            running.push(u);
+        }
+    }
+    if !stored.uncertain.is_empty() || !running.is_empty() {
+        return Err(refusal(&stored, &running, confirm));
     }
     Ok(stored)
 }
@@ -174,7 +183,18 @@ pub fn world_of(cell: &Cell, stored: &StoredWorld, path: &str) -> Result<World, 
 /// S0007: the world has objects or arms an interrupted execution left unknown. `confirm`
 /// says how to confirm them where this is said (the service's PUT/PATCH, or a world file).
 pub fn uncertain(stored: &StoredWorld, confirm: &str) -> Diagnostic {
-    let subjects = stored.uncertain_subjects();
+    refusal(stored, &[], confirm)
+}
+
+/// S0007 for what interruptions left unknown and what `running` executions are moving,
+/// for a reader beside the service: they must end (or be found interrupted and confirmed)
+/// before their objects and arms are planned with.
+fn refusal(stored: &StoredWorld, running: &[Uncertainty], confirm: &str) -> Diagnostic {
+    let mut subjects = stored.uncertain_subjects();
+    for u in running {
+        subjects.objects.extend(u.subjects.objects.iter().cloned());
+        subjects.arms.extend(u.subjects.arms.iter().cloned());
+    }
     let mut d = Diagnostic::error(
         codes::WORLD_UNCERTAIN,
         format!(
@@ -190,7 +210,28 @@ pub fn uncertain(stored: &StoredWorld, confirm: &str) -> Diagnostic {
             names(&u.subjects)
         ));
     }
-    d.help(confirm.to_string())
+    for u in running {
+        d = d.note(format!(
+            "execution {} is running, {} of its steps recorded; it is moving {} (a service \
+             that stopped during it finds it interrupted when it starts again)",
+            u.execution,
+            u.steps_done,
+            names(&u.subjects)
+        ));
+    }
+    let help = match running {
+        [] => confirm.to_string(),
+        [u] => format!(
+            "wait for execution {} to end (`GET /v1/executions/{}`) and plan again; \
+             when it was interrupted, {confirm}",
+            u.execution, u.execution
+        ),
+        _ => format!(
+            "wait for those executions to end and plan again; when they were interrupted, \
+             {confirm}"
+        ),
+    };
+    d.help(help)
 }
 
 /// `object `ball`, arm `left`` and the like.

@@ -295,6 +295,38 @@ fn a_reader_works_beside_the_writer_that_holds_the_file() {
     let out = plan("table.standing in w2");
     let doc: serde_json::Value = serde_json::from_slice(&out.stdout).expect("JSON");
     assert_eq!(doc["plans"][0]["states"][0]["workspace"], "w1", "{doc}");
+
+    // While the service executes a plan, what it moves is refused, and again once it
+    // ended.
+    let begun = writer
+        .begin(&NewExecution {
+            key: None,
+            expect: None,
+            intent: "{}".to_string(),
+            subjects: Subjects {
+                objects: ["cylinder".to_string()].into(),
+                arms: ["arm1".to_string()].into(),
+            },
+            steps: 4,
+        })
+        .expect("journaled");
+    let Begun::Started { id, .. } = begun else {
+        panic!("nothing to repeat: {begun:?}");
+    };
+    let out = plan("table.standing in w2");
+    let diagnostic =
+        &serde_json::from_slice::<serde_json::Value>(&out.stdout).expect("JSON")["diagnostics"][0];
+    assert_eq!(out.status.code(), Some(1));
+    assert_eq!(diagnostic["code"], "S0007", "{diagnostic}");
+    let note = diagnostic.to_string();
+    assert!(
+        note.contains("execution 1 is running, 0 of its steps recorded"),
+        "{note}"
+    );
+    writer
+        .finish(id, cellc_store::End::Cancelled, "{}", None)
+        .expect("ended");
+    assert!(plan("table.standing in w2").status.success());
 }
 
 /// The command fails with `code`, its message (one line: `--format short`) saying `words`.
