@@ -125,6 +125,10 @@ fn reading(e: &StoreError, shown: &str) -> Option<Diagnostic> {
             format!("`{shown}` stayed locked by its writer for longer than a reader waits"),
             "try again: `cellc serve` holds its lock only for the length of one write",
         ),
+        StoreError::ReadOnly => error(
+            format!("`{shown}` cannot be read here: permission denied (to it, or to the files SQLite keeps beside it while `cellc serve` has it open)"),
+            "read it as a user who may read the file and its folder, or leave `--state` out to start from the cell's world",
+        ),
         StoreError::NoWorld => error(
             format!("`{shown}` holds no world yet"),
             "`cellc serve` stores the cell's world in it when it starts with this file; until then leave `--state` out to start from the cell's world",
