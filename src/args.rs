@@ -114,6 +114,12 @@ pub struct RequestArgs {
     /// request's object is put at its start).
     #[arg(long)]
     pub world: Option<PathBuf>,
+    /// Start from the world a state file of `cellc serve` holds, as from `--world FILE`
+    /// (docs/world.md); refused while that world is uncertain. The file is only read:
+    /// `cellc run` does not write its result back (the service owns the file; a run is a
+    /// simulation from its world), and a running service may keep writing it meanwhile.
+    #[arg(long, value_name = "PATH", conflicts_with = "world")]
+    pub state: Option<PathBuf>,
     /// When other objects are in a move's way (one stands at its goal, or they block
     /// every way there), move them to free resting poses first; the output shows those
     /// moves, then the move itself.
@@ -263,6 +269,10 @@ pub enum Command {
         /// Start from this world document (docs/world.md).
         #[arg(long)]
         world: Option<PathBuf>,
+        /// Start from the world a state file of `cellc serve` holds (only read; refused
+        /// while that world is uncertain).
+        #[arg(long, value_name = "PATH", conflicts_with = "world")]
+        state: Option<PathBuf>,
         /// Seed of the randomized solvers.
         #[arg(long, default_value_t = 0)]
         seed: u64,

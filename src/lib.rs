@@ -124,6 +124,7 @@ pub fn dispatch() -> ExitCode {
             task,
             plan,
             world,
+            state,
             seed,
             output,
         } => commands::view::run(&commands::view::ViewArgs {
@@ -144,6 +145,7 @@ pub fn dispatch() -> ExitCode {
                 task: task.clone(),
                 moves: Vec::new(),
                 world: world.as_ref().map(|p| p.to_string_lossy().into_owned()),
+                state: state.as_ref().map(|p| p.to_string_lossy().into_owned()),
             },
             plan_file: plan.clone(),
             output: output.clone(),

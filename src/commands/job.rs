@@ -7,6 +7,10 @@
 //!   unless `--world FILE` gives the rest of the cell.
 //! - A task (`--task NAME`, declared in the cell) or `--move` flags are several moves,
 //!   starting from the cell's `world` (or `--world FILE`).
+//!
+//! `--state PATH` is `--world FILE` with the world a `cellc serve` state file holds: read,
+//! never written back (the service owns the file; a command's moves are simulated from
+//! that world, not carried out in the cell).
 
 use std::fmt::Write as _;
 use std::process::ExitCode;
@@ -40,6 +44,32 @@ pub struct JobArgs {
     pub moves: Vec<String>,
     /// A world document to start from.
     pub world: Option<String>,
+    /// A state file whose world to start from (never with `world`: the parser refuses
+    /// both).
+    pub state: Option<String>,
+}
+
+/// How to confirm an uncertain world from the command line, S0007's help.
+pub const CONFIRM: &str = "confirm where they are through the service (`PUT` or `PATCH /v1/world`), or start from a world file you checked with `--world FILE`";
+
+/// The world `--world FILE` or `--state PATH` gives, `None` when neither is given.
+///
+/// # Errors
+/// The diagnostic of a file that cannot be read or a world that does not fit the cell
+/// (R0008, R0009, S0011), or of an uncertain stored world (S0007).
+pub fn given_world(
+    args: &JobArgs,
+    cell: &Cell,
+    options: &PlanOptions,
+) -> Result<Option<World>, Diagnostic> {
+    if let Some(path) = &args.world {
+        return read_world(cell, path, options).map(Some);
+    }
+    let Some(path) = &args.state else {
+        return Ok(None);
+    };
+    let stored = crate::state::read(path, CONFIRM)?;
+    crate::state::world_of(cell, &stored, path).map(Some)
 }
 
 /// One move of a job.
@@ -69,10 +99,7 @@ pub fn job(args: &JobArgs, options: &PlanOptions, loaded: &Loaded) -> Result<Job
         loaded.report(&[d]);
         ExitCode::from(1)
     };
-    let given = match &args.world {
-        Some(path) => Some(read_world(cell, path, options).map_err(fail)?),
-        None => None,
-    };
+    let given = given_world(args, cell, options).map_err(fail)?;
     let declared = || {
         cell.initial_world(options)
             .map_err(|e| world_diagnostic(&e, "the cell's `world`"))
@@ -138,11 +165,11 @@ pub fn job(args: &JobArgs, options: &PlanOptions, loaded: &Loaded) -> Result<Job
 
 /// The objects the job of `args` can touch in a cell of this core: the one a request
 /// moves (its world has no other object), or a task's and the declared world's. `None`
-/// when that is not known before the job is read (a world document, `--move` flags), so
-/// every object is needed. A name that matches nothing touches nothing: the job reports
-/// it.
+/// when that is not known before the job is read (a world document, a state file,
+/// `--move` flags), so every object is needed. A name that matches nothing touches
+/// nothing: the job reports it.
 pub fn objects(args: &JobArgs, core: &Artifact) -> Option<Vec<ObjectId>> {
-    if args.world.is_some() || !args.moves.is_empty() {
+    if args.world.is_some() || args.state.is_some() || !args.moves.is_empty() {
         return None;
     }
     let mut touched: Vec<ObjectId> = Vec::new();

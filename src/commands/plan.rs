@@ -85,6 +85,10 @@ impl PlanArgs {
                     .world
                     .as_ref()
                     .map(|p| p.to_string_lossy().into_owned()),
+                state: request
+                    .state
+                    .as_ref()
+                    .map(|p| p.to_string_lossy().into_owned()),
             },
             motions: !request.no_motions,
             weights: request.weights,

@@ -4,6 +4,8 @@
 //! next move. The final error is measured on the simulated object, whose pose comes from
 //! the kinematics of its holders. A failing move is reported with its place in the job;
 //! the world printed at the end is as it really is: the objects moved so far stay moved.
+//! With `--state PATH` the run starts from a service's stored world and leaves the file
+//! as it was: the service owns it, and a simulated run is not the cell's history.
 
 use std::process::ExitCode;
 

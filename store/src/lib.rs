@@ -535,4 +535,34 @@ pub trait Store: Send {
     /// # Errors
     /// The file cannot be read.
     fn keyed(&mut self, key: &IdempotencyKey) -> Result<Option<ExecutionRecord>, StoreError>;
+
+    /// What the executions still `running` leave unknown, oldest first: for a reader
+    /// beside the service (`cellc plan --state`), whose world is as their last recorded
+    /// steps left it while the cell may be further on (or, when their service stopped
+    /// and was not started again, as recovery will find them). Empty for a writer after
+    /// [`Store::recovered`] unless it has begun one since.
+    ///
+    /// The default reads [`Store::recent`] and each running execution; an
+    /// implementation with an index of running executions does better.
+    ///
+    /// # Errors
+    /// The file cannot be read.
+    fn in_flight(&mut self) -> Result<Vec<Uncertainty>, StoreError> {
+        let mut out = Vec::new();
+        for listed in self.recent(u32::MAX)? {
+            if listed.status != Status::Running {
+                continue;
+            }
+            let Some(record) = self.execution(listed.id)? else {
+                continue;
+            };
+            out.push(Uncertainty {
+                execution: record.id,
+                steps_done: u32::try_from(record.steps.len()).unwrap_or(u32::MAX),
+                subjects: record.subjects,
+            });
+        }
+        out.reverse();
+        Ok(out)
+    }
 }

@@ -1,5 +1,5 @@
 //! `cellc view INPUT [--request NAME | --task NAME | --plan PLAN.json]
-//! [--world WORLD.json] -o VIEW.html`: one self-contained HTML page with the cell in 3D,
+//! [--world WORLD.json | --state PATH] -o VIEW.html`: one self-contained HTML page with the cell in 3D,
 //! its workspaces, its object-state graphs and, with a plan, the plan animated.
 //!
 //! Everything is computed here, in Rust, by the runtime's own code: the collision
@@ -128,10 +128,9 @@ fn planned(args: &ViewArgs, loaded: &Loaded) -> Result<Planned, ExitCode> {
             loaded.report(&[d]);
             ExitCode::from(1)
         };
-        let world = match &p.world {
-            Some(w) => crate::world_report::read_world(cell, w, &options).map_err(fail)?,
-            None => World::at_home(artifact, cell.scene()),
-        };
+        let world = super::job::given_world(p, cell, &options)
+            .map_err(fail)?
+            .unwrap_or_else(|| World::at_home(artifact, cell.scene()));
         let (plans, starts) = plans::read(artifact, cell.scene(), &path).map_err(fail)?;
         return Ok(Planned {
             world,
@@ -143,15 +142,14 @@ fn planned(args: &ViewArgs, loaded: &Loaded) -> Result<Planned, ExitCode> {
     }
     let asked = p.request.is_some() || p.object.is_some() || p.task.is_some();
     if !asked {
-        let world = match &p.world {
-            Some(w) => crate::world_report::read_world(cell, w, &options).map_err(|d| {
-                loaded.report(&[d]);
-                ExitCode::from(1)
-            })?,
-            None => cell
-                .initial_world(&options)
-                .unwrap_or_else(|_| World::at_home(artifact, cell.scene())),
-        };
+        let given = super::job::given_world(p, cell, &options).map_err(|d| {
+            loaded.report(&[d]);
+            ExitCode::from(1)
+        })?;
+        let world = given.unwrap_or_else(|| {
+            cell.initial_world(&options)
+                .unwrap_or_else(|_| World::at_home(artifact, cell.scene()))
+        });
         return Ok(Planned {
             world,
             plans: Vec::new(),

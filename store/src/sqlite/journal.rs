@@ -382,6 +382,37 @@ pub(super) fn execution(
     raw.check(steps).map(Some)
 }
 
+/// What the running executions leave unknown, oldest first (what [`SqliteStore::recover`]
+/// would mark uncertain).
+pub(super) fn in_flight(conn: &Connection) -> Result<Vec<Uncertainty>, StoreError> {
+    let mut statement = conn
+        .prepare(
+            "SELECT e.id, e.subjects,
+                    (SELECT count(*) FROM steps s WHERE s.execution = e.id)
+             FROM executions e WHERE e.status = 'running' ORDER BY e.id",
+        )
+        .map_err(sqlite_error)?;
+    let rows = statement
+        .query_map([], |r| {
+            Ok((
+                r.get::<_, i64>(0)?,
+                r.get::<_, String>(1)?,
+                r.get::<_, u32>(2)?,
+            ))
+        })
+        .map_err(sqlite_error)?;
+    let mut out = Vec::new();
+    for row in rows {
+        let (id, subjects, steps_done) = row.map_err(sqlite_error)?;
+        out.push(Uncertainty {
+            execution: ExecutionId(u64::try_from(id).map_err(|e| corrupt("execution id", e))?),
+            steps_done,
+            subjects: serde_json::from_str(&subjects).map_err(|e| corrupt("subjects", e))?,
+        });
+    }
+    Ok(out)
+}
+
 pub(super) fn recent(conn: &Connection, limit: u32) -> Result<Vec<ExecutionRecord>, StoreError> {
     let mut statement = conn
         .prepare(&format!(

@@ -14,6 +14,7 @@
 //! that whatever was running when the store was opened is no longer running).
 
 mod journal;
+mod reader;
 
 use std::fs::{File, TryLockError};
 use std::path::Path;
@@ -34,8 +35,8 @@ pub(crate) const LAYOUT: i64 = 1;
 /// `"cell"` in ASCII: what marks a SQLite file as a cellc state file.
 const APPLICATION_ID: i64 = 0x6365_6c6c;
 
-/// How long a writer waits for a reader's lock before giving up (`cellc plan --state`
-/// holds one for the length of a read).
+/// How long a writer waits for a reader's lock before giving up, and a reader for the
+/// writer's (`cellc plan --state` holds one for the length of a read).
 const BUSY_TIMEOUT: Duration = Duration::from_secs(5);
 
 const CREATE: &str = "
@@ -94,6 +95,8 @@ pub struct SqliteStore {
     recovered: Vec<ExecutionId>,
     retention: Retention,
     clock: fn() -> i64,
+    /// For a reader of a file no writer had open: how to tell that it still has none.
+    still: Option<reader::Still>,
     _lock: Option<File>,
 }
 
@@ -163,18 +166,40 @@ impl SqliteStore {
                 reason: format!("no state file at `{}`", path.display()),
             });
         }
-        let conn = Connection::open_with_flags(
-            path,
-            OpenFlags::SQLITE_OPEN_READ_ONLY | OpenFlags::SQLITE_OPEN_NO_MUTEX,
-        )
-        .map_err(sqlite_error)?;
-        let store = SqliteStore::prepare(conn, None, Retention::default(), wall_clock_ms)?;
+        // No lock is taken (a running service keeps its own), and nothing is made beside
+        // a file no writer has open (`reader.rs`).
+        let (conn, still) = match reader::open_still(path)? {
+            Some((conn, still)) => (conn, Some(still)),
+            None => (reader::open_live(path)?, None),
+        };
+        let mut store = SqliteStore::prepare(conn, None, Retention::default(), wall_clock_ms)?;
         if store.instance.as_str().is_empty() {
             return Err(StoreError::Foreign {
                 reason: "an empty database".into(),
             });
         }
+        store.still = still;
         Ok(store)
+    }
+
+    /// Runs a read; for a reader opened on a file no writer had open, checks that none
+    /// came during it, and otherwise reads again as an ordinary reader.
+    fn read<T>(
+        &mut self,
+        read: impl Fn(&Connection) -> Result<T, StoreError>,
+    ) -> Result<T, StoreError> {
+        let Some(still) = &self.still else {
+            return read(&self.conn);
+        };
+        let first = read(&self.conn);
+        if still.holds() {
+            return first;
+        }
+        let live = reader::open_live(still.path())?;
+        bound(&live)?;
+        self.conn = live;
+        self.still = None;
+        read(&self.conn)
     }
 
     /// A store that lives in memory only (tests, and `cellc serve --state none`).
@@ -195,12 +220,7 @@ impl SqliteStore {
         retention: Retention,
         clock: fn() -> i64,
     ) -> Result<SqliteStore, StoreError> {
-        // Bounds every value read back, so a hostile or damaged file cannot make a row
-        // take more memory than the largest record the store writes.
-        let longest = i32::try_from(MAX_RECORD_BYTES * 2).unwrap_or(i32::MAX);
-        conn.set_limit(Limit::SQLITE_LIMIT_LENGTH, longest)
-            .map_err(sqlite_error)?;
-        conn.busy_timeout(BUSY_TIMEOUT).map_err(sqlite_error)?;
+        bound(&conn)?;
         let application: i64 = conn
             .query_row("PRAGMA application_id", [], |r| r.get(0))
             .map_err(sqlite_error)?;
@@ -228,6 +248,7 @@ impl SqliteStore {
                 recovered: Vec::new(),
                 retention,
                 clock,
+                still: None,
                 _lock: lock,
             });
         } else if application != APPLICATION_ID {
@@ -263,6 +284,7 @@ impl SqliteStore {
             recovered: Vec::new(),
             retention,
             clock,
+            still: None,
             _lock: lock,
         })
     }
@@ -292,6 +314,15 @@ impl SqliteStore {
     fn now(&self) -> i64 {
         (self.clock)()
     }
+}
+
+/// Bounds every value read back, so a hostile or damaged file cannot make a row take more
+/// memory than the largest record the store writes, and sets how long to wait for a lock.
+fn bound(conn: &Connection) -> Result<(), StoreError> {
+    let longest = i32::try_from(MAX_RECORD_BYTES * 2).unwrap_or(i32::MAX);
+    conn.set_limit(Limit::SQLITE_LIMIT_LENGTH, longest)
+        .map_err(sqlite_error)?;
+    conn.busy_timeout(BUSY_TIMEOUT).map_err(sqlite_error)
 }
 
 /// Takes the advisory lock that keeps a second service off the file, creating the file
@@ -455,7 +486,7 @@ impl Store for SqliteStore {
         if self.instance.as_str().is_empty() {
             return Ok(None);
         }
-        read_world(&self.conn)
+        self.read(read_world)
     }
 
     fn put_world(
@@ -506,11 +537,15 @@ impl Store for SqliteStore {
     }
 
     fn execution(&mut self, id: ExecutionId) -> Result<Option<ExecutionRecord>, StoreError> {
-        journal::execution(&self.conn, id)
+        self.read(|conn| journal::execution(conn, id))
     }
 
     fn recent(&mut self, limit: u32) -> Result<Vec<ExecutionRecord>, StoreError> {
-        journal::recent(&self.conn, limit)
+        self.read(|conn| journal::recent(conn, limit))
+    }
+
+    fn in_flight(&mut self) -> Result<Vec<Uncertainty>, StoreError> {
+        self.read(journal::in_flight)
     }
 
     fn keyed(&mut self, key: &IdempotencyKey) -> Result<Option<ExecutionRecord>, StoreError> {

@@ -493,3 +493,181 @@ fn a_torn_write_ahead_log_opens_to_an_acknowledged_world_or_a_refusal() {
     );
     drop(store);
 }
+
+fn folder_listing(dir: &Path) -> Vec<PathBuf> {
+    let mut names: Vec<PathBuf> = std::fs::read_dir(dir)
+        .expect("a folder")
+        .map(|e| e.expect("an entry").path())
+        .collect();
+    names.sort();
+    names
+}
+
+#[test]
+fn a_reader_of_a_file_no_writer_has_open_leaves_nothing_beside_it() {
+    let dir = tempfile::tempdir().expect("a temporary folder");
+    let path = state_file(&dir);
+    {
+        let mut store = open(&path);
+        store
+            .put_world(None, &world("table", 0.0), &Confirms::Everything)
+            .expect("written");
+    }
+    let listing = folder_listing(dir.path());
+    assert_eq!(listing, vec![path.clone()], "a closed store is one file");
+    let bytes = std::fs::read(&path).expect("readable");
+    let modified = std::fs::metadata(&path)
+        .and_then(|m| m.modified())
+        .expect("a time");
+    {
+        let mut reader = SqliteStore::open_read_only(&path).expect("a reader");
+        let seen = reader.world().expect("readable").expect("a world");
+        assert_eq!(seen.document, world("table", 0.0));
+        assert!(reader.recent(10).expect("readable").is_empty());
+        assert!(reader.still.is_some(), "read as a file no writer has open");
+    }
+    assert_eq!(folder_listing(dir.path()), listing, "no -wal or -shm made");
+    assert_eq!(std::fs::read(&path).expect("readable"), bytes);
+    assert_eq!(
+        std::fs::metadata(&path)
+            .and_then(|m| m.modified())
+            .expect("a time"),
+        modified
+    );
+}
+
+#[test]
+fn a_reader_opened_before_a_writer_came_reads_what_the_writer_wrote() {
+    let dir = tempfile::tempdir().expect("a temporary folder");
+    let path = state_file(&dir);
+    open(&path)
+        .put_world(None, &world("table", 0.0), &Confirms::Everything)
+        .expect("written");
+    // A writer that comes while the reader is open, and is still there.
+    let mut reader = SqliteStore::open_read_only(&path).expect("a reader");
+    assert!(reader.still.is_some());
+    let mut writer = open(&path);
+    writer
+        .put_world(None, &world("bin", 0.0), &Confirms::Everything)
+        .expect("written");
+    let seen = reader.world().expect("readable").expect("a world");
+    assert_eq!(
+        (seen.revision, seen.document),
+        (Revision(2), world("bin", 0.0))
+    );
+    assert!(reader.still.is_none(), "reopened as an ordinary reader");
+    drop(writer);
+    drop(reader);
+    // The log the live reader kept from being checked in, checked in by a writer alone.
+    drop(open(&path));
+    assert!(!dir.path().join("cell.state-wal").exists());
+
+    // A writer that came, wrote and went (checking its log into the file) between the
+    // reader's open and its read.
+    let mut reader = SqliteStore::open_read_only(&path).expect("a reader");
+    assert!(reader.still.is_some());
+    {
+        let mut writer = open(&path);
+        writer
+            .put_world(None, &world("left", 0.2), &Confirms::Everything)
+            .expect("written");
+    }
+    assert!(
+        !dir.path().join("cell.state-wal").exists(),
+        "the log was checked in"
+    );
+    let seen = reader.world().expect("readable").expect("a world");
+    assert_eq!(
+        (seen.revision, seen.document),
+        (Revision(3), world("left", 0.2))
+    );
+    assert!(reader.still.is_none(), "the file changed since the open");
+}
+
+/// A store with the trait's own [`Store::in_flight`], to hold it to SQLite's.
+struct Defaults(SqliteStore);
+
+impl Store for Defaults {
+    fn instance(&self) -> &InstanceId {
+        self.0.instance()
+    }
+    fn recovered(&self) -> &[ExecutionId] {
+        self.0.recovered()
+    }
+    fn world(&mut self) -> Result<Option<StoredWorld>, StoreError> {
+        self.0.world()
+    }
+    fn put_world(
+        &mut self,
+        expect: Option<Revision>,
+        document: &WorldDocument,
+        confirms: &Confirms,
+    ) -> Result<Revision, StoreError> {
+        self.0.put_world(expect, document, confirms)
+    }
+    fn begin(&mut self, execution: &NewExecution) -> Result<Begun, StoreError> {
+        self.0.begin(execution)
+    }
+    fn step(
+        &mut self,
+        id: ExecutionId,
+        report: &str,
+        world: &WorldDocument,
+    ) -> Result<Revision, StoreError> {
+        self.0.step(id, report, world)
+    }
+    fn finish(
+        &mut self,
+        id: ExecutionId,
+        end: End,
+        outcome: &str,
+        world: Option<&WorldDocument>,
+    ) -> Result<Revision, StoreError> {
+        self.0.finish(id, end, outcome, world)
+    }
+    fn execution(&mut self, id: ExecutionId) -> Result<Option<ExecutionRecord>, StoreError> {
+        self.0.execution(id)
+    }
+    fn recent(&mut self, limit: u32) -> Result<Vec<ExecutionRecord>, StoreError> {
+        self.0.recent(limit)
+    }
+}
+
+#[test]
+fn a_reader_sees_what_running_executions_leave_unknown() {
+    let dir = tempfile::tempdir().expect("a temporary folder");
+    let path = state_file(&dir);
+    let mut writer = open(&path);
+    writer
+        .put_world(None, &world("table", 0.0), &Confirms::Everything)
+        .expect("written");
+    let mut reader = SqliteStore::open_read_only(&path).expect("a reader");
+    assert_eq!(reader.in_flight().expect("readable"), Vec::new());
+    let done = started(writer.begin(&new_execution(None, "first")).expect("begun"));
+    writer
+        .finish(done, End::Succeeded, "{}", None)
+        .expect("finished");
+    let id = started(writer.begin(&new_execution(None, "second")).expect("begun"));
+    writer.step(id, "{}", &world("left", 0.1)).expect("a step");
+    let expected = vec![Uncertainty {
+        execution: id,
+        steps_done: 1,
+        subjects: subjects(&["ball"], &["left"]),
+    }];
+    assert_eq!(reader.in_flight().expect("readable"), expected);
+    let mut defaults = Defaults(SqliteStore::open_read_only(&path).expect("a reader"));
+    assert_eq!(defaults.in_flight().expect("readable"), expected);
+    // Its service stopped: still running for a reader until a writer opens the file.
+    drop(writer);
+    assert_eq!(reader.in_flight().expect("readable"), expected);
+    let mut writer = open(&path);
+    assert_eq!(writer.recovered(), &[id]);
+    assert_eq!(writer.in_flight().expect("readable"), Vec::new());
+    assert_eq!(reader.in_flight().expect("readable"), Vec::new());
+    assert_eq!(defaults.in_flight().expect("readable"), Vec::new());
+    let stored = reader.world().expect("readable").expect("a world");
+    assert_eq!(
+        stored.uncertain, expected,
+        "recovery found what the reader saw"
+    );
+}
