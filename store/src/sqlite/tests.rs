@@ -631,6 +631,10 @@ impl Store for Defaults {
     fn recent(&mut self, limit: u32) -> Result<Vec<ExecutionRecord>, StoreError> {
         self.0.recent(limit)
     }
+
+    fn keyed(&mut self, key: &IdempotencyKey) -> Result<Option<ExecutionRecord>, StoreError> {
+        self.0.keyed(key)
+    }
 }
 
 #[test]
