@@ -168,7 +168,9 @@ pub(super) fn finish(
     )
     .map_err(sqlite_error)?;
     tx.commit().map_err(sqlite_error)?;
-    store.prune()?;
+    // The end is committed: a prune that fails now (a full disk) must not make the caller
+    // think it was not. What is left to prune goes at the next end or open.
+    let _ = store.prune();
     Ok(revision)
 }
 
