@@ -7,7 +7,7 @@ use rusqlite::{params, Connection, OptionalExtension, Row, TransactionBehavior};
 use super::{check_expected, corrupt, read_world, sqlite_error, write_world, SqliteStore};
 use crate::{
     Begun, End, ExecutionId, ExecutionRecord, IdempotencyKey, NewExecution, Revision, Status,
-    StepRecord, StoreError, Subjects, Uncertainty, WorldDocument, MAX_RECORD_BYTES,
+    StepRecord, StoreError, Uncertainty, WorldDocument, MAX_RECORD_BYTES,
 };
 
 /// The most executions [`crate::Store::recent`] lists at once.
@@ -184,19 +184,7 @@ impl SqliteStore {
             .conn
             .transaction_with_behavior(TransactionBehavior::Immediate)
             .map_err(sqlite_error)?;
-        let running: Vec<(i64, String, u32)> = {
-            let mut statement = tx
-                .prepare(
-                    "SELECT e.id, e.subjects,
-                            (SELECT count(*) FROM steps s WHERE s.execution = e.id)
-                     FROM executions e WHERE e.status = 'running' ORDER BY e.id",
-                )
-                .map_err(sqlite_error)?;
-            let rows = statement
-                .query_map([], |r| Ok((r.get(0)?, r.get(1)?, r.get(2)?)))
-                .map_err(sqlite_error)?;
-            rows.collect::<Result<_, _>>().map_err(sqlite_error)?
-        };
+        let running = in_flight(&tx)?;
         if running.is_empty() {
             return Ok(());
         }
@@ -207,15 +195,9 @@ impl SqliteStore {
             )
         })?;
         let mut uncertain = world.uncertain.clone();
-        for (id, subjects, steps_done) in &running {
-            let id = ExecutionId(u64::try_from(*id).map_err(|e| corrupt("execution id", e))?);
-            let subjects: Subjects =
-                serde_json::from_str(subjects).map_err(|e| corrupt("subjects", e))?;
-            uncertain.push(Uncertainty {
-                execution: id,
-                steps_done: *steps_done,
-                subjects,
-            });
+        for found in running {
+            let id = found.execution;
+            uncertain.push(found);
             tx.execute(
                 "UPDATE executions SET status = 'interrupted', finished_ms = ?2,
                      result = ?3 WHERE id = ?1",
