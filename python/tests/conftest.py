@@ -50,3 +50,15 @@ class Server:
         if self.process.poll() is None:
             self.process.terminate()
             assert self.process.wait(timeout=30) == 0
+
+
+@pytest.fixture()
+def client():
+    """A client of a fresh in-memory service, stopped after the test."""
+    from cellc import Client
+
+    server = Server("--ephemeral")
+    try:
+        yield Client(server.url, timeout=120)
+    finally:
+        server.stop()

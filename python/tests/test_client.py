@@ -8,18 +8,9 @@ import subprocess
 import sys
 
 import pytest
-from conftest import ROOT, Server
+from conftest import ROOT
 
-from cellc import CellcError, Client, World
-
-
-@pytest.fixture()
-def client():
-    server = Server("--ephemeral")
-    try:
-        yield Client(server.url, timeout=120)
-    finally:
-        server.stop()
+from cellc import CellcError, World
 
 
 def test_health_and_cell(client):

@@ -20,15 +20,6 @@ BALL = ("ball", "bin in ws_right_bin")
 TASK = [("cylinder", "bin in ws_right_bin"), ("pitcher", "table at (0.4, -0.3, 1.01)")]
 
 
-@pytest.fixture()
-def client():
-    server = Server("--ephemeral")
-    try:
-        yield Client(server.url, timeout=120)
-    finally:
-        server.stop()
-
-
 def where(world):
     return {n: (p.state, p.pose) for n, p in world.objects.items()}
 
