@@ -12,6 +12,9 @@ use std::time::Duration;
 
 use serde_json::{json, Value};
 
+#[path = "support/http.rs"]
+mod http;
+
 /// A running server; killed if the test fails before it is shut down.
 struct Server {
     child: Child,
@@ -175,21 +178,7 @@ impl Server {
         stream
             .set_read_timeout(Some(Duration::from_secs(120)))
             .unwrap();
-        let typed = headers
-            .iter()
-            .any(|h| h.to_ascii_lowercase().starts_with("content-type:"));
-        let mut extra = String::new();
-        if !typed {
-            extra.push_str("Content-Type: application/json\r\n");
-        }
-        for h in headers {
-            extra.push_str(h);
-            extra.push_str("\r\n");
-        }
-        let head = format!(
-            "{method} {path} HTTP/1.1\r\nHost: test\r\n{extra}Content-Length: {}\r\nConnection: close\r\n\r\n",
-            body.len()
-        );
+        let head = http::request_head(method, path, headers, body.len());
         // A body over the limit is refused before it is all read: writing may fail.
         let _ = stream
             .write_all(head.as_bytes())

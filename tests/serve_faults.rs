@@ -9,6 +9,8 @@
 //!
 //! `cargo test --release --test serve_faults` (about 3 minutes on 2 cores).
 
+#[path = "support/http.rs"]
+mod http;
 #[path = "support/service.rs"]
 mod service;
 

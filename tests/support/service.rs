@@ -192,21 +192,7 @@ pub fn send(addr: &str, method: &str, path: &str, headers: &[&str], body: &[u8])
     stream
         .set_read_timeout(Some(Duration::from_secs(120)))
         .unwrap();
-    let typed = headers
-        .iter()
-        .any(|h| h.to_ascii_lowercase().starts_with("content-type:"));
-    let mut extra = String::new();
-    if !typed {
-        extra.push_str("Content-Type: application/json\r\n");
-    }
-    for h in headers {
-        extra.push_str(h);
-        extra.push_str("\r\n");
-    }
-    let head = format!(
-        "{method} {path} HTTP/1.1\r\nHost: test\r\n{extra}Content-Length: {}\r\nConnection: close\r\n\r\n",
-        body.len()
-    );
+    let head = crate::http::request_head(method, path, headers, body.len());
     if stream
         .write_all(head.as_bytes())
         .and_then(|()| stream.write_all(body))
