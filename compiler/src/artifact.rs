@@ -42,6 +42,9 @@ pub fn lower(cell: &Cell, graphs: &[ObjectGraph], sources: &SourceMap) -> schema
                     prismatic: j.prismatic,
                     lower: j.lower.is_finite().then_some(j.lower),
                     upper: j.upper.is_finite().then_some(j.upper),
+                    velocity: j.velocity.unwrap_or(Joint::DEFAULT_VELOCITY),
+                    acceleration: j.acceleration.unwrap_or(Joint::DEFAULT_ACCELERATION),
+                    jerk: j.jerk,
                 })
                 .collect(),
             span: spans.get(r.origin.file, r.origin.span),

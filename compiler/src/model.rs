@@ -158,6 +158,21 @@ pub struct Joint {
     pub lower: f64,
     /// Upper limit (`inf` for continuous joints).
     pub upper: f64,
+    /// Speed limit from the URDF's `<limit velocity>` (`None` when absent, zero, or not
+    /// finite), rad/s or m/s.
+    pub velocity: Option<f64>,
+    /// Acceleration limit declared for it (the cell or `joint_limits.yaml`).
+    pub acceleration: Option<f64>,
+    /// Jerk limit declared for it.
+    pub jerk: Option<f64>,
+}
+
+impl Joint {
+    /// Speed limit a joint without one is timed with (rad/s or m/s): about half an
+    /// industrial arm's rated joint speed, a safe pace for a first run.
+    pub const DEFAULT_VELOCITY: f64 = 1.0;
+    /// Acceleration limit a joint without one is timed with (rad/s² or m/s²).
+    pub const DEFAULT_ACCELERATION: f64 = 2.0;
 }
 
 /// How an end-effector exists physically.

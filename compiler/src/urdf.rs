@@ -358,6 +358,10 @@ fn check_chain(
                 prismatic: kind == JointKind::Prismatic,
                 lower,
                 upper,
+                velocity: (joint.velocity.is_finite() && joint.velocity > 0.0)
+                    .then_some(joint.velocity),
+                acceleration: None,
+                jerk: None,
             }
         })
         .collect();

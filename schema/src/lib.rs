@@ -43,8 +43,9 @@ pub use world::{InitialPlacement, NamedTask, TaskStep, WorldDocument};
 pub const FORMAT: &str = "cellc-artifact";
 /// Bumped on every incompatible change of these types or of the encodings. Version 2
 /// added the content checksum; version 3 the robots' resolved mesh paths, SRDF and
-/// disabled collision pairs, the world and tasks.
-pub const FORMAT_VERSION: u32 = 3;
+/// disabled collision pairs, the world and tasks; version 4 each joint's velocity,
+/// acceleration and jerk limits.
+pub const FORMAT_VERSION: u32 = 4;
 /// First bytes of the binary encoding.
 pub const MAGIC: &[u8; 8] = b"CELLCART";
 
@@ -323,6 +324,14 @@ pub struct Joint {
     pub lower: Option<f64>,
     /// Upper limit; `None` for continuous joints.
     pub upper: Option<f64>,
+    /// Largest speed the runtime times motions with (rad/s, or m/s): the URDF's
+    /// `<limit velocity>`, a cell's `limits` or `joint_limits.yaml`, or the default, as the
+    /// compiler resolved it (the runtime never guesses one).
+    pub velocity: f64,
+    /// Largest acceleration (rad/s², or m/s²), resolved the same way (URDFs have none).
+    pub acceleration: f64,
+    /// Largest jerk (rad/s³, or m/s³) where the cell or `joint_limits.yaml` declares one.
+    pub jerk: Option<f64>,
 }
 
 /// A shape in metres.

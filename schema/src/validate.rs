@@ -241,6 +241,11 @@ impl<'a> Validator<'a> {
                         if let Some(upper) = joint.upper {
                             v.number("upper", upper)?;
                         }
+                        v.positive("velocity", joint.velocity)?;
+                        v.positive("acceleration", joint.acceleration)?;
+                        if let Some(jerk) = joint.jerk {
+                            v.positive("jerk", jerk)?;
+                        }
                         match (joint.lower, joint.upper) {
                             (Some(l), Some(u)) if l > u => Err(v.fail("lower limit above upper")),
                             (Some(_), None) | (None, Some(_)) => {

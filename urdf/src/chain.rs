@@ -86,6 +86,9 @@ pub struct ChainJoint {
     pub lower: f64,
     /// The `<limit upper>` as written (0 when absent).
     pub upper: f64,
+    /// The `<limit velocity>` as written (0 when absent, which the URDF format forbids for
+    /// a joint that moves, but files in the wild omit).
+    pub velocity: f64,
     /// The link it carries.
     pub child: String,
 }
@@ -338,6 +341,7 @@ impl Description {
                     axis: Vec3::from(joint.axis.xyz.0),
                     lower: joint.limit.lower,
                     upper: joint.limit.upper,
+                    velocity: joint.limit.velocity,
                     child: joint.child.link.clone(),
                 }
             })

@@ -88,6 +88,9 @@ pub fn artifact(
             prismatic: false,
             lower: lo.is_finite().then_some(lo),
             upper: hi.is_finite().then_some(hi),
+            velocity: 1.0,
+            acceleration: 2.0,
+            jerk: None,
         })
         .collect();
     let mut end_effectors: Vec<schema::EndEffector> = arms
