@@ -93,7 +93,8 @@ fn cases(cell: &Cell) -> Vec<Case> {
             continue;
         };
         let (first, last) = (t.points.first(), t.points.last());
-        let (Some((_, start)), Some((_, goal))) = (first, last) else {
+        let (Some(start), Some(goal)) = (first.map(|p| &p.positions), last.map(|p| &p.positions))
+        else {
             continue;
         };
         if start == goal {
@@ -134,6 +135,7 @@ fn solve(
         start: &case.start,
         goal: &case.goal,
         validity: &validity,
+        timing: Default::default(),
     };
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     let t = RrtConnect::default()
@@ -144,9 +146,9 @@ fn solve(
         .windows(2)
         .map(|w| {
             let d2: f64 = w[0]
-                .1
+                .positions
                 .iter()
-                .zip(&w[1].1)
+                .zip(&w[1].positions)
                 .map(|(a, b)| (b - a) * (b - a))
                 .sum();
             d2.sqrt()

@@ -265,7 +265,7 @@ fn step_text(
     let motion = match &step.motion {
         Some(t) => format!(
             " [{:.2} s motion]",
-            t.points.last().map_or(0.0, |p| p.0).max(0.0)
+            t.points.last().map_or(0.0, |p| p.time).max(0.0)
         ),
         None => String::new(),
     };

@@ -125,7 +125,10 @@ fn the_plans_motions_go_round_the_cage_collision_free() {
             )
             .expect("the plan's layout")
             .with_obstacles(&context.obstacles);
-            let (start, goal) = (&t.points[0].1, &t.points[t.points.len() - 1].1);
+            let (start, goal) = (
+                &t.points[0].positions,
+                &t.points[t.points.len() - 1].positions,
+            );
             let options = MotionOptions::default();
             let mut straight =
                 CertifiedMotion::new(&validity, options.step, options.collision_resolution);
@@ -162,6 +165,7 @@ fn vamps_motion_plans_certified_in_the_cage() {
         start: home,
         goal: &VAMP_GOAL,
         validity: &validity,
+        timing: Default::default(),
     };
     let mut scratch = SceneScratch::default();
     let context = cellc_runtime::plan::MotionContext {
@@ -175,8 +179,8 @@ fn vamps_motion_plans_certified_in_the_cage() {
         let t = RrtConnect::default()
             .solve(&problem, &mut rng, &Termination::never(), &mut scratch)
             .unwrap_or_else(|e| panic!("seed {seed}: {e}"));
-        assert_eq!(&t.points[0].1, home);
-        assert_eq!(t.points[t.points.len() - 1].1, VAMP_GOAL);
+        assert_eq!(&t.points[0].positions, home);
+        assert_eq!(t.points[t.points.len() - 1].positions, VAMP_GOAL);
         check_trajectory(scene, &t, object, &context, fine, &mut scratch)
             .unwrap_or_else(|e| panic!("seed {seed}: {e}"));
     }

@@ -216,7 +216,7 @@ mod trajectories {
             };
             check_trajectory(scene, t, plan.object, context, resolution, &mut scratch)
                 .map_err(|e| format!("{e:?}"))?;
-            if !t.points.windows(2).all(|w| w[1].0 > w[0].0) {
+            if !t.points.windows(2).all(|w| w[1].time > w[0].time) {
                 return Err("time goes back".into());
             }
             checked += 1;
@@ -254,7 +254,7 @@ mod trajectories {
                 let mut bent = plan.clone();
                 let t = bent.steps[index].motion.as_mut().expect("motion");
                 let middle = t.points.len() / 2;
-                t.points[middle].1[joint] += delta;
+                t.points[middle].positions[joint] += delta;
                 match recheck(&cell, &bent, fine()) {
                     Err(e) if e.starts_with("Collision") => collisions += 1,
                     _ => {}

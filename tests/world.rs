@@ -109,7 +109,10 @@ fn a_plan_from_a_non_home_joint_state_starts_exactly_there() {
         .take_while(|&&e| e != left)
         .map(|&e| world.arm(e).map_or(0, <[f64]>::len))
         .sum();
-    assert_eq!(&first.points[0].1[offset..offset + q.len()], q.as_slice());
+    assert_eq!(
+        &first.points[0].positions[offset..offset + q.len()],
+        q.as_slice()
+    );
 }
 
 #[test]

@@ -72,7 +72,7 @@ fn a_request_that_starts_in_hand_starts_where_the_hand_holds_it() {
             .map(|&e| plan.start_arms[e.index()].as_ref().map_or(0, Vec::len))
             .sum();
         assert_eq!(
-            &first.points[0].1[offset..offset + start.len()],
+            &first.points[0].positions[offset..offset + start.len()],
             start.as_slice(),
             "{name}"
         );

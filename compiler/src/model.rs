@@ -168,11 +168,10 @@ pub struct Joint {
 }
 
 impl Joint {
-    /// Speed limit a joint without one is timed with (rad/s or m/s): about half an
-    /// industrial arm's rated joint speed, a safe pace for a first run.
-    pub const DEFAULT_VELOCITY: f64 = 1.0;
-    /// Acceleration limit a joint without one is timed with (rad/s² or m/s²).
-    pub const DEFAULT_ACCELERATION: f64 = 2.0;
+    /// Speed limit a joint without one is timed with (the artifact's one home of it).
+    pub const DEFAULT_VELOCITY: f64 = cellc_schema::Joint::DEFAULT_VELOCITY;
+    /// Acceleration limit a joint without one is timed with.
+    pub const DEFAULT_ACCELERATION: f64 = cellc_schema::Joint::DEFAULT_ACCELERATION;
 }
 
 /// How an end-effector exists physically.

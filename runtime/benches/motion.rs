@@ -116,6 +116,7 @@ fn motions(c: &mut Criterion) {
         start: &start,
         goal: &goal,
         validity: &validity,
+        timing: Default::default(),
     };
     bench_problem(c, "motion: one arm around a pillar", &one);
 
@@ -140,6 +141,7 @@ fn motions(c: &mut Criterion) {
         start: &start,
         goal: &goal,
         validity: &validity,
+        timing: Default::default(),
     };
     bench_problem(c, "motion: two arms swapping sides", &two);
 }

@@ -277,7 +277,7 @@ impl<'a> Simulator<'a> {
         let (Some(trajectory), Some(scene)) = (&step.motion, self.scene) else {
             return;
         };
-        for (_, point) in &trajectory.points {
+        for point in trajectory.points.iter().map(|p| &p.positions) {
             let mut offset = 0;
             let mut configurations = Vec::new();
             for &e in &trajectory.arms {

@@ -138,6 +138,20 @@ impl fmt::Display for RobotError {
 
 impl std::error::Error for RobotError {}
 
+/// How fast each movable joint may go, base to tip: what a controller accepts and the
+/// timing of every motion respects. From a URDF alone, the `<limit velocity>` (or
+/// [`cellc_schema::Joint::DEFAULT_VELOCITY`]) and the default acceleration; from an
+/// artifact, what the compiler resolved ([`Robot::set_rate_limits`]).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct RateLimits {
+    /// Largest speed (rad/s, or m/s).
+    pub velocity: Vec<f64>,
+    /// Largest acceleration (rad/s², or m/s²).
+    pub acceleration: Vec<f64>,
+    /// Largest jerk (rad/s³, or m/s³), where one is declared.
+    pub jerk: Vec<Option<f64>>,
+}
+
 /// A serial chain from a URDF: the kinematic model plus its collision solids.
 ///
 /// Immutable once built; cheap to share between threads (`Send + Sync`).
@@ -156,6 +170,8 @@ pub struct Robot {
     axes: Vec<Vec3>,
     lower: Vec<f64>,
     upper: Vec<f64>,
+    /// What motions are timed with (see [`RateLimits`]).
+    rates: RateLimits,
     /// Frame n to the tip link (fixed joints only).
     tip_offset: Iso,
     shapes: Vec<LinkShape>,
@@ -208,6 +224,7 @@ impl Robot {
             axes: Vec::new(),
             lower: Vec::new(),
             upper: Vec::new(),
+            rates: RateLimits::default(),
             tip_offset: Iso::identity(),
             shapes: Vec::new(),
         };
@@ -224,6 +241,17 @@ impl Robot {
             robot.axes.push(motion.axis);
             robot.lower.push(motion.lower);
             robot.upper.push(motion.upper);
+            let velocity = if joint.velocity.is_finite() && joint.velocity > 0.0 {
+                joint.velocity
+            } else {
+                cellc_schema::Joint::DEFAULT_VELOCITY
+            };
+            robot.rates.velocity.push(velocity);
+            robot
+                .rates
+                .acceleration
+                .push(cellc_schema::Joint::DEFAULT_ACCELERATION);
+            robot.rates.jerk.push(None);
             robot.frame_links.push(joint.child.clone());
             in_frame = Iso::identity();
         }
@@ -270,6 +298,31 @@ impl Robot {
     /// Lower and upper joint limits (continuous joints: -inf and +inf).
     pub fn limits(&self) -> (&[f64], &[f64]) {
         (&self.lower, &self.upper)
+    }
+
+    /// The speed, acceleration and jerk limits motions are timed with.
+    pub fn rate_limits(&self) -> &RateLimits {
+        &self.rates
+    }
+
+    /// Takes the rate limits an artifact resolved (the cell's declarations and
+    /// `joint_limits.yaml` over the URDF's); false, and the limits unchanged, when
+    /// `joints` does not give one positive, finite set per movable joint.
+    pub fn set_rate_limits(&mut self, joints: &[cellc_schema::Joint]) -> bool {
+        let positive = |v: f64| v.is_finite() && v > 0.0;
+        if joints.len() != self.n_joints()
+            || !joints.iter().all(|j| {
+                positive(j.velocity) && positive(j.acceleration) && j.jerk.is_none_or(positive)
+            })
+        {
+            return false;
+        }
+        self.rates = RateLimits {
+            velocity: joints.iter().map(|j| j.velocity).collect(),
+            acceleration: joints.iter().map(|j| j.acceleration).collect(),
+            jerk: joints.iter().map(|j| j.jerk).collect(),
+        };
+        true
     }
 
     /// `origins()[j]`: the transform from frame `j` to joint `j`'s frame at q = 0.

@@ -334,6 +334,14 @@ pub struct Joint {
     pub jerk: Option<f64>,
 }
 
+impl Joint {
+    /// Speed limit of a joint that has none (rad/s or m/s): about half an industrial arm's
+    /// rated joint speed, a safe pace for a first run.
+    pub const DEFAULT_VELOCITY: f64 = 1.0;
+    /// Acceleration limit of a joint that has none (rad/s² or m/s²); URDFs give none.
+    pub const DEFAULT_ACCELERATION: f64 = 2.0;
+}
+
 /// A shape in metres.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]

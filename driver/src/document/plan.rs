@@ -157,8 +157,9 @@ pub struct Step {
     pub motion: Option<Trajectory>,
 }
 
-/// A joint trajectory: the arms that move (each with its joint names), and points of
-/// (time in s, positions of every moving arm's joints in `arms` order).
+/// A joint trajectory: the arms that move (each with its joint names), and points with
+/// the time from the step's start and every moving arm's joints' positions, velocities
+/// and accelerations, in `arms` order: what a joint-trajectory controller takes.
 #[derive(Serialize, Deserialize, JsonSchema, Clone, Debug, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct Trajectory {
@@ -182,10 +183,14 @@ pub struct ArmJoints {
 #[derive(Serialize, Deserialize, JsonSchema, Clone, Debug, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct Point {
-    /// Seconds from the step's start.
-    pub time: f64,
-    /// Every moving arm's joints, in `arms` order.
+    /// Seconds from the step's start (`trajectory_msgs/JointTrajectoryPoint`'s name).
+    pub time_from_start: f64,
+    /// Every moving arm's joint positions, in `arms` order (rad, or m).
     pub positions: Vec<f64>,
+    /// Their velocities (rad/s, or m/s).
+    pub velocities: Vec<f64>,
+    /// Their accelerations (rad/s², or m/s²).
+    pub accelerations: Vec<f64>,
 }
 
 impl Step {
@@ -256,9 +261,11 @@ impl Step {
                 points: t
                     .points
                     .iter()
-                    .map(|(time, q)| Point {
-                        time: *time,
-                        positions: q.clone(),
+                    .map(|p| Point {
+                        time_from_start: p.time,
+                        positions: p.positions.clone(),
+                        velocities: p.velocities.clone(),
+                        accelerations: p.accelerations.clone(),
                     })
                     .collect(),
             }),

@@ -147,7 +147,7 @@ pub fn check_trajectory(
             joint,
             value,
         } => TrajectoryFault::OutOfLimits {
-            time: trajectory.points.first().map_or(0.0, |p| p.0),
+            time: trajectory.points.first().map_or(0.0, |p| p.time),
             end_effector,
             joint,
             value,
@@ -164,13 +164,16 @@ pub fn check_trajectory(
     };
     let mut q = Vec::with_capacity(dim);
     let mut previous: Option<(f64, &[f64])> = None;
-    for (i, (t, point)) in trajectory.points.iter().enumerate() {
-        if point.len() != dim {
-            return Err(TrajectoryFault::WrongLength {
-                point: i,
-                expected: dim,
-                found: point.len(),
-            });
+    for (i, p) in trajectory.points.iter().enumerate() {
+        let (t, point) = (&p.time, &p.positions[..]);
+        for found in [point.len(), p.velocities.len(), p.accelerations.len()] {
+            if found != dim {
+                return Err(TrajectoryFault::WrongLength {
+                    point: i,
+                    expected: dim,
+                    found,
+                });
+            }
         }
         if !t.is_finite() || previous.is_some_and(|(t0, _)| *t < t0) {
             return Err(TrajectoryFault::Time { point: i });

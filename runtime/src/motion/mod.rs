@@ -75,6 +75,7 @@
 //! Everything is deterministic for a seed: the only randomness is the caller's generator,
 //! and no hash-map order or thread schedule is involved.
 
+mod blend;
 mod certified;
 mod check;
 mod problem;
@@ -96,7 +97,7 @@ use crate::validity::StateValidity;
 
 pub use certified::CertifiedMotion;
 pub use check::{check_trajectory, TrajectoryFault};
-pub use problem::{Joints, MotionError, MotionOptions};
+pub use problem::{check_timing, Joints, MotionError, MotionOptions, TimingOptions};
 /// The generator [`MotionPlanner::solve`] draws from, re-exported so that an
 /// implementation needs no dependency of its own.
 pub use rand_chacha::ChaCha8Rng;
@@ -120,6 +121,8 @@ pub struct MotionProblem<'a, S = SceneScratch> {
     /// [`SceneValidity`](crate::validity::SceneValidity) for these arms, with the others
     /// where they stand and the object placed as the motion carries it.
     pub validity: &'a dyn StateValidity<Scratch = S>,
+    /// How the request wants the motion timed (scalings of the joints' limits, a rate).
+    pub timing: TimingOptions,
 }
 
 // By hand: a derive would ask `S: Clone`, which a problem that only borrows its checker

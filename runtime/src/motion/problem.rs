@@ -31,10 +31,45 @@ pub struct MotionOptions {
     pub shortcut_iterations: usize,
     /// Probability that a sample is the other tree's root.
     pub goal_bias: f64,
-    /// Per-joint speed limit for timing (rad/s, or m/s for prismatic joints).
-    pub velocity_limit: f64,
-    /// Per-joint acceleration limit for timing (rad/s², or m/s²).
-    pub acceleration_limit: f64,
+    /// Largest distance (rad, or m, Euclidean in the arms' joint space) a blend through a
+    /// corner of the path may pass from the corner (`blend.rs`); 0 passes every corner at
+    /// rest.
+    pub blend_deviation: f64,
+    /// Largest arc length (in joint space) between two grid points of the time
+    /// parameterisation, and so between two points of the trajectory.
+    pub grid_step: f64,
+}
+
+/// How a request wants its motions timed: scaling factors on every joint's limits (as
+/// MoveIt's `max_velocity_scaling_factor` and `max_acceleration_scaling_factor`) and,
+/// optionally, points at a control rate instead of the parameterisation's knots.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TimingOptions {
+    /// Share of each joint's speed limit used, in (0, 1].
+    pub velocity_scaling: f64,
+    /// Share of each joint's acceleration (and jerk) limit used, in (0, 1].
+    pub acceleration_scaling: f64,
+    /// Points every `1 / rate` seconds (Hz, at most [`TimingOptions::MAX_RATE`]), the last
+    /// one at the end, instead of at the knots.
+    pub rate: Option<f64>,
+}
+
+impl TimingOptions {
+    /// The fastest control rate a trajectory is resampled at (Hz): a kilohertz, libfranka's.
+    pub const MAX_RATE: f64 = 1000.0;
+    /// The most points one resampled motion may have (a minute at the fastest rate), so
+    /// that a tiny scaling factor cannot ask for unbounded memory.
+    pub const MAX_POINTS: usize = 60_000;
+}
+
+impl Default for TimingOptions {
+    fn default() -> TimingOptions {
+        TimingOptions {
+            velocity_scaling: 1.0,
+            acceleration_scaling: 1.0,
+            rate: None,
+        }
+    }
 }
 
 impl Default for MotionOptions {
@@ -51,10 +86,11 @@ impl Default for MotionOptions {
             collision_resolution: 0.03,
             shortcut_iterations: 40,
             goal_bias: 0.05,
-            // About half the LWR's rated joint speed (1.92 rad/s): a safe default for
-            // execution and simulation.
-            velocity_limit: 1.0,
-            acceleration_limit: 2.0,
+            // MoveIt's default path tolerance for its time-optimal parameterisation.
+            blend_deviation: 0.1,
+            // A few dozen knots per metre-sized motion: the time parameterisation is then
+            // within a percent of the optimum on the same path (`topp/tests.rs`).
+            grid_step: 0.02,
         }
     }
 }
@@ -133,12 +169,20 @@ pub enum MotionError {
         /// The value.
         value: f64,
     },
-    /// An option is not a positive finite number (or the goal bias not in [0, 1]).
+    /// An option is not a positive finite number (or the goal bias not in [0, 1], a
+    /// scaling not in (0, 1], a rate above [`TimingOptions::MAX_RATE`], or a rate that
+    /// would give a motion more than [`TimingOptions::MAX_POINTS`] points).
     InvalidOption {
-        /// Field of [`MotionOptions`].
+        /// Field of [`MotionOptions`] or [`TimingOptions`].
         name: &'static str,
         /// Its value.
         value: f64,
+    },
+    /// The certified path could not be timed within the joints' limits (at grid point
+    /// `index` of a section): only a degenerate path gets here.
+    Untimed {
+        /// The grid point.
+        index: usize,
     },
 }
 
@@ -191,6 +235,10 @@ impl fmt::Display for MotionError {
             MotionError::InvalidOption { name, value } => {
                 write!(f, "motion option `{name}` cannot be {value}")
             }
+            MotionError::Untimed { index } => write!(
+                f,
+                "the path cannot be timed within the joints' limits (at grid point {index})"
+            ),
         }
     }
 }
@@ -242,17 +290,44 @@ pub(super) fn query_text(e: &QueryError) -> String {
     }
 }
 
+/// Checks that a request's timing options are usable: scalings in (0, 1], a rate in
+/// (0, [`TimingOptions::MAX_RATE`]].
+pub fn check_timing(timing: &TimingOptions) -> Result<(), MotionError> {
+    for (name, value) in [
+        ("velocity_scaling", timing.velocity_scaling),
+        ("acceleration_scaling", timing.acceleration_scaling),
+    ] {
+        if !(value.is_finite() && value > 0.0 && value <= 1.0) {
+            return Err(MotionError::InvalidOption { name, value });
+        }
+    }
+    if let Some(rate) = timing.rate {
+        if !(rate.is_finite() && rate > 0.0 && rate <= TimingOptions::MAX_RATE) {
+            return Err(MotionError::InvalidOption {
+                name: "rate",
+                value: rate,
+            });
+        }
+    }
+    Ok(())
+}
+
 /// Checks that options are usable numbers.
 pub(super) fn check_options(options: &MotionOptions) -> Result<(), MotionError> {
     for (name, value) in [
         ("step", options.step),
         ("collision_resolution", options.collision_resolution),
-        ("velocity_limit", options.velocity_limit),
-        ("acceleration_limit", options.acceleration_limit),
+        ("grid_step", options.grid_step),
     ] {
         if !(value.is_finite() && value > 0.0) {
             return Err(MotionError::InvalidOption { name, value });
         }
+    }
+    if !(options.blend_deviation.is_finite() && options.blend_deviation >= 0.0) {
+        return Err(MotionError::InvalidOption {
+            name: "blend_deviation",
+            value: options.blend_deviation,
+        });
     }
     if !(0.0..=1.0).contains(&options.goal_bias) {
         return Err(MotionError::InvalidOption {

@@ -5,10 +5,10 @@
 
 use rand_chacha::ChaCha8Rng;
 
-use super::problem::check_options;
+use super::problem::{check_options, check_timing};
 use super::segment::DiscreteMotion;
 use super::shortcut::{dedup_waypoints, shortcut};
-use super::timing::time_path;
+use super::timing::{time_path, MotionLimits};
 use super::tree::Search;
 use super::{
     CertifiedMotion, Joints, MotionError, MotionOptions, MotionPlanner, MotionProblem,
@@ -53,6 +53,7 @@ impl RrtConnect {
     ) -> Result<Trajectory, MotionError> {
         let options = &self.options;
         check_options(options)?;
+        check_timing(&problem.timing)?;
         let scene = problem.scene;
         let slices = arm_slices(scene, problem.arms)?;
         let dim: usize = slices.iter().map(|s| s.len).sum();
@@ -147,7 +148,20 @@ impl RrtConnect {
             };
         }
         dedup_waypoints(&mut path, dim);
-        Ok(time_path(&path, dim, problem.arms, options))
+        let mut limits = MotionLimits::default();
+        for s in &slices {
+            limits.push(scene.robots[s.robot].rate_limits());
+        }
+        time_path(
+            &path,
+            dim,
+            problem.arms,
+            &limits,
+            options,
+            &problem.timing,
+            problem.validity,
+            scratch,
+        )
     }
 }
 

@@ -116,6 +116,8 @@ pub struct PlanOptions {
     pub time_budget: Option<std::time::Duration>,
     /// Give up (with [`PlanError::TimeBudget`]) as soon as another thread raises this flag.
     pub cancel: Option<std::sync::Arc<std::sync::atomic::AtomicBool>>,
+    /// How the motions are timed: scalings of the joints' limits, a control rate.
+    pub timing: crate::motion::TimingOptions,
 }
 
 impl Default for PlanOptions {
@@ -129,6 +131,7 @@ impl Default for PlanOptions {
             weights: None,
             time_budget: None,
             cancel: None,
+            timing: crate::motion::TimingOptions::default(),
         }
     }
 }
@@ -174,8 +177,35 @@ pub type ArmConfigurations = Vec<(EndEffectorId, Vec<f64>)>;
 pub struct Trajectory {
     /// The arms, in the order their joints are concatenated in each point.
     pub arms: Vec<EndEffectorId>,
-    /// Samples: time from the start of the motion (s) and the concatenated joints.
-    pub points: Vec<(f64, Vec<f64>)>,
+    /// The points, in time order: the first at time 0 at the start, the last at the goal,
+    /// both at rest.
+    pub points: Vec<TrajectoryPoint>,
+}
+
+/// A point of a [`Trajectory`]: what a joint-trajectory controller is sent (ROS's
+/// `trajectory_msgs/JointTrajectoryPoint`), every vector in the trajectory's joint order.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TrajectoryPoint {
+    /// Seconds from the start of the motion.
+    pub time: f64,
+    /// Joint positions (rad, or m).
+    pub positions: Vec<f64>,
+    /// Joint velocities (rad/s, or m/s).
+    pub velocities: Vec<f64>,
+    /// Joint accelerations (rad/s², or m/s²).
+    pub accelerations: Vec<f64>,
+}
+
+impl TrajectoryPoint {
+    /// Standing at `positions` at `time`.
+    pub fn at_rest(time: f64, positions: &[f64]) -> TrajectoryPoint {
+        TrajectoryPoint {
+            time,
+            positions: positions.to_vec(),
+            velocities: vec![0.0; positions.len()],
+            accelerations: vec![0.0; positions.len()],
+        }
+    }
 }
 
 /// One command of a plan.

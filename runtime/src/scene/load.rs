@@ -116,7 +116,7 @@ impl Scene {
             let text = String::from_utf8_lossy(&bytes);
             // Meshes are read where the compiler resolved them (`package://` included).
             let meshes = cellc_urdf::MeshPaths::Resolved(&r.meshes);
-            let robot = Robot::from_urdf_with(&text, meshes, &r.base_link, &r.tip_link, files)
+            let mut robot = Robot::from_urdf_with(&text, meshes, &r.base_link, &r.tip_link, files)
                 .map_err(|error| SceneError::Robot {
                     robot: r.name.clone(),
                     error,
@@ -130,6 +130,9 @@ impl Scene {
                     found: robot.n_joints(),
                 });
             }
+            // A validated artifact's limits are positive (`cellc_schema::validate`); one
+            // that is not keeps the URDF's, which are.
+            robot.set_rate_limits(&r.joints);
             robots.push(robot);
         }
         let holders = artifact

@@ -77,6 +77,16 @@ pub trait StateValidity {
         let _ = (q, delta, horizon, scratch);
         Ok(None)
     }
+
+    /// Whether a certificate of [`StateValidity::free_radius`] proves the whole box
+    /// `|q'_j - q_j| <= t |delta_j|` free, not only the segment through `q`: true for a
+    /// bound that depends on the joints' changes only through `|delta_j|`, as the scene's
+    /// swept-distance bound does. Smoothing (`motion/blend.rs`) certifies its arcs with
+    /// boxes, so a checker that says false gets no blends (its corners are passed at
+    /// rest). The default says false.
+    fn certifies_boxes(&self) -> bool {
+        false
+    }
 }
 
 /// Whether every configuration of `qs` (concatenated, `out.len()` of them) is valid,

@@ -25,7 +25,7 @@ impl World {
         for step in &plan.steps {
             match (&step.motion, scene) {
                 (Some(trajectory), Some(scene)) => {
-                    let Some((_, end)) = trajectory.points.last() else {
+                    let Some(end) = trajectory.points.last().map(|p| &p.positions) else {
                         continue;
                     };
                     let mut offset = 0;

@@ -13,9 +13,9 @@ use std::f64::consts::PI;
 
 use cellc_runtime::motion::{
     check_trajectory, MotionError, MotionOptions, MotionPlanner, MotionProblem, RrtConnect,
-    TrajectoryFault,
+    TimingOptions, TrajectoryFault,
 };
-use cellc_runtime::plan::{MotionContext, Trajectory};
+use cellc_runtime::plan::{MotionContext, Trajectory, TrajectoryPoint};
 use cellc_runtime::scene::{ObjectPlacement, Scene, SceneScratch};
 use cellc_runtime::validity::{SceneValidity, StateValidity};
 use cellc_runtime::Termination;
@@ -136,7 +136,28 @@ impl Case<'_> {
             start: &self.start,
             goal: &self.goal,
             validity,
+            timing: Default::default(),
         }
+    }
+
+    /// Plans with RRT-Connect and the default state validity, timed as `timing` asks.
+    fn solve_timed(
+        &self,
+        options: &MotionOptions,
+        timing: TimingOptions,
+        rng: &mut ChaCha8Rng,
+    ) -> Result<Trajectory, MotionError> {
+        let validity = self.validity()?;
+        let problem = MotionProblem {
+            timing,
+            ..self.with(&validity)
+        };
+        RrtConnect::new(options.clone()).solve(
+            &problem,
+            rng,
+            &Termination::never(),
+            &mut SceneScratch::default(),
+        )
     }
 
     /// Plans with RRT-Connect and the default state validity.
@@ -177,7 +198,10 @@ fn recheck(case: &Case<'_>, trajectory: &Trajectory) -> Result<(), TrajectoryFau
 fn straight(problem: &Case<'_>) -> Trajectory {
     Trajectory {
         arms: problem.arms.clone(),
-        points: vec![(0.0, problem.start.clone()), (1.0, problem.goal.clone())],
+        points: vec![
+            TrajectoryPoint::at_rest(0.0, &problem.start),
+            TrajectoryPoint::at_rest(1.0, &problem.goal),
+        ],
     }
 }
 
@@ -190,10 +214,13 @@ fn max_diff(a: &[f64], b: &[f64]) -> f64 {
 
 /// Whether every point lies on the segment from the first to the last.
 fn is_straight(t: &Trajectory) -> bool {
-    let (a, b) = (&t.points[0].1, &t.points[t.points.len() - 1].1);
+    let (a, b) = (
+        &t.points[0].positions,
+        &t.points[t.points.len() - 1].positions,
+    );
     let d: Vec<f64> = a.iter().zip(b).map(|(x, y)| y - x).collect();
     let len2: f64 = d.iter().map(|v| v * v).sum();
-    t.points.iter().all(|(_, p)| {
+    t.points.iter().map(|p| &p.positions).all(|p| {
         let s = p
             .iter()
             .zip(a)
@@ -206,21 +233,31 @@ fn is_straight(t: &Trajectory) -> bool {
     })
 }
 
+/// The fixture's speed limit of every joint (rad/s, `motion_fixture.rs`).
+const VELOCITY: f64 = 1.0;
+
 /// What every planned trajectory must satisfy: it starts at time 0 at `start`, ends
 /// exactly at `goal`, times increase, no joint moves more than `step` between points or
 /// faster than the speed limit, and the dense re-check finds nothing.
 fn assert_valid(problem: &Case<'_>, t: &Trajectory) {
     let options = MotionOptions::default();
     assert_eq!(t.arms, problem.arms);
-    assert_eq!(t.points[0], (0.0, problem.start.clone()));
-    assert_eq!(t.points[t.points.len() - 1].1, problem.goal);
+    assert_eq!(t.points[0], TrajectoryPoint::at_rest(0.0, &problem.start));
+    assert_eq!(t.points[t.points.len() - 1].positions, problem.goal);
     for pair in t.points.windows(2) {
-        let ((t0, a), (t1, b)) = (&pair[0], &pair[1]);
+        let (t0, a, t1, b) = (
+            pair[0].time,
+            &pair[0].positions,
+            pair[1].time,
+            &pair[1].positions,
+        );
         assert!(t1 > t0, "times increase: {t0} then {t1}");
         let d = max_diff(a, b);
         assert!(d <= options.step + 1e-12, "a step of {d} rad");
+        // The fixture's joints go at most 1 rad/s; a chord of an arc is a hair shorter
+        // than the arc, so its mean speed is never above the limit.
         assert!(
-            d / (t1 - t0) <= options.velocity_limit * (1.0 + 1e-9),
+            d / (t1 - t0) <= VELOCITY * (1.0 + 1e-9),
             "a joint at {} rad/s",
             d / (t1 - t0)
         );

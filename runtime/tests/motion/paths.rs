@@ -105,7 +105,7 @@ fn two_arms_avoid_each_other() {
         other => panic!("the straight line makes the arms meet: {other:?}"),
     }
     let t = plan(&p, 2).expect("the arms can pass each other");
-    assert_eq!(t.points[0].1.len(), 14);
+    assert_eq!(t.points[0].positions.len(), 14);
     assert_valid(&p, &t);
 }
 

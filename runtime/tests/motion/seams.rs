@@ -216,8 +216,8 @@ fn a_checker_with_its_own_scratch_plugs_into_rrt_connect() {
         trajectory.points.first().expect("points"),
         trajectory.points.last().expect("points"),
     );
-    assert_eq!(first.1, case.start);
-    assert_eq!(last.1, case.goal);
+    assert_eq!(first.positions, case.start);
+    assert_eq!(last.positions, case.goal);
     // The scene's checker refuses that straight line: the two answers differ only by
     // the checker plugged in.
     let scene_checker = case.validity().expect("a valid layout");

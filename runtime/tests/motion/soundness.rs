@@ -5,7 +5,7 @@ use cellc_runtime::math::Iso;
 use cellc_runtime::motion::{
     check_trajectory, CertifiedMotion, MotionError, MotionOptions, MotionValidity,
 };
-use cellc_runtime::plan::{MotionContext, Trajectory};
+use cellc_runtime::plan::{MotionContext, Trajectory, TrajectoryPoint};
 use cellc_runtime::scene::{Holder, ObjectPlacement, SceneScratch};
 use cellc_runtime::validity::StateValidity;
 use cellc_runtime::Termination;
@@ -59,7 +59,10 @@ fn certified_segments_are_free_at_any_resolution() {
         accepted += 1;
         let t = Trajectory {
             arms: vec![EndEffectorId(0)],
-            points: vec![(0.0, a.clone()), (1.0, b)],
+            points: vec![
+                TrajectoryPoint::at_rest(0.0, &a),
+                TrajectoryPoint::at_rest(1.0, &b),
+            ],
         };
         let fine = options.collision_resolution / 50.0;
         let checked =
@@ -126,7 +129,7 @@ fn random_motions_are_valid() {
             Err(MotionError::NoPath { .. }) => continue,
             Err(e) => panic!("seed {seed}: {e}"),
         };
-        for (time, q) in &t.points {
+        for (time, q) in t.points.iter().map(|p| (&p.time, &p.positions)) {
             assert!(robot.within_limits(q), "seed {seed}, at {time} s: {q:?}");
             assert!(free(q, &mut scratch), "seed {seed}, at {time} s: {q:?}");
         }

@@ -2,7 +2,7 @@
 //! same seed, one point when there is nothing to do, and an error for a malformed problem.
 
 use cellc_runtime::math::Iso;
-use cellc_runtime::motion::{Joints, MotionError, MotionOptions};
+use cellc_runtime::motion::{Joints, MotionError, MotionOptions, TimingOptions};
 use cellc_runtime::scene::ObjectPlacement;
 use cellc_runtime::EndEffectorId;
 use cellc_runtime::Termination;
@@ -10,9 +10,17 @@ use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
 use super::{down, max_diff, plan, problem, scene, swap, ARM, FACING, PILLAR};
+use cellc_runtime::plan::TrajectoryPoint;
+
+/// The fixture's joints have the defaults' 1 rad/s and 2 rad/s² (`motion_fixture.rs`).
+const SLOW: TimingOptions = TimingOptions {
+    velocity_scaling: 0.3,
+    acceleration_scaling: 0.25,
+    rate: None,
+};
 
 #[test]
-fn timing_is_monotonic_and_within_limits() {
+fn timing_is_monotonic_and_within_scaled_limits() {
     let scene = scene(&[ARM], &[PILLAR]);
     let p = problem(
         &scene,
@@ -20,37 +28,40 @@ fn timing_is_monotonic_and_within_limits() {
         down(ARM.1, [0.5, -0.35, 0.35]),
         down(ARM.1, [0.5, 0.35, 0.35]),
     );
-    let slow = MotionOptions {
-        velocity_limit: 0.3,
-        acceleration_limit: 0.5,
-        ..MotionOptions::default()
-    };
+    let options = MotionOptions::default();
     let mut rng = ChaCha8Rng::seed_from_u64(5);
-    let t = p
-        .solve(&slow, &mut rng, &Termination::never())
-        .expect("a path");
-    let mut peak: f64 = 0.0;
+    let t = p.solve_timed(&options, SLOW, &mut rng).expect("a path");
+    // Finite differences of the points: speeds within 0.3 rad/s, and the velocities the
+    // points carry agree with them.
+    let (mut peak, mut peak_accel): (f64, f64) = (0.0, 0.0);
     for pair in t.points.windows(2) {
-        let ((t0, a), (t1, b)) = (&pair[0], &pair[1]);
-        assert!(t1 > t0);
-        peak = peak.max(max_diff(a, b) / (t1 - t0));
+        let (a, b) = (&pair[0], &pair[1]);
+        assert!(b.time > a.time);
+        let dt = b.time - a.time;
+        peak = peak.max(max_diff(&a.positions, &b.positions) / dt);
+        peak_accel = peak_accel.max(max_diff(&a.velocities, &b.velocities) / dt);
     }
-    assert!(peak <= 0.3 * (1.0 + 1e-9), "peak speed {peak}");
-    // A rest-to-rest trapezoid takes at least d / v + v / a per segment when it cruises,
-    // 2 sqrt(d / a) when it does not; the whole motion at least the sum.
-    let total = t.points[t.points.len() - 1].0;
+    assert!(peak <= 0.3 * 1.01, "peak speed {peak}");
+    assert!(peak_accel <= 0.5 * 1.05, "peak acceleration {peak_accel}");
+    assert!(
+        peak >= 0.3 * 0.5,
+        "peak speed {peak}: nowhere near the limit"
+    );
+    // No joint can go faster than its limit, so the motion takes at least its largest
+    // joint travel over that.
+    let total = t.points[t.points.len() - 1].time;
     let travelled: f64 = t
         .points
         .windows(2)
-        .map(|w| max_diff(&w[0].1, &w[1].1))
+        .map(|w| max_diff(&w[0].positions, &w[1].positions))
         .sum();
     assert!(total >= travelled / 0.3, "{total} s for {travelled} rad");
-    // The same motion with the defaults is faster.
+    // The same motion at the full limits is faster.
     let mut rng = ChaCha8Rng::seed_from_u64(5);
     let fast = p
-        .solve(&MotionOptions::default(), &mut rng, &Termination::never())
+        .solve_timed(&options, TimingOptions::default(), &mut rng)
         .expect("a path");
-    assert!(fast.points[fast.points.len() - 1].0 < total);
+    assert!(fast.points[fast.points.len() - 1].time < total);
 }
 
 #[test]
@@ -67,7 +78,7 @@ fn equal_start_and_goal_is_one_point() {
     let scene = scene(&[ARM], &[]);
     let q = down(ARM.1, [0.5, 0.0, 0.4]);
     let t = plan(&problem(&scene, vec![0], q.clone(), q.clone()), 0).expect("no motion");
-    assert_eq!(t.points, vec![(0.0, q)]);
+    assert_eq!(t.points, vec![TrajectoryPoint::at_rest(0.0, &q)]);
 }
 
 #[test]

@@ -270,7 +270,7 @@ fn robot_seconds(step: &Step) -> f64 {
     step.motion
         .as_ref()
         .and_then(|t| t.points.last())
-        .map_or(HAND_SECONDS, |(time, _)| time.max(0.0))
+        .map_or(HAND_SECONDS, |p| p.time.max(0.0))
 }
 
 impl StepObserver for Journal<'_> {

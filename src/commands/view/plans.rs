@@ -248,13 +248,16 @@ pub fn plan_of(
                 let mut points = Vec::new();
                 let mut last = 0.0;
                 for pt in &m.points {
-                    if !pt.time.is_finite() || pt.time < last || pt.time > MAX_DURATION {
+                    if !pt.time_from_start.is_finite()
+                        || pt.time_from_start < last
+                        || pt.time_from_start > MAX_DURATION
+                    {
                         return Err(at(format!(
                             "motion time {} out of order or beyond {MAX_DURATION} s",
-                            pt.time
+                            pt.time_from_start
                         )));
                     }
-                    last = pt.time;
+                    last = pt.time_from_start;
                     // Each arm's share of the point, checked against its chain.
                     let mut offset = 0;
                     for &e in &arms {
@@ -280,7 +283,7 @@ pub fn plan_of(
                     if offset != pt.positions.len() {
                         return Err(at("a motion point longer than its arms' joints".into()));
                     }
-                    points.push((pt.time, pt.positions.clone()));
+                    points.push((pt.time_from_start, pt.positions.clone()));
                 }
                 Some((arms, points))
             }

@@ -5,7 +5,7 @@ use rand_chacha::ChaCha8Rng;
 
 use super::blocking::blocker_on_path;
 use super::{step_arc, Failure, Planner, WorldState};
-use crate::motion::{MotionError, MotionOptions, MotionProblem};
+use crate::motion::{MotionError, MotionOptions, MotionProblem, TimingOptions};
 use crate::plan::{ArmConfigurations, Command, Step};
 use crate::scene::{Holder, ObjectPlacement, SceneScratch};
 use crate::termination::Termination;
@@ -24,6 +24,7 @@ impl Planner<'_> {
         start_state: Node,
         steps: &mut [Step],
         start: &WorldState,
+        timing: &TimingOptions,
         rng: &mut ChaCha8Rng,
         stop: &Termination,
     ) -> Result<(), Failure> {
@@ -196,6 +197,7 @@ impl Planner<'_> {
                         start: &from,
                         goal: &to,
                         validity: &validity,
+                        timing: *timing,
                     };
                     self.motion_planner.solve(&problem, rng, stop, &mut scratch)
                 });

@@ -163,7 +163,16 @@ impl Planner<'_> {
         }
         if options.motions {
             let start = graph.nodes[path.nodes[0].index()];
-            self.add_motions(object, start, &mut steps, &state_at_start, &mut rng, stop)?;
+            let timing = &options.timing;
+            self.add_motions(
+                object,
+                start,
+                &mut steps,
+                &state_at_start,
+                timing,
+                &mut rng,
+                stop,
+            )?;
         }
         Ok((steps, detours))
     }
