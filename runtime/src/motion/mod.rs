@@ -37,9 +37,11 @@
 //!    left is checked soundly: a refused shortcut gets its waypoints back, and a refused
 //!    tree edge is cut off its tree, which grows on to the next path (`rrt.rs` runs
 //!    these rounds);
-//! 5. a trapezoidal velocity profile per segment (rest to rest, every joint synchronised),
-//!    sampled so that no joint moves more than [`MotionOptions::step`] between points
-//!    (`timing.rs`).
+//! 5. circular blends through the corners, each arc certified again (`blend.rs`), then a
+//!    time-optimal parameterisation under every joint's speed and acceleration limits
+//!    (`topp.rs`, TOPP-RA), rest to rest at the ends and at corners no blend clears, as
+//!    points with positions, velocities and accelerations at most
+//!    [`MotionOptions::grid_step`] apart, or at a control rate (`timing.rs`).
 //!
 //! # Sound edge checks
 //!
@@ -65,9 +67,12 @@
 //! An accepted edge is therefore free at every configuration (at least a micrometre from
 //! contact), and a re-check at any resolution, however fine, finds nothing. Every edge of
 //! the result has been accepted so (the lazy trees and the screened shortcuts only decide
-//! which edges are worth certifying), and timing only samples
-//! points on the accepted straight segments, so every segment of the trajectory is a
-//! piece of a certified edge. [`MotionOptions::collision_resolution`] is left to the
+//! which edges are worth certifying). Smoothing keeps parts of those edges and adds arcs
+//! that are certified themselves, chords between the knots on them included
+//! (`blend.rs`), so every segment between two knots lies in certified space. Points
+//! resampled at a control rate lie on the certified path itself; the straight chords
+//! between them are not certified (a controller interpolates them with the velocities
+//! and accelerations, not linearly). [`MotionOptions::collision_resolution`] is left to the
 //! sampled fallback and to [`check_trajectory`], the independent re-check, which stays a
 //! plain sampled check at the resolution it is given. The held object is part of every
 //! check and follows the hand (its pose is recomputed from the arm's tip each time).

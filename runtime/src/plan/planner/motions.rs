@@ -18,6 +18,9 @@ impl Planner<'_> {
     /// that cannot be found fails the arc of its command, so the search tries another way;
     /// when the world's other objects stand on its straight path, which is free without
     /// them, the failure names the one met first.
+    // The request's parts a motion needs, each its own concern: grouping them in a struct
+    // would only rename the call.
+    #[allow(clippy::too_many_arguments)]
     pub(super) fn add_motions(
         &self,
         object: ObjectId,
