@@ -55,7 +55,10 @@ fn a_robots_line_a_joints_line_and_a_file() {
     );
     assert_eq!(items[0].values[1].rate.value, 40.0);
     assert_eq!(items[1].robot().text, "lwr4");
-    assert_eq!(items[1].joint().map(|j| j.text.as_str()), Some("lwr_a1_joint"));
+    assert_eq!(
+        items[1].joint().map(|j| j.text.as_str()),
+        Some("lwr_a1_joint")
+    );
     assert_eq!(
         items[1].values[1].rate.unit,
         Some(RateUnit {
@@ -68,7 +71,10 @@ fn a_robots_line_a_joints_line_and_a_file() {
         Some("config/joint_limits.yaml")
     );
     assert_eq!(items[2].values[0].rate.unit, None);
-    assert_eq!(items[3].values[0].rate.unit.map(|u| u.as_string()), Some("mm/s".into()));
+    assert_eq!(
+        items[3].values[0].rate.unit.map(|u| u.as_string()),
+        Some("mm/s".into())
+    );
 }
 
 #[test]
@@ -117,7 +123,9 @@ fn shapes_the_grammar_refuses_are_syntax_errors() {
         let (_, _, errors) = parse_cell(body);
         assert!(!errors.is_empty(), "`{body}` parsed");
         assert!(
-            errors.iter().all(|e| !e.contains("limits_") && !e.contains("rate_unit")),
+            errors
+                .iter()
+                .all(|e| !e.contains("limits_") && !e.contains("rate_unit")),
             "a rule name leaked: {errors:#?}"
         );
     }
