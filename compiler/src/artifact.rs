@@ -42,9 +42,15 @@ pub fn lower(cell: &Cell, graphs: &[ObjectGraph], sources: &SourceMap) -> schema
                     prismatic: j.prismatic,
                     lower: j.lower.is_finite().then_some(j.lower),
                     upper: j.upper.is_finite().then_some(j.upper),
-                    velocity: j.velocity.unwrap_or(Joint::DEFAULT_VELOCITY),
-                    acceleration: j.acceleration.unwrap_or(Joint::DEFAULT_ACCELERATION),
-                    jerk: j.jerk,
+                    velocity: j
+                        .velocity
+                        .as_ref()
+                        .map_or(Joint::DEFAULT_VELOCITY, |l| l.value),
+                    acceleration: j
+                        .acceleration
+                        .as_ref()
+                        .map_or(Joint::DEFAULT_ACCELERATION, |l| l.value),
+                    jerk: j.jerk.as_ref().map(|l| l.value),
                 })
                 .collect(),
             span: spans.get(r.origin.file, r.origin.span),

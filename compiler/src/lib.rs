@@ -18,6 +18,7 @@ pub mod expect;
 pub mod graph;
 pub mod grasp_file;
 pub mod ids;
+pub mod joint_limits;
 pub mod load;
 pub mod math;
 pub mod merge;
@@ -111,14 +112,20 @@ pub fn compile_parsed_with(
     let mut cell = None;
     let mut graphs = Vec::new();
     let mut names = names::Names::default();
+    let mut extra_sources = Vec::new();
     if main_parsed {
-        let (resolved, written) =
-            resolve::resolve(files, reach, &loaded, options, &mut diagnostics);
+        let resolve::Resolved {
+            cell: resolved,
+            names: written,
+            extra_sources: read,
+        } = resolve::resolve(files, reach, &loaded, options, &mut diagnostics);
         names = written;
+        extra_sources = read;
         checks::check_cell(&resolved, &mut diagnostics);
         // Graph-level findings on a cell that already has errors would mostly repeat
         // them in other words, so they wait until the cell is clean.
         if !diagnostics.iter().any(Diagnostic::is_error) {
+            resolve::missing_limits(&resolved, &mut diagnostics);
             // Counted before built: a cell can ask for billions of arcs.
             let rules = graph::rules_of(&resolved);
             match budget::check(&resolved, &rules) {
@@ -137,15 +144,19 @@ pub fn compile_parsed_with(
         // alone, their findings and cell dropped. The syntax errors go in first, so no
         // `reach auto` is sampled for a cell that is not whole.
         let mut dropped = diagnostics.clone();
-        names = resolve::resolve(files, reach, &loaded, options, &mut dropped).1;
+        names = resolve::resolve(files, reach, &loaded, options, &mut dropped).names;
     }
     for include in &loaded.includes {
         names.include(include.clone());
     }
     names.finish();
     sort(&mut diagnostics);
+    let mut sources = loaded.sources;
+    for (path, text) in extra_sources {
+        sources.add(path, text);
+    }
     Compilation {
-        sources: loaded.sources,
+        sources,
         cell,
         graphs,
         diagnostics,

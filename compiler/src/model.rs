@@ -158,13 +158,37 @@ pub struct Joint {
     pub lower: f64,
     /// Upper limit (`inf` for continuous joints).
     pub upper: f64,
-    /// Speed limit from the URDF's `<limit velocity>` (`None` when absent, zero, or not
-    /// finite), rad/s or m/s.
-    pub velocity: Option<f64>,
-    /// Acceleration limit declared for it (the cell or `joint_limits.yaml`).
-    pub acceleration: Option<f64>,
-    /// Jerk limit declared for it.
-    pub jerk: Option<f64>,
+    /// Speed limit (rad/s or m/s): the URDF's `<limit velocity>` (`None` when absent,
+    /// zero, or not finite) unless the cell or its `joint_limits.yaml` gives one.
+    pub velocity: Option<Limit>,
+    /// Acceleration limit (rad/s² or m/s²), declared in the cell or its
+    /// `joint_limits.yaml` (a URDF has none).
+    pub acceleration: Option<Limit>,
+    /// Jerk limit (rad/s³ or m/s³), declared likewise; `None` is no jerk limit.
+    pub jerk: Option<Limit>,
+}
+
+/// One limit of a joint and where it came from (`cellc info` shows it; the artifact
+/// carries the value only).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Limit {
+    /// In SI units.
+    pub value: f64,
+    /// Where it was read.
+    pub source: LimitSource,
+}
+
+/// Where a joint's limit came from, in the order of precedence, last wins.
+#[derive(Clone, Debug, PartialEq)]
+pub enum LimitSource {
+    /// The URDF's `<limit velocity>`.
+    Urdf,
+    /// A `joint_limits.yaml` named by `limits ROBOT from "FILE"` (its path, and the line).
+    File(String, Origin),
+    /// A `limits ROBOT ...` line (every joint of the robot).
+    Robot(Origin),
+    /// A `limits ROBOT.JOINT ...` line.
+    Joint(Origin),
 }
 
 impl Joint {

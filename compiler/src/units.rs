@@ -69,6 +69,12 @@ impl Eval<'_> {
                 return None;
             }
             (Some(unit), _) => unit,
+            // Rates are read by `limit`, never here.
+            (_, Dimension::Rate { .. }) => {
+                self.diagnostics
+                    .push(diagnostics::missing_unit(dimension, self.file, q.span));
+                return None;
+            }
             (None, Dimension::Length) => match self.units.length {
                 Some(unit) => unit,
                 None => {
@@ -132,6 +138,63 @@ impl Eval<'_> {
                 .push(diagnostics::not_positive(what, q.value, self.file, q.span));
             None
         }
+    }
+
+    /// A joint limit in SI (rad/s^n or m/s^n; `linear` for a prismatic joint), positive
+    /// and finite. A bare number takes the file's angle unit (revolute joints) or length
+    /// unit (prismatic) per second to the limit's power.
+    pub fn limit(&mut self, r: &ast::Rate, kind: ast::LimitKind, linear: bool) -> Option<f64> {
+        let dimension = Dimension::Rate {
+            linear,
+            order: kind.order(),
+        };
+        let base = match r.unit {
+            Some(unit) => {
+                if unit.base.is_length() != linear || unit.order != kind.order() {
+                    self.diagnostics.push(diagnostics::wrong_unit(
+                        dimension,
+                        &unit.as_string(),
+                        self.file,
+                        r.span,
+                    ));
+                    return None;
+                }
+                unit.base
+            }
+            None => {
+                let default = if linear {
+                    self.units.length
+                } else {
+                    self.units.angle
+                };
+                match default {
+                    Some(unit) => unit,
+                    None => {
+                        self.diagnostics
+                            .push(diagnostics::missing_unit(dimension, self.file, r.span));
+                        return None;
+                    }
+                }
+            }
+        };
+        let value = r.value * base.to_si();
+        if !value.is_finite() {
+            self.diagnostics
+                .push(diagnostics::not_finite(self.file, r.span));
+            return None;
+        }
+        if value <= 0.0 {
+            let article = if kind == ast::LimitKind::Acceleration {
+                "an"
+            } else {
+                "a"
+            };
+            let what = format!("{article} {} limit", kind.as_str());
+            self.diagnostics
+                .push(diagnostics::not_positive(&what, r.value, self.file, r.span));
+            return None;
+        }
+        Some(value)
     }
 
     /// Three lengths (all are checked, so every bad component is reported).

@@ -358,8 +358,12 @@ fn check_chain(
                 prismatic: kind == JointKind::Prismatic,
                 lower,
                 upper,
-                velocity: (joint.velocity.is_finite() && joint.velocity > 0.0)
-                    .then_some(joint.velocity),
+                velocity: (joint.velocity.is_finite() && joint.velocity > 0.0).then_some(
+                    crate::model::Limit {
+                        value: joint.velocity,
+                        source: crate::model::LimitSource::Urdf,
+                    },
+                ),
                 acceleration: None,
                 jerk: None,
             }

@@ -84,6 +84,8 @@ pub enum Item {
     Request(RequestItem),
     /// `obstacle NAME box center (...) size (...)`.
     Obstacle(ObstacleItem),
+    /// `limits ROBOT[.JOINT] [from "FILE"] [velocity V] [acceleration A] [jerk J]`.
+    Limits(LimitsItem),
     /// `world { OBJECT: PLACEMENT ... }`.
     World(WorldItem),
     /// `task NAME { OBJECT to PLACEMENT ... }`.
@@ -113,6 +115,7 @@ impl Item {
             Item::Allow(i) => i.span,
             Item::Request(i) => i.span,
             Item::Obstacle(i) => i.span,
+            Item::Limits(i) => i.span,
             Item::World(i) => i.span,
             Item::Task(i) => i.span,
         }
@@ -441,5 +444,83 @@ pub struct Placement {
     /// Workspace.
     pub workspace: Name,
     /// Whole placement.
+    pub span: Span,
+}
+
+/// `limits ROBOT [from "FILE"] LIMIT*` or `limits ROBOT.JOINT LIMIT+`: the velocity,
+/// acceleration and jerk limits of a robot's joints. A robot's line holds for every joint
+/// of its chain; a joint's own line wins over it, the cell's lines over the file, the file
+/// over the URDF.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LimitsItem {
+    /// The robot (`object` empty) or `ROBOT.JOINT` (the robot in `object`, the joint in
+    /// `name`).
+    pub target: Qualified,
+    /// `from "FILE"`: a MoveIt `joint_limits.yaml` (robot lines only).
+    pub file: Option<StringLit>,
+    /// The limits written, in source order.
+    pub values: Vec<LimitValue>,
+    /// Whole item.
+    pub span: Span,
+}
+
+impl LimitsItem {
+    /// The robot's name as written.
+    pub fn robot(&self) -> &Name {
+        self.target.object.as_ref().unwrap_or(&self.target.name)
+    }
+
+    /// The joint's name, for a joint's line.
+    pub fn joint(&self) -> Option<&Name> {
+        self.target.object.as_ref().map(|_| &self.target.name)
+    }
+}
+
+/// Which limit a value sets.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum LimitKind {
+    /// Speed (`/s`).
+    Velocity,
+    /// Acceleration (`/s2`).
+    Acceleration,
+    /// Jerk (`/s3`).
+    Jerk,
+}
+
+impl LimitKind {
+    /// Every kind, in the order they are written.
+    pub const ALL: [LimitKind; 3] = [
+        LimitKind::Velocity,
+        LimitKind::Acceleration,
+        LimitKind::Jerk,
+    ];
+
+    /// As written in the language.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            LimitKind::Velocity => "velocity",
+            LimitKind::Acceleration => "acceleration",
+            LimitKind::Jerk => "jerk",
+        }
+    }
+
+    /// The power of the second in its unit (`rad/s2` for an acceleration).
+    pub fn order(self) -> u8 {
+        match self {
+            LimitKind::Velocity => 1,
+            LimitKind::Acceleration => 2,
+            LimitKind::Jerk => 3,
+        }
+    }
+}
+
+/// `acceleration 4 rad/s2`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LimitValue {
+    /// Which limit.
+    pub kind: LimitKind,
+    /// Its value as written.
+    pub rate: Rate,
+    /// The pair.
     pub span: Span,
 }

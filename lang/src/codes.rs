@@ -86,7 +86,7 @@ registry! {
         WRONG_UNIT = "E0202";
         /// A quaternion that is not of unit length.
         NOT_A_ROTATION = "E0203";
-        /// A size, radius or height that is not positive.
+        /// A size, radius, height or joint limit that is not positive.
         NOT_POSITIVE = "E0204";
         /// A weight that is negative or not finite.
         BAD_WEIGHT = "E0205";
@@ -98,6 +98,8 @@ registry! {
         NOT_FINITE = "E0208";
         /// An arc weight set twice.
         WEIGHT_SET_TWICE = "E0209";
+        /// A joint limit (or a robot's joint limits file) given twice at one level.
+        LIMIT_SET_TWICE = "E0210";
         /// A transition between two non-movable end-effectors.
         FIXED_TO_FIXED = "E0301";
         /// A grasp for a holder kind that no end-effector has.
@@ -153,6 +155,8 @@ registry! {
         FAMILY_NOT_A_GRASP = "E0326";
         /// A grasp-set file with a row that is not a pose.
         BAD_GRASP_FILE = "E0327";
+        /// A `joint_limits.yaml` that is not YAML of MoveIt's shape, or a bad value in it.
+        BAD_LIMITS_FILE = "E0328";
         /// A URDF (or SRDF) file that can't be read.
         URDF_UNREADABLE = "E0401";
         /// A URDF that urdf-rs cannot parse.
@@ -191,6 +195,9 @@ registry! {
         SAME_HOLDER_TRANSITION = "W0004";
         /// The same directed transition declared twice.
         DUPLICATE_TRANSITION = "W0005";
+        /// Joints timed with a default limit: no acceleration limit declared, or no usable
+        /// velocity limit anywhere.
+        MISSING_LIMITS = "W0007";
     }
     /// The preflight scene check of a geometric cell (`cellc_driver::scene_report`).
     scene {

@@ -56,6 +56,7 @@ pub const ITEM_KEYWORDS: &[Keyword] = &[
     },
     keyword("request", Rule::kw_request),
     keyword("obstacle", Rule::kw_obstacle),
+    keyword("limits", Rule::kw_limits),
     keyword("world", Rule::kw_world),
     keyword("task", Rule::kw_task),
 ];

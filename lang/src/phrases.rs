@@ -195,6 +195,18 @@ pub fn phrase(rule: Rule) -> &'static str {
         Rule::kw_states => "`states`",
         Rule::kw_for => "`for`",
         Rule::kw_world => "`world`",
+        Rule::kw_limits => "`limits`",
+        Rule::kw_velocity => "`velocity`",
+        Rule::kw_acceleration => "`acceleration`",
+        Rule::kw_jerk => "`jerk`",
+        Rule::limits_item => {
+            "joint limits like `limits lwr4 acceleration 4 rad/s2` or `limits panda from \"joint_limits.yaml\"`"
+        }
+        Rule::limits_file => "a joint limits file like `from \"config/joint_limits.yaml\"`",
+        Rule::limit_value => "a limit like `velocity 1.5 rad/s` or `acceleration 4 rad/s2`",
+        Rule::limit_kind => "`velocity`, `acceleration` or `jerk`",
+        Rule::rate_unit => "a rate unit like `rad/s`, `deg/s2` or `m/s3`",
+        Rule::rate => "a rate like `1.5 rad/s` or `4 rad/s2`",
         Rule::kw_task => "`task`",
         Rule::world_item => "a world like `world { cylinder: table in w1 }`",
         Rule::world_body | Rule::world_entry_probe | Rule::world_entry_line => {

@@ -333,13 +333,17 @@ class Run:
 
 @dataclass(frozen=True)
 class Joint:
-    """A joint of an arm's chain: URDF name, limits (None for a continuous joint), and
-    whether it slides (metres) rather than turns (radians)."""
+    """A joint of an arm's chain: URDF name, limits (None for a continuous joint),
+    whether it slides (metres) rather than turns (radians), and the velocity,
+    acceleration and jerk (None: no jerk limit) it is timed with, per second."""
 
     name: str
     lower: float | None
     upper: float | None
     prismatic: bool
+    velocity: float = 0.0
+    acceleration: float = 0.0
+    jerk: float | None = None
 
 
 @dataclass(frozen=True)
@@ -440,7 +444,15 @@ class CellInfo:
                     a["name"],
                     str(a.get("robot", "")),
                     tuple(
-                        Joint(j["name"], j.get("lower"), j.get("upper"), bool(j.get("prismatic")))
+                        Joint(
+                            j["name"],
+                            j.get("lower"),
+                            j.get("upper"),
+                            bool(j.get("prismatic")),
+                            float(j.get("velocity", 0.0)),
+                            float(j.get("acceleration", 0.0)),
+                            j.get("jerk"),
+                        )
                         for j in a.get("joints") or ()
                     ),
                     tuple(a.get("home") or ()),

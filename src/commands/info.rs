@@ -24,6 +24,7 @@ pub fn run(path: &str, color: Color, options: &cellc_compiler::CompileOptions) -
         };
         print!("{}", describe(&artifact));
         if let Some(cell) = &compilation.cell {
+            print!("{}", joint_limits(cell, &compilation.sources));
             print!("{}", computed_reach(cell));
         }
         return ExitCode::SUCCESS;
@@ -35,6 +36,71 @@ pub fn run(path: &str, color: Color, options: &cellc_compiler::CompileOptions) -
         }
         None => ExitCode::from(1),
     }
+}
+
+/// Each robot's joints with the velocity, acceleration and jerk they are timed with and
+/// where each came from (the artifact keeps the values only, so this is shown for a cell
+/// compiled now).
+pub fn joint_limits(cell: &cellc_compiler::Cell, sources: &cellc_lang::SourceMap) -> String {
+    use cellc_compiler::model::{Joint, Limit, LimitSource};
+    let mut out = String::new();
+    if cell.robots.is_empty() {
+        return out;
+    }
+    let _ = writeln!(
+        out,
+        "\njoint limits ({})",
+        count(cell.robots.len(), "robot")
+    );
+    let line = |o: &cellc_compiler::model::Origin| {
+        let file = sources.get(o.file);
+        let (l, _) = file.line_col(o.span.start);
+        format!("{}:{}", file.path, l)
+    };
+    let shown = |limit: Option<&Limit>, default: Option<f64>, unit: &str| -> String {
+        match (limit, default) {
+            (Some(l), _) => {
+                let from = match &l.source {
+                    LimitSource::Urdf => "urdf".to_string(),
+                    LimitSource::File(path, _) => format!("file {path}"),
+                    LimitSource::Robot(o) | LimitSource::Joint(o) => format!("cell {}", line(o)),
+                };
+                format!("{} {unit} ({from})", round(l.value))
+            }
+            (None, Some(d)) => format!("{d} {unit} (default)"),
+            (None, None) => "none".to_string(),
+        }
+    };
+    for (_, robot) in cell.robots.iter() {
+        let _ = writeln!(out, "  {}:", robot.name);
+        for j in &robot.chain_joints {
+            let (u1, u2, u3) = if j.prismatic {
+                ("m/s", "m/s2", "m/s3")
+            } else {
+                ("rad/s", "rad/s2", "rad/s3")
+            };
+            let _ = writeln!(
+                out,
+                "    {}: velocity {}, acceleration {}, jerk {}",
+                j.name,
+                shown(j.velocity.as_ref(), Some(Joint::DEFAULT_VELOCITY), u1),
+                shown(
+                    j.acceleration.as_ref(),
+                    Some(Joint::DEFAULT_ACCELERATION),
+                    u2
+                ),
+                shown(j.jerk.as_ref(), None, u3),
+            );
+        }
+    }
+    out
+}
+
+/// A limit to six significant digits at most, as `cellc info` shows it.
+fn round(v: f64) -> String {
+    let r = format!("{v:.6}");
+    let r = r.trim_end_matches('0').trim_end_matches('.');
+    r.to_string()
 }
 
 /// The boxes `reach auto` found per arm, with the work and the time it took (nothing

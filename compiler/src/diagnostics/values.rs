@@ -15,6 +15,13 @@ pub enum Dimension {
     Angle,
     /// A pure number (quaternion components).
     Number,
+    /// A joint limit: a length (`linear`) or angle per second to the `order` (1 to 3).
+    Rate {
+        /// Metres (a prismatic joint) rather than radians.
+        linear: bool,
+        /// The power of the second.
+        order: u8,
+    },
 }
 
 impl Dimension {
@@ -23,6 +30,35 @@ impl Dimension {
             Dimension::Length => "a length",
             Dimension::Angle => "an angle",
             Dimension::Number => "a plain number",
+            Dimension::Rate { linear, order } => match (linear, order) {
+                (true, 1) => "a linear velocity",
+                (true, 2) => "a linear acceleration",
+                (true, _) => "a linear jerk",
+                (false, 1) => "an angular velocity",
+                (false, 2) => "an angular acceleration",
+                (false, _) => "an angular jerk",
+            },
+        }
+    }
+
+    /// The units that measure it, for help lines.
+    fn units(self) -> String {
+        match self {
+            Dimension::Length => "`m`, `cm` or `mm`".to_string(),
+            Dimension::Angle => "`deg` or `rad`".to_string(),
+            Dimension::Number => "no unit".to_string(),
+            Dimension::Rate { linear, order } => {
+                let per = if order == 1 {
+                    "/s".to_string()
+                } else {
+                    format!("/s{order}")
+                };
+                if linear {
+                    format!("`m{per}`, `cm{per}` or `mm{per}`")
+                } else {
+                    format!("`rad{per}` or `deg{per}`")
+                }
+            }
         }
     }
 }
@@ -31,6 +67,8 @@ impl Dimension {
 pub fn missing_unit(dimension: Dimension, file: FileId, span: Span) -> Diagnostic {
     let (example, units) = match dimension {
         Dimension::Angle => ("90 deg", "units m, deg"),
+        Dimension::Rate { linear: false, .. } => ("2 rad/s2", "units m, rad"),
+        Dimension::Rate { linear: true, .. } => ("0.5 m/s", "units m, deg"),
         _ => ("0.5 m", "units m, deg"),
     };
     Diagnostic::error(
@@ -46,9 +84,8 @@ pub fn missing_unit(dimension: Dimension, file: FileId, span: Span) -> Diagnosti
 /// A unit of the wrong dimension.
 pub fn wrong_unit(dimension: Dimension, unit: &str, file: FileId, span: Span) -> Diagnostic {
     let fix = match dimension {
-        Dimension::Length => "use `m`, `cm` or `mm`",
-        Dimension::Angle => "use `deg` or `rad`",
-        Dimension::Number => "remove the unit",
+        Dimension::Number => "remove the unit".to_string(),
+        _ => format!("use {}", dimension.units()),
     };
     Diagnostic::error(
         WRONG_UNIT,

@@ -191,6 +191,7 @@ impl Resolver<'_, '_> {
             | ast::Item::Request(_)
             | ast::Item::World(_)
             | ast::Item::Task(_)
+            | ast::Item::Limits(_)
             | ast::Item::Allow(_) => {}
         }
     }

@@ -31,6 +31,8 @@ mod contacts;
 mod declare;
 mod families;
 mod items;
+mod limits;
+pub use limits::missing_limits;
 mod lookup;
 mod requirements;
 mod world;
@@ -95,7 +97,7 @@ pub fn resolve(
     loaded: &Loaded,
     options: &crate::CompileOptions,
     diagnostics: &mut Vec<Diagnostic>,
-) -> (Cell, Names) {
+) -> Resolved {
     let mut r = Resolver {
         files,
         packages: cellc_urdf::PackagePath::new(),
@@ -113,6 +115,10 @@ pub fn resolve(
         workspaces_incomplete: false,
         urdfs: crate::urdf::UrdfCache::default(),
         written: Names::default(),
+        limits_lines: Vec::new(),
+        limits_files: HashMap::default(),
+        first_extra_source: loaded.sources.len() as u32,
+        extra_sources: Vec::new(),
         diagnostics,
     };
     if let Some(main) = loaded.files.first().and_then(|f| f.ast.as_ref()) {
@@ -136,9 +142,13 @@ pub fn resolve(
     }
     for (i, (id, _, file)) in files.iter().enumerate() {
         for item in &file.items {
-            r.resolve_item(*id, units[i], item);
+            match item {
+                ast::Item::Limits(l) => r.resolve_limits(*id, units[i], l),
+                _ => r.resolve_item(*id, units[i], item),
+            }
         }
     }
+    r.apply_limits();
     // Allowed contacts name bodies, never workspaces: they are resolved before reach is
     // computed, which builds the scene they shape.
     for (id, _, file) in &files {
@@ -189,7 +199,23 @@ pub fn resolve(
         }
     }
     r.written.finish();
-    (r.cell, r.written)
+    Resolved {
+        cell: r.cell,
+        names: r.written,
+        extra_sources: r.extra_sources,
+    }
+}
+
+/// What [`resolve`] gives: the cell, the names written, and the files it read that the
+/// source map must hold for its diagnostics (joint limits files, in the order their ids
+/// were given, after the loaded sources).
+pub struct Resolved {
+    /// The cell.
+    pub cell: Cell,
+    /// The names written.
+    pub names: Names,
+    /// (path, text) of each file read, to add to the source map in this order.
+    pub extra_sources: Vec<(String, String)>,
 }
 
 struct Resolver<'w, 'd> {
@@ -227,6 +253,14 @@ struct Resolver<'w, 'd> {
     workspaces_incomplete: bool,
     /// Every name declared and looked up so far, where it is written.
     written: Names,
+    /// `limits` lines resolved, applied once all are known.
+    limits_lines: Vec<limits::LimitsLine<'w>>,
+    /// Joint limits files read, by resolved path.
+    limits_files: HashMap<String, limits::ReadLimitsFile>,
+    /// The id the first file read here gets (the loaded sources come first).
+    first_extra_source: u32,
+    /// Files read here, for the source map.
+    extra_sources: Vec<(String, String)>,
     diagnostics: &'d mut Vec<Diagnostic>,
 }
 

@@ -154,6 +154,13 @@ pub struct Joint {
     pub lower: Option<f64>,
     /// Its upper limit.
     pub upper: Option<f64>,
+    /// The speed it is timed with (rad/s, m/s when prismatic): the cell's, its
+    /// `joint_limits.yaml`'s, its URDF's, or the default (`cellc info CELL` says which).
+    pub velocity: f64,
+    /// The acceleration it is timed with (rad/s², m/s² when prismatic).
+    pub acceleration: f64,
+    /// Its jerk limit (rad/s³, m/s³ when prismatic), when one is declared.
+    pub jerk: Option<f64>,
 }
 
 impl Cell {
@@ -244,6 +251,9 @@ impl Cell {
                                 prismatic: j.prismatic,
                                 lower: j.lower,
                                 upper: j.upper,
+                                velocity: j.velocity,
+                                acceleration: j.acceleration,
+                                jerk: j.jerk,
                             })
                             .collect(),
                         home: home.clone(),

@@ -109,6 +109,53 @@ pub struct Quantity {
     pub span: Span,
 }
 
+/// A length or angle per second, squared or cubed: `rad/s2`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct RateUnit {
+    /// The length or angle unit.
+    pub base: Unit,
+    /// The power of the second (1 to 3).
+    pub order: u8,
+}
+
+impl RateUnit {
+    /// Parses a rate unit as written (`deg/s`, `m/s2`).
+    pub fn parse(text: &str) -> Option<RateUnit> {
+        let (base, per) = text.split_once("/s")?;
+        let order = match per {
+            "" => 1,
+            "2" => 2,
+            "3" => 3,
+            _ => return None,
+        };
+        Some(RateUnit {
+            base: Unit::parse(base)?,
+            order,
+        })
+    }
+
+    /// As written in the language.
+    pub fn as_string(self) -> String {
+        match self.order {
+            1 => format!("{}/s", self.base.as_str()),
+            n => format!("{}/s{n}", self.base.as_str()),
+        }
+    }
+}
+
+/// A number with an optional rate unit, e.g. `1.5 rad/s`, `4 rad/s2`, `120 deg/s`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Rate {
+    /// The number as written.
+    pub number: String,
+    /// The parsed value.
+    pub value: f64,
+    /// The unit, if one was written.
+    pub unit: Option<RateUnit>,
+    /// Span of number and unit.
+    pub span: Span,
+}
+
 /// `(x, y, z)`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Vec3 {

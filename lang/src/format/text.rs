@@ -62,6 +62,13 @@ fn quantity(q: &Quantity) -> String {
     }
 }
 
+fn rate(r: &Rate) -> String {
+    match r.unit {
+        Some(unit) => format!("{} {}", r.number, unit.as_string()),
+        None => r.number.clone(),
+    }
+}
+
 fn tuple(parts: &[Quantity]) -> String {
     let parts: Vec<String> = parts.iter().map(quantity).collect();
     format!("({})", parts.join(", "))
@@ -226,6 +233,16 @@ pub(super) fn item_text(item: &Item) -> String {
         },
         Item::Allow(a) => format!("allow contact {} {}", qualified(&a.a), qualified(&a.b)),
         Item::Obstacle(o) => format!("obstacle {} {}", name(&o.name), aabb(&o.aabb)),
+        Item::Limits(l) => {
+            let mut out = format!("limits {}", qualified(&l.target));
+            if let Some(file) = &l.file {
+                out.push_str(&format!(" from {}", string(file)));
+            }
+            for v in &l.values {
+                out.push_str(&format!(" {} {}", v.kind.as_str(), rate(&v.rate)));
+            }
+            out
+        }
         Item::Request(r) => format!(
             "request {}: {} from {} to {}",
             name(&r.name),

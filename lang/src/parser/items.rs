@@ -240,6 +240,46 @@ impl Builder<'_, '_> {
                 requirement: self.requirement(inner.next()?)?,
                 span,
             }),
+            Rule::limits_item => {
+                let target = inner.next()?;
+                let target = if target.as_rule() == Rule::name {
+                    let name = self.name(target)?;
+                    Qualified {
+                        object: None,
+                        span: name.span,
+                        name,
+                    }
+                } else {
+                    self.qualified(target)?
+                };
+                let mut file = None;
+                let mut values = Vec::new();
+                for p in inner {
+                    if p.as_rule() == Rule::limits_file {
+                        let string = p.into_inner().find(|q| q.as_rule() == Rule::string)?;
+                        file = Some(self.string(string)?);
+                        continue;
+                    }
+                    let vspan = span_of(&p);
+                    let mut parts = p.into_inner();
+                    let kind = match parts.next()?.into_inner().next()?.as_rule() {
+                        Rule::kw_velocity => LimitKind::Velocity,
+                        Rule::kw_acceleration => LimitKind::Acceleration,
+                        _ => LimitKind::Jerk,
+                    };
+                    values.push(LimitValue {
+                        kind,
+                        rate: self.rate(parts.next()?)?,
+                        span: vspan,
+                    });
+                }
+                Item::Limits(LimitsItem {
+                    target,
+                    file,
+                    values,
+                    span,
+                })
+            }
             Rule::world_item => Item::World(self.world_item(span, inner)?),
             Rule::task_item => Item::Task(self.task_item(span, inner)?),
             _ => return None,

@@ -159,6 +159,22 @@ impl Builder<'_, '_> {
         })
     }
 
+    pub(super) fn rate(&mut self, pair: Pair<'_, Rule>) -> Option<Rate> {
+        let span = span_of(&pair);
+        let mut inner = pair.into_inner();
+        let number = inner.next()?;
+        let unit = match inner.next() {
+            Some(u) => Some(RateUnit::parse(u.as_str())?),
+            None => None,
+        };
+        Some(Rate {
+            number: number.as_str().to_string(),
+            value: number.as_str().parse().ok()?,
+            unit,
+            span,
+        })
+    }
+
     pub(super) fn integer(&mut self, pair: &Pair<'_, Rule>) -> Option<u32> {
         match pair.as_str().parse() {
             Ok(value) => Some(value),
