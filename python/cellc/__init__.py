@@ -26,7 +26,7 @@ from .types import (
     ObjectInfo,
     Workspace,
 )
-from .types import Move, Placed, Plan, Pose, Run, State, Step, Trajectory, World
+from .types import Move, Placed, Plan, Point, Pose, Run, State, Step, Trajectory, World
 
 __all__ = [
     "Arm",
@@ -52,6 +52,7 @@ __all__ = [
     "Run",
     "State",
     "Step",
+    "Point",
     "Trajectory",
     "World",
     "WorldUncertain",

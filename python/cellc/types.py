@@ -88,12 +88,32 @@ class State:
 
 
 @dataclass(frozen=True)
+class Point:
+    """A trajectory point as a joint-trajectory controller takes it: seconds from the
+    step's start, and every moving arm's joints' positions, velocities and accelerations
+    in the trajectory's `arms` order."""
+
+    time_from_start: float
+    positions: tuple[float, ...]
+    velocities: tuple[float, ...]
+    accelerations: tuple[float, ...]
+
+    @staticmethod
+    def parse(d: dict[str, Any]) -> "Point":
+        return Point(
+            float(d["time_from_start"]),
+            tuple(d["positions"]),
+            tuple(d["velocities"]),
+            tuple(d["accelerations"]),
+        )
+
+
+@dataclass(frozen=True)
 class Trajectory:
-    """A joint motion: the arms that move (each with its joint names) and the points,
-    each (time in seconds, every moving arm's joints in `arms` order)."""
+    """A joint motion: the arms that move (each with its joint names) and its points."""
 
     arms: tuple[tuple[str, tuple[str, ...]], ...]
-    points: tuple[tuple[float, tuple[float, ...]], ...]
+    points: tuple[Point, ...]
 
     @staticmethod
     def parse(d: dict[str, Any] | None) -> "Trajectory | None":
@@ -101,12 +121,12 @@ class Trajectory:
             return None
         return Trajectory(
             tuple((str(a["arm"]), tuple(a["joints"])) for a in d["arms"]),
-            tuple((float(p["time"]), tuple(p["positions"])) for p in d["points"]),
+            tuple(Point.parse(p) for p in d["points"]),
         )
 
     @property
     def duration(self) -> float:
-        return self.points[-1][0] if self.points else 0.0
+        return self.points[-1].time_from_start if self.points else 0.0
 
 
 @dataclass(frozen=True)
@@ -595,6 +615,7 @@ MIRRORS: dict[type, tuple[str, dict[str, str], frozenset[str]]] = {
     Joints: ("Joints", {"names": "joints"}, frozenset()),
     State: ("State", {}, frozenset()),
     Trajectory: ("Trajectory", {}, frozenset()),
+    Point: ("Point", {}, frozenset()),
     Step: ("Step", {}, frozenset()),
     Plan: ("Plan", {}, frozenset()),
     Placed: ("Placed", {}, frozenset()),
@@ -628,7 +649,6 @@ NOT_MIRRORED: dict[str, str] = {
     "Span": "not kept",
     "Detour": "kept as a dict in `Plan.detours`",
     "ArmJoints": "kept as (arm, joints) in `Trajectory.arms`",
-    "Point": "kept as (time, positions) in `Trajectory.points`",
     "Grasp": "kept by name in `ObjectInfo`",
     "Box3": "kept as (min, max) in `Workspace.boxes`",
     "Executions": "returned as a list of `ExecutionSummary` by `Client.executions`",

@@ -46,7 +46,10 @@ def test_plan_names_every_joint_and_leaves_the_world(client):
     assert motions
     for m in motions:
         width = sum(len(names) for _, names in m.arms)
-        assert all(len(q) == width for _, q in m.points)
+        assert all(len(p.positions) == width for p in m.points)
+        assert all(len(p.velocities) == width for p in m.points)
+        assert m.points[0].time_from_start == 0.0
+        assert m.duration > 0.0
     assert client.world() == before
 
 
