@@ -110,9 +110,6 @@ impl Piece {
 #[derive(Clone, Debug, Default)]
 pub(super) struct Smoothed {
     pub(super) sections: Vec<Vec<Piece>>,
-    /// Corners blended, and corners passed at rest.
-    pub(super) blended: usize,
-    pub(super) stops: usize,
 }
 
 /// What a corner becomes.
@@ -155,11 +152,6 @@ pub(super) fn smooth<S>(
         } else {
             None
         };
-        match &corner {
-            Some(c) if c.arc.is_some() => smoothed.blended += 1,
-            Some(_) => {}
-            None => smoothed.stops += 1,
-        }
         corners.push(corner);
     }
     // How far each waypoint's blend cuts into its segments (0 at the ends, at stops and
