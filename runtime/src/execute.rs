@@ -1,4 +1,5 @@
-//! Executing plans: an [`Executor`] trait for real drivers, a kinematic [`Simulator`],
+//! Executing plans: an [`Executor`] trait for real drivers, a kinematic [`Simulator`]
+//! that plays each motion by time as a joint-trajectory controller would (`playback.rs`),
 //! and the paper's recovery rule (step 7 of Algorithm 1): when a step fails, if the
 //! object is still where it started the request fails; otherwise the planner is asked
 //! again from where the object is now.
@@ -15,6 +16,11 @@ use crate::math::Iso;
 use crate::plan::planner::{Planner, WorldState};
 use crate::plan::{Command, Plan, PlanError, PlanOptions, Step};
 use crate::scene::{Holder, Scene};
+
+mod playback;
+
+pub use playback::Quantity;
+use playback::{Fault, JointBounds, Slack};
 
 /// Why an executor could not carry out a step.
 #[derive(Clone, Debug, PartialEq)]
@@ -59,6 +65,30 @@ pub enum StepError {
         /// Largest joint difference, radians or metres.
         joint_error: f64,
     },
+    /// Played by time, a motion takes a joint past one of its limits (position, speed,
+    /// acceleration, a declared jerk), or a point states an acceleration its motion does
+    /// not have.
+    LimitExceeded {
+        /// The arm.
+        arm: EndEffectorId,
+        /// The joint's name.
+        joint: String,
+        /// What is over the limit.
+        quantity: Quantity,
+        /// The value reached (signed).
+        value: f64,
+        /// The limit (a speed, acceleration or jerk limit is a magnitude).
+        limit: f64,
+        /// Seconds from the start of the motion.
+        time: f64,
+    },
+    /// A point of a motion has the wrong number of values, a value that is not finite, or
+    /// a time that does not come after the one before; or the motion moves an
+    /// end-effector that is not an arm.
+    MalformedTrajectory {
+        /// Point index (0 for an end-effector that is not an arm).
+        point: usize,
+    },
 }
 
 impl std::fmt::Display for StepError {
@@ -97,6 +127,36 @@ impl std::fmt::Display for StepError {
                 "the motion of arm #{} ends {joint_error:.4} away from its command",
                 arm.0
             ),
+            StepError::LimitExceeded {
+                arm,
+                joint,
+                quantity: Quantity::StatedAcceleration,
+                value,
+                time,
+                ..
+            } => write!(
+                f,
+                "at {time:.3} s into its motion, a point states an acceleration of joint \
+                 `{joint}` of arm #{} {value:.4} away from what the motion does there",
+                arm.0
+            ),
+            StepError::LimitExceeded {
+                arm,
+                joint,
+                quantity,
+                value,
+                limit,
+                time,
+            } => write!(
+                f,
+                "at {time:.3} s into its motion, joint `{joint}` of arm #{} reaches {} \
+                 {value:.4}, over its limit {limit:.4}",
+                arm.0,
+                quantity.word()
+            ),
+            StepError::MalformedTrajectory { point } => {
+                write!(f, "point {point} of the motion is malformed")
+            }
         }
     }
 }
@@ -139,6 +199,11 @@ pub struct SimulatorTolerance {
     /// planner accepts is one the simulator accepts. The object then rests where it
     /// fell, and the final error from the goal says how far that is.
     pub drop: f64,
+    /// Share by which a motion may go over a joint's speed, acceleration or jerk limit.
+    /// The planner imposes the limits at its profile's knots; on an arc of a smoothed
+    /// corner the acceleration turns in between, which its margins cover to within a few
+    /// percent (`tests/trajectory_limits.rs` measures it on every shipped cell).
+    pub rate: f64,
 }
 
 impl Default for SimulatorTolerance {
@@ -149,6 +214,7 @@ impl Default for SimulatorTolerance {
             joint: 1e-6,
             // The default request's position tolerance.
             drop: 1e-2,
+            rate: 0.05,
         }
     }
 }
@@ -168,6 +234,8 @@ pub struct Simulator<'a> {
     /// Step index (counted over the whole run) whose motion fails, for tests.
     fail_at: Option<usize>,
     executed: usize,
+    /// Seconds of motion played so far.
+    clock: f64,
     /// What happened, one line per step.
     pub log: Vec<String>,
 }
@@ -207,6 +275,7 @@ impl<'a> Simulator<'a> {
             tolerance: SimulatorTolerance::default(),
             fail_at: None,
             executed: 0,
+            clock: 0.0,
             log: Vec::new(),
         };
         // An object that starts in a hand sits where that hand's grasp puts it.
@@ -230,6 +299,12 @@ impl<'a> Simulator<'a> {
     pub fn with_tolerance(mut self, tolerance: SimulatorTolerance) -> Self {
         self.tolerance = tolerance;
         self
+    }
+
+    /// Seconds of motion played so far: the simulated clock, over every step executed
+    /// (grasps and releases take no time here).
+    pub fn motion_time(&self) -> f64 {
+        self.clock
     }
 
     /// The object's current pose.
@@ -272,28 +347,74 @@ impl<'a> Simulator<'a> {
         }
     }
 
-    /// Follows a trajectory point by point; a held object follows its hand at every one.
-    fn follow(&mut self, step: &Step) {
+    /// Plays a step's motion by time against its arms' limits, then moves the arms
+    /// through its points (a held object follows its hand at every one): the motion's
+    /// duration, or none for a step without one.
+    fn follow(&mut self, step: &Step) -> Result<Option<f64>, StepError> {
         let (Some(trajectory), Some(scene)) = (&step.motion, self.scene) else {
-            return;
+            return Ok(None);
         };
+        // Each column's arm, joint name and limits.
+        let mut columns = Vec::new();
+        let mut bounds = Vec::new();
+        let mut widths = Vec::new();
+        for &e in &trajectory.arms {
+            let robot = match scene.holders.get(e.index()) {
+                Some(Holder::Arm { robot, .. }) => scene.robots.get(*robot),
+                _ => None,
+            };
+            let Some(robot) = robot else {
+                return Err(StepError::MalformedTrajectory { point: 0 });
+            };
+            let (lower, upper) = robot.limits();
+            let rates = robot.rate_limits();
+            for j in 0..robot.n_joints() {
+                columns.push((e, robot.joint_names()[j].clone()));
+                bounds.push(JointBounds {
+                    lower: lower[j],
+                    upper: upper[j],
+                    velocity: rates.velocity.get(j).copied().unwrap_or(f64::INFINITY),
+                    acceleration: rates.acceleration.get(j).copied().unwrap_or(f64::INFINITY),
+                    jerk: rates.jerk.get(j).copied().flatten(),
+                });
+            }
+            widths.push((e, robot.n_joints()));
+        }
+        let slack = Slack {
+            position: self.tolerance.joint,
+            rate: self.tolerance.rate,
+        };
+        let duration = playback::play(&trajectory.points, &bounds, slack).map_err(|f| match f {
+            Fault::Malformed { point } => StepError::MalformedTrajectory { point },
+            Fault::Limit {
+                joint,
+                quantity,
+                value,
+                limit,
+                time,
+            } => {
+                let (arm, name) = columns[joint].clone();
+                StepError::LimitExceeded {
+                    arm,
+                    joint: name,
+                    quantity,
+                    value,
+                    limit,
+                    time,
+                }
+            }
+        })?;
         for point in trajectory.points.iter().map(|p| &p.positions) {
             let mut offset = 0;
             let mut configurations = Vec::new();
-            for &e in &trajectory.arms {
-                let n = match scene.holders.get(e.index()) {
-                    Some(Holder::Arm { robot, .. }) => {
-                        scene.robots.get(*robot).map_or(0, |r| r.n_joints())
-                    }
-                    _ => 0,
-                };
-                if let Some(q) = point.get(offset..offset + n) {
-                    configurations.push((e, q.to_vec()));
-                }
+            for &(e, n) in &widths {
+                configurations.push((e, point[offset..offset + n].to_vec()));
                 offset += n;
             }
             self.set_arms(&configurations);
         }
+        self.clock += duration;
+        Ok(Some(duration))
     }
 
     /// Reaches the configurations a command states: by the motion when there is one
@@ -403,7 +524,13 @@ impl Executor for Simulator<'_> {
                 reason: "injected failure".into(),
             });
         }
-        self.follow(step);
+        let motion = match self.follow(step) {
+            Ok(motion) => motion,
+            Err(e) => {
+                self.log.push(format!("step {}: failed: {e}", index + 1));
+                return Err(e);
+            }
+        };
         let name = |e: EndEffectorId| {
             self.artifact
                 .end_effectors
@@ -457,7 +584,11 @@ impl Executor for Simulator<'_> {
         };
         match outcome {
             Ok(line) => {
-                self.log.push(format!("step {}: {line}", index + 1));
+                let timed = match motion {
+                    Some(seconds) => format!(" (motion {seconds:.3} s, clock {:.3} s)", self.clock),
+                    None => String::new(),
+                };
+                self.log.push(format!("step {}: {line}{timed}", index + 1));
                 Ok(())
             }
             Err(e) => {

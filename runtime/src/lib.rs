@@ -67,7 +67,7 @@ pub use cellc_schema::{
     WorkspaceId,
 };
 pub use execute::{
-    ExecuteOptions, Execution, ExecutionError, Executor, ObservedObject, Simulator,
+    ExecuteOptions, Execution, ExecutionError, Executor, ObservedObject, Quantity, Simulator,
     SimulatorTolerance, StepError,
 };
 pub use explain::{Explanation, NoStates};

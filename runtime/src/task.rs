@@ -54,6 +54,9 @@ pub struct Executed {
     pub result: Result<Execution, ExecutionError>,
     /// The simulator's log, one line per step.
     pub log: Vec<String>,
+    /// Seconds of motion the simulator played, over every plan executed (the steps that
+    /// failed take none).
+    pub motion_time: f64,
 }
 
 /// Why a task stopped.
@@ -271,6 +274,7 @@ impl Cell {
             clears: None,
             result,
             log: simulator.log.clone(),
+            motion_time: simulator.motion_time(),
         }
     }
 }

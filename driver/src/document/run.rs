@@ -104,6 +104,10 @@ pub struct Move {
     pub plans: Vec<Plan>,
     /// The simulator's log, one line per step.
     pub log: Vec<String>,
+    /// Seconds of motion the simulator played for this move, over every plan executed:
+    /// its clock, each motion played by time against the joints' limits.
+    #[serde(default)]
+    pub motion_time: f64,
     /// Whether the move reached its goal.
     pub done: bool,
     /// Where the object ended, by the simulator.
@@ -141,6 +145,7 @@ impl Move {
             clears: executed.clears.map(|o| artifact.object_name(o).to_string()),
             plans,
             log: executed.log.clone(),
+            motion_time: executed.motion_time,
             done: executed.result.is_ok(),
             final_state: place.state,
             final_pose: place.pose,

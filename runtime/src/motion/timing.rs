@@ -144,7 +144,15 @@ fn grid(pieces: &[Piece], dim: usize, step: f64) -> (PathGrid, Vec<f64>) {
             g.ddq[at..].copy_from_slice(&ddq);
         }
         for i in first..=n {
-            let s = length * i as f64 / n as f64;
+            // The last point exactly at the piece's length, so that it and the next
+            // piece's start (`offset + length` too) are the same number: the point where
+            // one piece ends is evaluated on the piece that starts there, whose step it
+            // begins, not on the one before by a rounding of `length * n / n`.
+            let s = if i == n {
+                length
+            } else {
+                length * i as f64 / n as f64
+            };
             piece.eval(s, &mut q, &mut dq, &mut ddq);
             g.s.push(offset + s);
             g.dq.extend_from_slice(&dq);
@@ -209,12 +217,27 @@ pub(super) fn time_path<S>(
             stretch(&mut t.timing, slow);
         }
     }
+    // A point's acceleration is the one of the step that starts there: the first point's
+    // that of the first step, and where one rest-to-rest section ends and the next
+    // begins (at rest, at the same time), the next section's first step's.
+    let mut first = first;
+    if let Some(t) = sections.first() {
+        t.knot(0, 0.0, &mut first);
+        first.positions.copy_from_slice(&path[..dim]);
+        first.velocities.fill(0.0);
+    }
     let mut points = vec![first];
     let mut start = 0.0;
     let mut point = TrajectoryPoint::at_rest(0.0, &path[..dim]);
     match timing.rate {
         None => {
-            for t in &sections {
+            for (k, t) in sections.iter().enumerate() {
+                if k > 0 {
+                    t.knot(0, start, &mut point);
+                    if let Some(junction) = points.last_mut() {
+                        junction.accelerations.copy_from_slice(&point.accelerations);
+                    }
+                }
                 for i in 1..t.grid.s.len() {
                     t.knot(i, start, &mut point);
                     points.push(point.clone());
