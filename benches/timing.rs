@@ -31,7 +31,8 @@
 //!
 //! Compute time: each motion timed REPS times, the median. cellc's "TOPP-RA" is
 //! [`time_smoothed`] whole (grid, both passes, the jerk check, the points written out);
-//! its smoothing, which queries the scene to certify the blends, is shown apart. toppra's
+//! its smoothing, which queries the scene to certify the blends, is shown apart (at most
+//! 11 runs). toppra's
 //! is its whole parameterisation (constraints, grid, solve, output), ruckig's every
 //! segment's `calculate` (`benches/timing_peers.py`).
 //!
@@ -242,6 +243,19 @@ fn baseline(m: &Motion) -> f64 {
         .sum()
 }
 
+/// How many points cellc's trajectory of `m` has: its grid points, the knots.
+fn knots(m: &Motion) -> usize {
+    let options = MotionOptions::default();
+    time_smoothed(
+        &m.smoothed,
+        &m.arms,
+        &m.limits,
+        &options,
+        &TimingOptions::default(),
+    )
+    .map_or(0, |t| t.points.len())
+}
+
 /// The same limits without jerk.
 fn without_jerk(limits: &RateLimits) -> RateLimits {
     RateLimits {
@@ -380,6 +394,7 @@ fn main() {
     let mut motions = Vec::new();
     for (path, request) in CASES {
         let t = Instant::now();
+        // The smoothing queries the scene (milliseconds): at most 11 runs.
         motions.extend(plan_motions(path, request, reps(11).min(11)));
         eprintln!(
             "{path} {request}: planned, paths found again and smoothed in {:.1} s (not timed)",
@@ -461,14 +476,16 @@ fn main() {
     }
     println!("\n## Compute time per motion (µs, median of REPS)\n");
     println!(
-        "| motion | cellc TOPP-RA | cellc smoothing (certified) | rest to rest | \
-         toppra same path | toppra spline | ruckig on segments | ruckig per joint |"
+        "| motion | grid points (cellc, toppra) | cellc TOPP-RA | cellc smoothing (certified) | \
+         rest to rest | toppra same path | toppra spline | ruckig on segments | ruckig per joint |"
     );
-    println!("|---|---:|---:|---:|---:|---:|---:|---:|");
+    println!("|---|---:|---:|---:|---:|---:|---:|---:|---:|");
     for (i, m) in motions.iter().enumerate() {
         println!(
-            "| {} | {:.1} | {:.0} | {:.2} | {} | {} | {} | {} |",
+            "| {} | {}, {} | {:.1} | {:.0} | {:.2} | {} | {} | {} | {} |",
             m.label,
+            knots(m),
+            cell_or_dash(peer(theirs, i, "toppra_same", "grid_points"), 0),
             topp_us[i],
             m.smoothing_us,
             baseline_us[i],
@@ -480,21 +497,28 @@ fn main() {
     }
 
     println!("\n## Per cell (sums of the motions' durations, s; medians of compute, µs)\n");
-    println!("| cell | motions | cellc | rest to rest | cellc / rest to rest | toppra 4× | cellc TOPP-RA µs | toppra same path µs |");
-    println!("|---|---:|---:|---:|---:|---:|---:|---:|");
+    println!(
+        "| cell | motions | cellc | cellc, no jerk | rest to rest | cellc / rest to rest | \
+         toppra 4× grid | cellc TOPP-RA µs | toppra same path µs |"
+    );
+    println!("|---|---:|---:|---:|---:|---:|---:|---:|---:|");
     for (path, _) in CASES {
         let idx: Vec<usize> = (0..motions.len())
             .filter(|&i| path.contains(motions[i].cell))
             .collect();
         let sum = |f: &dyn Fn(usize) -> f64| idx.iter().map(|&i| f(i)).sum::<f64>();
-        let (d, r2r) = (sum(&|i| rows[i].0), sum(&|i| rows[i].2));
+        let (d, free, r2r) = (
+            sum(&|i| rows[i].0),
+            sum(&|i| rows[i].1),
+            sum(&|i| rows[i].2),
+        );
         let dense: Option<f64> = idx.iter().map(|&i| rows[i].3).sum();
         let theirs_us: Option<Vec<f64>> = idx
             .iter()
             .map(|&i| peer(theirs, i, "toppra_same", "median_us"))
             .collect();
         println!(
-            "| {} | {} | {d:.3} | {r2r:.3} | {:.3} | {} | {:.1} | {} |",
+            "| {} | {} | {d:.3} | {free:.3} | {r2r:.3} | {:.3} | {} | {:.1} | {} |",
             motions[idx[0]].cell,
             idx.len(),
             d / r2r,

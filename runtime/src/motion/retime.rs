@@ -61,7 +61,7 @@ impl SmoothedPath {
 /// Checks a path of waypoints: `dim` values each, at least one waypoint, every value
 /// finite.
 fn check_path(path: &[f64], dim: usize) -> Result<(), MotionError> {
-    if dim == 0 || path.is_empty() || path.len() % dim != 0 {
+    if dim == 0 || path.is_empty() || !path.len().is_multiple_of(dim) {
         return Err(MotionError::MalformedPath(
             "the waypoints do not have the same number of joints",
         ));
@@ -216,11 +216,12 @@ pub fn rest_to_rest(
             }
             // Joint j moves (b_j - a_j) / length per unit of arc length.
             let (mut speed, mut accel) = (f64::INFINITY, f64::INFINITY);
-            for j in 0..dim {
-                let share = (w[1][j] - w[0][j]).abs() / length;
+            let joints = w[0].iter().zip(w[1]).zip(&limits.velocity);
+            for (((a, b), v), acc) in joints.zip(&limits.acceleration) {
+                let share = (b - a).abs() / length;
                 if share > 0.0 {
-                    speed = speed.min(limits.velocity[j] * timing.velocity_scaling / share);
-                    accel = accel.min(limits.acceleration[j] * timing.acceleration_scaling / share);
+                    speed = speed.min(v * timing.velocity_scaling / share);
+                    accel = accel.min(acc * timing.acceleration_scaling / share);
                 }
             }
             if speed * speed / accel >= length {
