@@ -40,28 +40,39 @@ const RETRY_SHARE: f64 = 0.25;
 /// Deviations tried per corner: the stated one, a quarter, a sixteenth.
 const TRIES: usize = 3;
 
-/// One piece of a smoothed path, parameterised by arc length in joint space.
-#[derive(Clone, Debug)]
-pub(super) enum Piece {
-    /// From `a` to `b`.
+/// One piece of a smoothed path, parameterised by arc length in joint space. Public
+/// (through [`SmoothedPath::sections`](super::SmoothedPath::sections)) so that another
+/// parameterisation can be run on exactly the path cellc times.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Piece {
+    /// The straight piece from `a` to `b`, part of a certified segment.
     Line {
+        /// Where it starts.
         a: Vec<f64>,
+        /// Where it ends.
         b: Vec<f64>,
+        /// Its length, `|b - a|`.
         length: f64,
     },
-    /// `centre + radius (u cos θ + v sin θ)` for `θ` in `[0, angle]`.
+    /// A blend: `centre + radius (u cos θ + v sin θ)` for `θ` in `[0, angle]`, tangent to
+    /// the pieces on either side, certified on its own.
     Arc {
+        /// The circle's centre.
         centre: Vec<f64>,
+        /// Unit vector from the centre to the arc's start.
         u: Vec<f64>,
+        /// Unit vector orthogonal to `u` in the arc's plane: the direction at the start.
         v: Vec<f64>,
+        /// The circle's radius.
         radius: f64,
+        /// The angle it turns (rad).
         angle: f64,
     },
 }
 
 impl Piece {
     /// Its arc length.
-    pub(super) fn length(&self) -> f64 {
+    pub fn length(&self) -> f64 {
         match self {
             Piece::Line { length, .. } => *length,
             Piece::Arc { radius, angle, .. } => radius * angle,

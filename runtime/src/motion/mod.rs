@@ -43,6 +43,11 @@
 //!    points with positions, velocities and accelerations at most
 //!    [`MotionOptions::grid_step`] apart, or at a control rate (`timing.rs`).
 //!
+//! [`RrtConnect::path`] gives the certified path of step 4, and `retime.rs` runs step 5
+//! on a given path in its parts ([`smooth_waypoints`], [`time_smoothed`]) beside the
+//! rest-to-rest trapezoids that came before it ([`rest_to_rest`]), so that other
+//! parameterisations can be compared on the same paths (`benches/timing.rs`).
+//!
 //! # Sound edge checks
 //!
 //! A sampled check (every configuration a resolution apart) misses contacts shallower
@@ -84,6 +89,7 @@ mod blend;
 mod certified;
 mod check;
 mod problem;
+mod retime;
 mod rrt;
 mod segment;
 mod shortcut;
@@ -100,12 +106,14 @@ use crate::scene::{QueryError, Scene, SceneScratch};
 use crate::termination::Termination;
 use crate::validity::StateValidity;
 
+pub use blend::Piece;
 pub use certified::CertifiedMotion;
 pub use check::{check_trajectory, TrajectoryFault};
 pub use problem::{check_timing, Joints, MotionError, MotionOptions, TimingOptions};
 /// The generator [`MotionPlanner::solve`] draws from, re-exported so that an
 /// implementation needs no dependency of its own.
 pub use rand_chacha::ChaCha8Rng;
+pub use retime::{arm_limits, rest_to_rest, smooth_waypoints, time_smoothed, SmoothedPath};
 pub use rrt::RrtConnect;
 pub use segment::DiscreteMotion;
 

@@ -184,6 +184,10 @@ pub enum MotionError {
         /// The grid point.
         index: usize,
     },
+    /// A path given to time (`motion::smooth_waypoints`, `motion::rest_to_rest`) or its
+    /// limits do not fit together: waypoints of different lengths, a value that is not
+    /// finite, limits not one positive number per joint.
+    MalformedPath(&'static str),
 }
 
 impl fmt::Display for MotionError {
@@ -239,6 +243,7 @@ impl fmt::Display for MotionError {
                 f,
                 "the path cannot be timed within the joints' limits (at grid point {index})"
             ),
+            MotionError::MalformedPath(why) => write!(f, "the path to time is malformed: {why}"),
         }
     }
 }

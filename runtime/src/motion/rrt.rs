@@ -51,6 +51,60 @@ impl RrtConnect {
         stop: &Termination,
         scratch: &mut S,
     ) -> Result<Trajectory, MotionError> {
+        let path = self.path_with(problem, motion, rng, stop, scratch)?;
+        let scene = problem.scene;
+        let dim = problem.start.len();
+        let mut limits = MotionLimits::default();
+        for s in &arm_slices(scene, problem.arms)? {
+            limits.push(scene.robots[s.robot].rate_limits());
+        }
+        time_path(
+            &path,
+            dim,
+            problem.arms,
+            &limits,
+            &self.options,
+            &problem.timing,
+            problem.validity,
+            scratch,
+        )
+    }
+
+    /// The certified path that [`MotionPlanner::solve`] times, before it is smoothed and
+    /// timed: its waypoints, the arms' joints concatenated (`problem.start.len()` values
+    /// each), from exactly `start` to exactly `goal`, consecutive ones distinct, every
+    /// segment between two of them certified by [`CertifiedMotion`]. The same generator
+    /// state gives the path that `solve` would time
+    /// ([`smooth_waypoints`](super::smooth_waypoints) and
+    /// [`time_smoothed`](super::time_smoothed) time it the same way), so another timing
+    /// can be compared on it.
+    ///
+    /// # Errors
+    /// As [`MotionPlanner::solve`], but for the timing's.
+    pub fn path<S>(
+        &self,
+        problem: &MotionProblem<'_, S>,
+        rng: &mut ChaCha8Rng,
+        stop: &Termination,
+        scratch: &mut S,
+    ) -> Result<Vec<f64>, MotionError> {
+        let mut motion = CertifiedMotion::new(
+            problem.validity,
+            self.options.step,
+            self.options.collision_resolution,
+        );
+        self.path_with(problem, &mut motion, rng, stop, scratch)
+    }
+
+    /// [`RrtConnect::path`] with segments checked by `motion`.
+    fn path_with<S>(
+        &self,
+        problem: &MotionProblem<'_, S>,
+        motion: &mut dyn MotionValidity<Scratch = S>,
+        rng: &mut ChaCha8Rng,
+        stop: &Termination,
+        scratch: &mut S,
+    ) -> Result<Vec<f64>, MotionError> {
         let options = &self.options;
         check_options(options)?;
         check_timing(&problem.timing)?;
@@ -148,20 +202,7 @@ impl RrtConnect {
             };
         }
         dedup_waypoints(&mut path, dim);
-        let mut limits = MotionLimits::default();
-        for s in &slices {
-            limits.push(scene.robots[s.robot].rate_limits());
-        }
-        time_path(
-            &path,
-            dim,
-            problem.arms,
-            &limits,
-            options,
-            &problem.timing,
-            problem.validity,
-            scratch,
-        )
+        Ok(path)
     }
 }
 

@@ -12,7 +12,7 @@
 //! slowing the whole motion evenly (jerk falls with the cube of the slow-down); the
 //! profile itself stays TOPP-RA's, not a jerk-limited one.
 
-use super::blend::{smooth, Piece};
+use super::blend::{smooth, Piece, Smoothed};
 use super::topp::{parameterise, Limits, PathGrid, Timing, ToppError};
 use super::{MotionError, MotionOptions, TimingOptions};
 use crate::plan::{Trajectory, TrajectoryPoint};
@@ -177,7 +177,6 @@ pub(super) fn time_path<S>(
     validity: &dyn StateValidity<Scratch = S>,
     scratch: &mut S,
 ) -> Result<Trajectory, MotionError> {
-    let first = TrajectoryPoint::at_rest(0.0, &path[..dim]);
     let smoothed = smooth(
         path,
         dim,
@@ -187,6 +186,24 @@ pub(super) fn time_path<S>(
         scratch,
     )
     .map_err(MotionError::Query)?;
+    let goal = &path[path.len() - dim..];
+    time_sections(&smoothed, &path[..dim], goal, arms, limits, options, timing)
+}
+
+/// Times a smoothed path from `start` to `goal` (its first and last configurations):
+/// each section parameterised under `limits` as `timing` scales them, and sampled at the
+/// knots or at `timing.rate`.
+pub(super) fn time_sections(
+    smoothed: &Smoothed,
+    start: &[f64],
+    goal: &[f64],
+    arms: &[EndEffectorId],
+    limits: &MotionLimits,
+    options: &MotionOptions,
+    timing: &TimingOptions,
+) -> Result<Trajectory, MotionError> {
+    let dim = start.len();
+    let first = TrajectoryPoint::at_rest(0.0, start);
     let limits = limits.scaled(timing);
     let topp = Limits {
         velocity: limits
@@ -223,12 +240,12 @@ pub(super) fn time_path<S>(
     let mut first = first;
     if let Some(t) = sections.first() {
         t.knot(0, 0.0, &mut first);
-        first.positions.copy_from_slice(&path[..dim]);
+        first.positions.copy_from_slice(start);
         first.velocities.fill(0.0);
     }
+    let mut point = first.clone();
     let mut points = vec![first];
     let mut start = 0.0;
-    let mut point = TrajectoryPoint::at_rest(0.0, &path[..dim]);
     match timing.rate {
         None => {
             for (k, t) in sections.iter().enumerate() {
@@ -272,7 +289,6 @@ pub(super) fn time_path<S>(
     }
     // The last point is the goal itself, at rest.
     if let Some(last) = points.last_mut() {
-        let goal = &path[path.len() - dim..];
         last.positions.copy_from_slice(goal);
         last.velocities.fill(0.0);
     }
