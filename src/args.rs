@@ -102,6 +102,29 @@ pub struct RequestArgs {
     /// Give up when planning takes longer than this many milliseconds.
     #[arg(long)]
     pub time_budget: Option<u64>,
+    /// The share of every joint's velocity limit the motions use, above 0 and at most 1
+    /// (MoveIt's `max_velocity_scaling_factor`); out of range is R0012.
+    #[arg(
+        long,
+        value_name = "F",
+        default_value_t = 1.0,
+        allow_negative_numbers = true
+    )]
+    pub velocity_scaling: f64,
+    /// The share of every joint's acceleration (and jerk) limit the motions use, above 0
+    /// and at most 1; out of range is R0012.
+    #[arg(
+        long,
+        value_name = "F",
+        default_value_t = 1.0,
+        allow_negative_numbers = true
+    )]
+    pub acceleration_scaling: f64,
+    /// Trajectory points every 1/HZ seconds, the last at the motion's end, as a controller
+    /// running at HZ (at most 1000) takes them, instead of the time parameterisation's
+    /// knots; out of range is R0012.
+    #[arg(long, value_name = "HZ", allow_negative_numbers = true)]
+    pub rate: Option<f64>,
     /// A task the cell declares: its moves one after the other, in the world.
     #[arg(long, conflicts_with_all = ["request", "object", "moves"])]
     pub task: Option<String>,
@@ -287,6 +310,12 @@ pub enum Command {
         /// The request.
         #[command(flatten)]
         request: RequestArgs,
+        /// Write this instead of the plans on standard output: `follow-joint-trajectory`,
+        /// each plan's motions as `control_msgs/action/FollowJointTrajectory` goals, one
+        /// per arm per step (JSON, docs/world.md). Diagnostics go to standard error, so
+        /// only with `--format human`; nothing is written when a move has no plan.
+        #[arg(long, value_enum, value_name = "WHAT", conflicts_with = "no_motions")]
+        emit: Option<PlanEmit>,
     },
     /// Plan a request as `cellc plan` does, then execute it in the kinematic simulator and
     /// report the object's final pose and its error.
@@ -437,6 +466,13 @@ pub struct PddlArgs {
     /// Where ROS packages are.
     #[command(flatten)]
     pub packages: PackageArgs,
+}
+
+/// What `cellc plan --emit` writes instead of the plans.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum PlanEmit {
+    /// Each plan's motions as `control_msgs/action/FollowJointTrajectory` goals (JSON).
+    FollowJointTrajectory,
 }
 
 /// Output of `cellc graph`.

@@ -99,8 +99,18 @@ pub fn dispatch() -> ExitCode {
         args::Command::Run { request, fail_at } => {
             commands::run::run(&commands::plan::PlanArgs::new(request, color), *fail_at)
         }
-        args::Command::Plan { request } => {
-            commands::plan::run(&commands::plan::PlanArgs::new(request, color))
+        args::Command::Plan { request, emit } => {
+            if emit.is_some() && request.format != render::Format::Human {
+                return usage_error(
+                    "plan",
+                    clap::error::ErrorKind::ArgumentConflict,
+                    "`--emit` writes its document on standard output, which `--format short` \
+                     and `--format json` keep for diagnostics: leave `--format` at `human`",
+                );
+            }
+            let mut args = commands::plan::PlanArgs::new(request, color);
+            args.emit = *emit;
+            commands::plan::run(&args)
         }
         args::Command::Graph {
             file,

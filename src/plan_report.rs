@@ -89,6 +89,7 @@ pub fn plan_error_for(
         )
         .help("place it in the cell's `world` or in the world document before moving it"),
         PlanError::World(e) => crate::world_report::world_diagnostic(e, "the request's start"),
+        PlanError::InvalidOption { name, value } => option_out_of_range(front_end, name, *value),
         _ => Diagnostic::error(codes::UNREACHABLE, "no plan").help("check the request"),
     };
     if let Some((file, at)) = place {
@@ -99,6 +100,46 @@ pub fn plan_error_for(
         }
     }
     d
+}
+
+/// R0012: a timing option out of its range, or a rate in range at which a motion would
+/// have more points than it may; `name` is the runtime's field (`velocity_scaling`,
+/// `acceleration_scaling`, `rate`), worded as `front_end` writes it. The ranges are the
+/// runtime's (`cellc_runtime::motion::check_timing`), which decided.
+pub fn option_out_of_range(front_end: FrontEnd, name: &str, value: f64) -> Diagnostic {
+    use cellc_runtime::motion::TimingOptions;
+    let option = PlanOption::of_timing_field(name);
+    let written = option.map_or_else(|| format!("`{name}`"), |o| front_end.option(o).to_string());
+    let max_rate = TimingOptions::MAX_RATE;
+    let (message, help) = match option {
+        Some(PlanOption::Rate) if value.is_finite() && value > 0.0 && value <= max_rate => (
+            format!(
+                "at a {written} of {value} Hz a motion of this plan would have more than {} points",
+                TimingOptions::MAX_POINTS
+            ),
+            "give a lower rate, or larger scalings (a slower motion has more points), or no rate for the knots of the time parameterisation".to_string(),
+        ),
+        Some(PlanOption::Rate) => (
+            format!("{written} is {value} Hz, outside (0, {max_rate}]"),
+            format!("give a control rate above 0 and at most {max_rate} Hz (e.g. 250), or none for the knots of the time parameterisation"),
+        ),
+        _ => (
+            format!("{written} is {value}, outside (0, 1]"),
+            "give a share of every joint's limits above 0 and at most 1 (0.5 for half of each limit), or leave it out for 1".to_string(),
+        ),
+    };
+    Diagnostic::error(codes::OPTION_OUT_OF_RANGE, message).help(help)
+}
+
+/// R0011: a plan document whose motion cannot be sent to a controller. The plans the
+/// runtime makes always can (each point as wide as its arms, times in order); this is
+/// what a document made elsewhere gets.
+pub fn goals_refused(error: &cellc_driver::document::controller::GoalsError) -> Diagnostic {
+    Diagnostic::error(
+        codes::PLAN_DOCUMENT,
+        format!("the plans cannot be written as controller goals: {error}"),
+    )
+    .help("plan again: the runtime writes every point with a value per joint, in time order")
 }
 
 /// The fix of a cause that names a missing fact of the cell.

@@ -454,6 +454,7 @@ fn the_service_on_vito() {
         "/v1/cell",
         "/v1/world",
         "/v1/plan",
+        "/v1/plan/follow_joint_trajectory",
         "/v1/execute",
         "/v1/tasks",
         "/v1/explain",
@@ -527,6 +528,7 @@ fn the_service_on_vito() {
         json!({"object": "ball", "to": "bin in ws_right_bin", "options": {"time_budget_ms": 0}}),
     );
     assert_eq!((status, first_code(&report)), (503, "R0006"), "{report}");
+    controller_goals(&server);
 
     // Plans run side by side, all answered.
     let shared = Arc::new(server);
@@ -806,6 +808,85 @@ fn the_service_on_vito() {
     assert_eq!((status, first_code(&report)), (422, "R0003"), "{report}");
     server.assert_every_endpoint_validated();
     assert!(server.terminate().success());
+}
+
+/// `POST /v1/plan/follow_joint_trajectory` against `POST /v1/plan` of the same body: one
+/// goal per arm per step that moves, the arm's joint names, its columns of every point,
+/// times to the nanosecond and 4 ms apart at 250 Hz; a rate whose points would be too many
+/// is R0012 (400) in the plan document; a name the cell lacks is the report alone.
+fn controller_goals(server: &Server) {
+    let body = json!({"object": "ball", "to": "bin in ws_right_bin", "options": {"rate": 250}});
+    let (status, planned) = server.json("POST", "/v1/plan", body.clone());
+    assert_eq!(status, 200, "{planned}");
+    let (status, goals) = server.json("POST", "/v1/plan/follow_joint_trajectory", body);
+    assert_eq!(status, 200, "{goals}");
+    let plan = &planned["plans"][0];
+    let goals = goals["plans"][0]["goals"].as_array().expect("goals");
+    let mut expected = Vec::new();
+    for (i, step) in plan["steps"].as_array().unwrap().iter().enumerate() {
+        for arm in step["motion"]["arms"].as_array().into_iter().flatten() {
+            expected.push((i, arm["arm"].clone(), arm["joints"].clone()));
+        }
+    }
+    let found: Vec<_> = goals
+        .iter()
+        .map(|g| {
+            let step = g["step"].as_u64().unwrap() as usize;
+            (
+                step,
+                g["arm"].clone(),
+                g["goal"]["trajectory"]["joint_names"].clone(),
+            )
+        })
+        .collect();
+    assert!(!expected.is_empty());
+    assert_eq!(found, expected);
+    for goal in goals {
+        let motion = &plan["steps"][goal["step"].as_u64().unwrap() as usize]["motion"];
+        // Vito's motions move one arm each: its columns are all of them.
+        assert_eq!(motion["arms"].as_array().unwrap().len(), 1);
+        let points = goal["goal"]["trajectory"]["points"].as_array().unwrap();
+        let planned = motion["points"].as_array().unwrap();
+        assert_eq!(points.len(), planned.len());
+        let mut times = Vec::new();
+        for (p, q) in points.iter().zip(planned) {
+            for field in ["positions", "velocities", "accelerations"] {
+                assert_eq!(p[field], q[field]);
+            }
+            let (sec, nanosec) = (
+                p["time_from_start"]["sec"].as_i64().unwrap(),
+                p["time_from_start"]["nanosec"].as_i64().unwrap(),
+            );
+            assert!((0..1_000_000_000).contains(&nanosec), "{p}");
+            let nanos = sec * 1_000_000_000 + nanosec;
+            let seconds = q["time_from_start"].as_f64().unwrap();
+            assert!(
+                (nanos as f64 - seconds * 1e9).abs() <= 1.0,
+                "{nanos} {seconds}"
+            );
+            times.push(nanos);
+        }
+        let gaps: Vec<i64> = times.windows(2).map(|w| w[1] - w[0]).collect();
+        let (last, before) = gaps.split_last().unwrap();
+        assert!(before.iter().all(|&g| g == 4_000_000), "{gaps:?}");
+        assert!((1..=4_000_000).contains(last), "{gaps:?}");
+    }
+    let (status, planned) = server.json(
+        "POST",
+        "/v1/plan",
+        json!({"object": "ball", "to": "bin in ws_right_bin",
+            "options": {"rate": 1000, "velocity_scaling": 0.001, "acceleration_scaling": 0.001}}),
+    );
+    assert_eq!((status, first_code(&planned)), (400, "R0012"), "{planned}");
+    assert_eq!(planned["ok"], false);
+    let help = planned["diagnostics"][0]["message"].as_str().unwrap();
+    assert!(help.contains("`rate`") && !help.contains("--"), "{help}");
+    let (status, report) = server.json(
+        "POST",
+        "/v1/plan/follow_joint_trajectory",
+        json!({"object": "bal", "to": "bin in ws_right_bin"}),
+    );
+    assert_eq!((status, first_code(&report)), (422, "R0003"), "{report}");
 }
 
 #[test]

@@ -239,6 +239,9 @@ registry! {
         /// A plan document (`cellc view --plan FILE`) that cannot be read or does not fit the
         /// cell.
         PLAN_DOCUMENT = "R0011";
+        /// A request's timing option out of range: a scaling not in (0, 1], a control
+        /// rate not in (0, 1000] Hz, or a rate that would give a motion too many points.
+        OPTION_OUT_OF_RANGE = "R0012";
     }
     /// Reading artifacts.
     artifact {

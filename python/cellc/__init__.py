@@ -6,6 +6,7 @@
     for name, placed in world.objects.items(): ...
     run = c.execute("ball", "bin in ws_right_bin", revision=world.revision,
                     idempotency_key=True, retries=2)
+    goals = c.follow_joint_trajectory("ball", "bin in ws_right_bin", rate=250)
 
 Standard library only; Python 3.10 or later.
 """
@@ -27,6 +28,15 @@ from .types import (
     Workspace,
 )
 from .types import Move, Placed, Plan, Point, Pose, Run, State, Step, Trajectory, World
+from .types import (
+    ControllerGoals,
+    Duration,
+    FollowJointTrajectoryGoal,
+    JointTrajectory,
+    JointTrajectoryPoint,
+    PlanGoals,
+    StepGoal,
+)
 
 __all__ = [
     "Arm",
@@ -42,6 +52,13 @@ __all__ = [
     "Workspace",
     "CellcError",
     "Client",
+    "ControllerGoals",
+    "Duration",
+    "FollowJointTrajectoryGoal",
+    "JointTrajectory",
+    "JointTrajectoryPoint",
+    "PlanGoals",
+    "StepGoal",
     "Diagnostic",
     "Joints",
     "Move",

@@ -29,6 +29,7 @@ from typing import Any, Iterable, Mapping
 
 from .types import (
     CellInfo,
+    ControllerGoals,
     Diagnostic,
     Execution,
     ExecutionSummary,
@@ -215,19 +216,11 @@ class Client:
         return {}
 
     @staticmethod
-    def _request(
-        object: str,
-        to: str,
-        from_: str | None,
-        seed: int | None,
-        motions: bool,
-        time_budget_ms: int | None,
-        clear: bool,
-    ) -> dict[str, Any]:
+    def _request(object: str, to: str, from_: str | None, options: dict[str, Any]) -> dict[str, Any]:
         body: dict[str, Any] = {"object": object, "to": to}
         if from_ is not None:
             body["from"] = from_
-        body["options"] = _options(seed, motions, time_budget_ms, clear)
+        body["options"] = options
         return body
 
     def _run(
@@ -326,13 +319,46 @@ class Client:
         motions: bool = True,
         time_budget_ms: int | None = None,
         clear: bool = False,
+        velocity_scaling: float | None = None,
+        acceleration_scaling: float | None = None,
+        rate: float | None = None,
     ) -> list[Plan]:
         """Plans moving `object` to `to` (a placement as the cell language writes it:
         `"bin in ws_right_bin"`, `"table at (0.4, -0.3, 1.0)"`) in the current world, from
         where the world has it (or `from_`). The plans in order: with `clear`, those that
-        move what is in the way first, the request's last. Nothing is executed."""
-        body = self._request(object, to, from_, seed, motions, time_budget_ms, clear)
-        return _plans(self._call("POST", "/plan", body))
+        move what is in the way first, the request's last. Nothing is executed.
+
+        `velocity_scaling` and `acceleration_scaling` (in (0, 1], default 1) are the share
+        of every joint's limits the motions use; `rate` (Hz, at most 1000) gives points
+        every 1/rate seconds instead of at the time parameterisation's knots. A value out
+        of range raises `CellcError` R0012 (400)."""
+        options = _options(
+            seed, motions, time_budget_ms, clear, velocity_scaling, acceleration_scaling, rate
+        )
+        return _plans(self._call("POST", "/plan", self._request(object, to, from_, options)))
+
+    def follow_joint_trajectory(
+        self,
+        object: str,
+        to: str,
+        from_: str | None = None,
+        *,
+        seed: int | None = None,
+        time_budget_ms: int | None = None,
+        clear: bool = False,
+        velocity_scaling: float | None = None,
+        acceleration_scaling: float | None = None,
+        rate: float | None = None,
+    ) -> ControllerGoals:
+        """Plans the move as `plan` does and returns its motions as
+        `control_msgs/action/FollowJointTrajectory` goals: per plan, one goal per arm per
+        step that moves, labelled with the step's index and the arm (`goal.message()` is
+        the dict of the ROS message). Nothing is executed."""
+        options = _options(
+            seed, True, time_budget_ms, clear, velocity_scaling, acceleration_scaling, rate
+        )
+        body = self._request(object, to, from_, options)
+        return ControllerGoals.parse(self._call("POST", "/plan/follow_joint_trajectory", body))
 
     def execute(
         self,
@@ -344,12 +370,15 @@ class Client:
         motions: bool = True,
         time_budget_ms: int | None = None,
         clear: bool = False,
+        velocity_scaling: float | None = None,
+        acceleration_scaling: float | None = None,
+        rate: float | None = None,
         revision: int | None = None,
         if_match: IfMatch = None,
         idempotency_key: Key = None,
         retries: int = 0,
     ) -> Run:
-        """Plans the move as `plan` does and executes it in the simulator; the service's
+        """Plans the move as `plan` does (with the same timing options) and executes it in the simulator; the service's
         world is updated (also when execution fails: then `CellcError` is raised and
         `world()` tells where things are).
 
@@ -360,7 +389,10 @@ class Client:
         raises S0008. `retries`: with a key, how many times to send the request again when
         the transport fails (a timeout, say) - each repeat returns the first outcome if
         the first one did run."""
-        body = self._request(object, to, from_, seed, motions, time_budget_ms, clear)
+        options = _options(
+            seed, motions, time_budget_ms, clear, velocity_scaling, acceleration_scaling, rate
+        )
+        body = self._request(object, to, from_, options)
         return self._run("/execute", body, revision, if_match, idempotency_key, retries)
 
     def task(
@@ -371,22 +403,27 @@ class Client:
         motions: bool = True,
         time_budget_ms: int | None = None,
         clear: bool = False,
+        velocity_scaling: float | None = None,
+        acceleration_scaling: float | None = None,
+        rate: float | None = None,
         revision: int | None = None,
         if_match: IfMatch = None,
         idempotency_key: Key = None,
         retries: int = 0,
     ) -> Run:
         """Moves `(object, to)` planned and executed one after the other in the world;
-        preconditions, key and retries as for `execute`."""
+        timing options as for `plan`, preconditions, key and retries as for `execute`."""
         body = {
             "moves": [{"object": o, "to": t} for o, t in moves],
-            "options": _options(seed, motions, time_budget_ms, clear),
+            "options": _options(
+                seed, motions, time_budget_ms, clear, velocity_scaling, acceleration_scaling, rate
+            ),
         }
         return self._run("/tasks", body, revision, if_match, idempotency_key, retries)
 
     def explain(self, object: str, to: str, from_: str | None = None) -> dict[str, Any]:
         """Why a move has no plan in the current world, as the structured explanation."""
-        body = self._request(object, to, from_, None, False, None, False)
+        body = self._request(object, to, from_, _options(None, False, None, False))
         return self._call("POST", "/explain", body)
 
     def executions(self, limit: int | None = None) -> list[ExecutionSummary]:
@@ -411,13 +448,25 @@ def _etag_of(if_match: str | World) -> str:
 
 
 def _options(
-    seed: int | None, motions: bool, time_budget_ms: int | None, clear: bool
+    seed: int | None,
+    motions: bool,
+    time_budget_ms: int | None,
+    clear: bool,
+    velocity_scaling: float | None = None,
+    acceleration_scaling: float | None = None,
+    rate: float | None = None,
 ) -> dict[str, Any]:
+    """The request's `options`: only what was given, so the service's defaults apply to
+    the rest (and the service, not the client, says what is out of range)."""
     options: dict[str, Any] = {"motions": motions, "clear": clear}
-    if seed is not None:
-        options["seed"] = seed
-    if time_budget_ms is not None:
-        options["time_budget_ms"] = time_budget_ms
+    given = {
+        "seed": seed,
+        "time_budget_ms": time_budget_ms,
+        "velocity_scaling": velocity_scaling,
+        "acceleration_scaling": acceleration_scaling,
+        "rate": rate,
+    }
+    options.update({name: value for name, value in given.items() if value is not None})
     return options
 
 

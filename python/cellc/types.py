@@ -130,6 +130,127 @@ class Trajectory:
 
 
 @dataclass(frozen=True)
+class Duration:
+    """`builtin_interfaces/Duration`: whole seconds and nanoseconds (0 to 999 999 999)."""
+
+    sec: int
+    nanosec: int
+
+    @staticmethod
+    def parse(d: dict[str, Any]) -> "Duration":
+        return Duration(int(d["sec"]), int(d["nanosec"]))
+
+    @property
+    def seconds(self) -> float:
+        return self.sec + self.nanosec * 1e-9
+
+
+@dataclass(frozen=True)
+class JointTrajectoryPoint:
+    """`trajectory_msgs/JointTrajectoryPoint`: one arm's joints at `time_from_start`."""
+
+    positions: tuple[float, ...]
+    velocities: tuple[float, ...]
+    accelerations: tuple[float, ...]
+    time_from_start: Duration
+
+    @staticmethod
+    def parse(d: dict[str, Any]) -> "JointTrajectoryPoint":
+        return JointTrajectoryPoint(
+            tuple(d["positions"]),
+            tuple(d["velocities"]),
+            tuple(d["accelerations"]),
+            Duration.parse(d["time_from_start"]),
+        )
+
+
+@dataclass(frozen=True)
+class JointTrajectory:
+    """`trajectory_msgs/JointTrajectory`: one arm's URDF joint names and its points."""
+
+    joint_names: tuple[str, ...]
+    points: tuple[JointTrajectoryPoint, ...]
+
+    @staticmethod
+    def parse(d: dict[str, Any]) -> "JointTrajectory":
+        return JointTrajectory(
+            tuple(d["joint_names"]), tuple(JointTrajectoryPoint.parse(p) for p in d["points"])
+        )
+
+
+@dataclass(frozen=True)
+class FollowJointTrajectoryGoal:
+    """The goal of a `control_msgs/action/FollowJointTrajectory` action: `message()` is
+    the dict to fill a ROS 2 goal with (`rosidl_runtime_py.set_message_fields`)."""
+
+    trajectory: JointTrajectory
+
+    @staticmethod
+    def parse(d: dict[str, Any]) -> "FollowJointTrajectoryGoal":
+        return FollowJointTrajectoryGoal(JointTrajectory.parse(d["trajectory"]))
+
+    def message(self) -> dict[str, Any]:
+        return {
+            "trajectory": {
+                "joint_names": list(self.trajectory.joint_names),
+                "points": [
+                    {
+                        "positions": list(p.positions),
+                        "velocities": list(p.velocities),
+                        "accelerations": list(p.accelerations),
+                        "time_from_start": {
+                            "sec": p.time_from_start.sec,
+                            "nanosec": p.time_from_start.nanosec,
+                        },
+                    }
+                    for p in self.trajectory.points
+                ],
+            }
+        }
+
+
+@dataclass(frozen=True)
+class StepGoal:
+    """The goal of one arm in one step of a plan: `step` indexes the plan's `steps` (0 for
+    the first); the goals of one step are sent together, each to its arm's controller."""
+
+    step: int
+    arm: str
+    goal: FollowJointTrajectoryGoal
+
+    @staticmethod
+    def parse(d: dict[str, Any]) -> "StepGoal":
+        return StepGoal(int(d["step"]), str(d["arm"]), FollowJointTrajectoryGoal.parse(d["goal"]))
+
+
+@dataclass(frozen=True)
+class PlanGoals:
+    """A plan's motions as controller goals, in the order of its steps."""
+
+    request: str
+    object: str
+    goals: tuple[StepGoal, ...]
+
+    @staticmethod
+    def parse(d: dict[str, Any]) -> "PlanGoals":
+        return PlanGoals(
+            str(d["request"]), str(d["object"]), tuple(StepGoal.parse(g) for g in d["goals"])
+        )
+
+
+@dataclass(frozen=True)
+class ControllerGoals:
+    """What `POST /v1/plan/follow_joint_trajectory` answers: the goals of every plan, in
+    the order to carry them out (with `clear`, those moving what is in the way first)."""
+
+    plans: tuple[PlanGoals, ...]
+
+    @staticmethod
+    def parse(d: dict[str, Any]) -> "ControllerGoals":
+        return ControllerGoals(tuple(PlanGoals.parse(p) for p in d.get("plans") or ()))
+
+
+@dataclass(frozen=True)
 class Step:
     """One command of a plan: `move`, `grasp` or `ungrasp`."""
 
@@ -633,6 +754,13 @@ MIRRORS: dict[type, tuple[str, dict[str, str], frozenset[str]]] = {
     Workspace: ("Workspace", {}, frozenset()),
     ObjectInfo: ("Object", {}, frozenset()),
     CellInfo: ("Cell", {}, frozenset()),
+    Duration: ("Duration", {}, frozenset()),
+    JointTrajectoryPoint: ("JointTrajectoryPoint", {}, frozenset()),
+    JointTrajectory: ("JointTrajectory", {}, frozenset()),
+    FollowJointTrajectoryGoal: ("FollowJointTrajectoryGoal", {}, frozenset()),
+    StepGoal: ("StepGoal", {}, frozenset()),
+    PlanGoals: ("PlanGoals", {}, frozenset()),
+    ControllerGoals: ("ControllerGoals", {}, frozenset()),
 }
 
 # Fields a class has that its schema does not, because the client reads them from the

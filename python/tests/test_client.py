@@ -130,3 +130,78 @@ def test_types_mirror_the_service_schema(client):
     mirrored = {name for name, _, _ in MIRRORS.values()}
     with_properties = {n for n, s in schemas.items() if "properties" in s}
     assert with_properties == mirrored | set(NOT_MIRRORED), with_properties ^ (mirrored | set(NOT_MIRRORED))
+
+
+def test_a_rate_gives_points_one_period_apart(client):
+    (plan,) = client.plan("ball", "bin in ws_right_bin", rate=250)
+    motions = [s.motion for s in plan.steps if s.motion]
+    assert motions
+    for m in motions:
+        times = [p.time_from_start for p in m.points]
+        gaps = [b - a for a, b in zip(times, times[1:])]
+        # Every point 4 ms after the one before, the last (the goal, at rest) at the end.
+        assert all(abs(g - 0.004) < 1e-9 for g in gaps[:-1]), gaps
+        assert 0.0 < gaps[-1] <= 0.004 + 1e-9
+
+
+def test_scalings_slow_the_motions_down(client):
+    (fast,) = client.plan("ball", "bin in ws_right_bin")
+    (slow,) = client.plan("ball", "bin in ws_right_bin", velocity_scaling=0.5, acceleration_scaling=0.25)
+    for a, b in zip(fast.steps, slow.steps):
+        assert (a.motion is None) == (b.motion is None)
+        if a.motion:
+            assert b.motion.duration > 1.5 * a.motion.duration
+    # Every point's velocities within half of each joint's limit.
+    arms = client.cell().arms
+    checked = 0
+    for step in slow.steps:
+        if step.motion:
+            joints = [j for arm, _ in step.motion.arms for j in arms[arm].joints]
+            for p in step.motion.points:
+                for v, j in zip(p.velocities, joints, strict=True):
+                    assert abs(v) <= 0.5 * j.velocity * (1 + 1e-6)
+                    checked += 1
+    assert checked
+
+
+def test_options_out_of_range_are_refused_with_their_code(client):
+    for options in ({"velocity_scaling": 0.0}, {"acceleration_scaling": 1.5}, {"rate": 5000.0}):
+        with pytest.raises(CellcError) as e:
+            client.plan("ball", "bin in ws_right_bin", **options)
+        assert e.value.code == "R0012" and e.value.status == 400
+        (name,) = options
+        assert f"`{name}`" in str(e.value)
+
+
+def test_follow_joint_trajectory_goals_are_the_plans_motions(client):
+    (plan,) = client.plan("cylinder", "right in ws_left_right_table", rate=100)
+    answer = client.follow_joint_trajectory("cylinder", "right in ws_left_right_table", rate=100)
+    (goals,) = answer.plans
+    arms = client.cell().arms
+    expected = [
+        (i, arm, names)
+        for i, s in enumerate(plan.steps)
+        if s.motion
+        for arm, names in s.motion.arms
+    ]
+    assert [(g.step, g.arm, g.goal.trajectory.joint_names) for g in goals.goals] == expected
+    assert goals.request == "request" and goals.object == "cylinder"
+    for g in goals.goals:
+        motion = plan.steps[g.step].motion
+        names = [n for _, n in motion.arms]
+        start = sum(len(n) for n in names[: [a for a, _ in motion.arms].index(g.arm)])
+        width = len(g.goal.trajectory.joint_names)
+        assert g.goal.trajectory.joint_names == tuple(j.name for j in arms[g.arm].joints)
+        points = g.goal.trajectory.points
+        assert len(points) == len(motion.points)
+        for p, q in zip(points, motion.points):
+            assert 0 <= p.time_from_start.nanosec < 1_000_000_000
+            assert abs(p.time_from_start.seconds - q.time_from_start) <= 1.5e-9
+            assert p.positions == q.positions[start : start + width]
+            assert p.velocities == q.velocities[start : start + width]
+            assert p.accelerations == q.accelerations[start : start + width]
+        nanoseconds = [p.time_from_start.sec * 10**9 + p.time_from_start.nanosec for p in points]
+        assert all(a < b for a, b in zip(nanoseconds, nanoseconds[1:]))
+        message = g.goal.message()
+        assert set(message["trajectory"]) == {"joint_names", "points"}
+        assert set(message["trajectory"]["points"][0]["time_from_start"]) == {"sec", "nanosec"}

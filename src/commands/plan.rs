@@ -1,5 +1,6 @@
 //! `cellc plan INPUT [--request NAME | --object O --from P --to P]`
 
+use cellc_driver::advice::FrontEnd;
 use cellc_driver::document;
 use cellc_driver::document::report::Report;
 use std::process::ExitCode;
@@ -28,6 +29,10 @@ pub struct PlanArgs {
     pub time_budget: Option<std::time::Duration>,
     /// Move objects in the way first.
     pub clear: bool,
+    /// How the motions are timed: the scalings of the joints' limits, a control rate.
+    pub timing: cellc_runtime::motion::TimingOptions,
+    /// What `cellc plan` writes instead of the plans (`--emit`; `cellc run` has none).
+    pub emit: Option<crate::args::PlanEmit>,
 }
 
 /// What loading a cell or artifact for a command needs, and no more: every command that
@@ -94,6 +99,23 @@ impl PlanArgs {
             weights: request.weights,
             time_budget: request.time_budget.map(std::time::Duration::from_millis),
             clear: request.clear,
+            timing: cellc_runtime::motion::TimingOptions {
+                velocity_scaling: request.velocity_scaling,
+                acceleration_scaling: request.acceleration_scaling,
+                rate: request.rate,
+            },
+            emit: None,
+        }
+    }
+
+    /// R0012 for a timing option out of range, by the runtime's own check, before the
+    /// cell is read: the runtime would refuse every plan for it.
+    pub fn refused_timing(&self) -> Option<Diagnostic> {
+        match cellc_runtime::motion::check_timing(&self.timing) {
+            Err(cellc_runtime::motion::MotionError::InvalidOption { name, value }) => Some(
+                plan_report::option_out_of_range(FrontEnd::CommandLine, name, value),
+            ),
+            _ => None,
         }
     }
 
@@ -104,6 +126,7 @@ impl PlanArgs {
             motions: self.motions,
             weights: self.weights,
             time_budget: self.time_budget,
+            timing: self.timing,
             ..PlanOptions::default()
         }
     }
@@ -286,6 +309,10 @@ pub fn prepare(
 /// Plans each move of the job `args` ask for, in the world, and prints the plans: the
 /// world after one move (as its plan leaves it) is where the next is planned.
 pub fn run(args: &PlanArgs) -> ExitCode {
+    if let Some(d) = args.refused_timing() {
+        render::emit(args.load.style, &[d], &SourceMap::new());
+        return ExitCode::from(1);
+    }
     // The graphs of the objects the job moves or finds in its world.
     let objects = |core: &cellc_schema::Artifact| super::job::objects(&args.job, core);
     let mut loaded = match load_in(&args.load, Scope::Objects(&objects)) {
@@ -301,7 +328,10 @@ pub fn run(args: &PlanArgs) -> ExitCode {
         Err(code) => return code,
     };
     let format = args.load.style.format;
-    let human = format == Format::Human;
+    // `--emit` keeps standard output for its document: the plans are made documents, and
+    // nothing else is printed.
+    let emit = args.emit.is_some();
+    let human = format == Format::Human && !emit;
     let single = moves.len() == 1 && title.starts_with("request");
     let options = cellc_runtime::TaskOptions {
         plan: args.options(),
@@ -362,6 +392,7 @@ pub fn run(args: &PlanArgs) -> ExitCode {
                 label(i)
             };
             match format {
+                _ if emit => plans.push(document::plan::Plan::of(artifact, &label, plan)),
                 Format::Human => print!("{}", plan_report::describe(artifact, &label, plan)),
                 Format::Short => print!("{}", plan_report::short(artifact, &label, plan)),
                 Format::Json => plans.push(document::plan::Plan::of(artifact, &label, plan)),
@@ -387,6 +418,22 @@ pub fn run(args: &PlanArgs) -> ExitCode {
     });
     let ok = failure.is_none();
     let diagnostics: Vec<Diagnostic> = failure.into_iter().collect();
+    if emit {
+        loaded.report(&diagnostics);
+        if !ok {
+            return ExitCode::from(1);
+        }
+        return match document::controller::ControllerGoals::of(&plans) {
+            Ok(goals) => {
+                println!("{}", goals.to_text());
+                ExitCode::SUCCESS
+            }
+            Err(e) => {
+                loaded.report(&[plan_report::goals_refused(&e)]);
+                ExitCode::from(1)
+            }
+        };
+    }
     if format != Format::Json {
         loaded.report(&diagnostics);
     } else {

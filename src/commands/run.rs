@@ -31,6 +31,10 @@ pub fn run(args: &PlanArgs, fail_at: Option<usize>) -> ExitCode {
         );
         return ExitCode::from(2);
     }
+    if let Some(d) = args.refused_timing() {
+        crate::render::emit(args.load.style, &[d], &Default::default());
+        return ExitCode::from(1);
+    }
     let loaded = match load(&args.load) {
         Ok(l) => l,
         Err(code) => return code,

@@ -336,4 +336,19 @@ pub struct Options {
     /// Whether to move objects in the way out of it first (default `false`).
     #[serde(default)]
     pub clear: Option<bool>,
+    // The timing options are left out when not given, so an execution's intent (which an
+    // idempotency key is held to) is written as it was before they existed.
+    /// The share of every joint's velocity limit the motions use, above 0 and at most 1
+    /// (default 1; out of range: R0012).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub velocity_scaling: Option<f64>,
+    /// The share of every joint's acceleration (and jerk) limit the motions use, above 0
+    /// and at most 1 (default 1; out of range: R0012).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub acceleration_scaling: Option<f64>,
+    /// Trajectory points every 1/`rate` seconds (Hz, above 0 and at most 1000), the last
+    /// at the motion's end, instead of the time parameterisation's knots (default: the
+    /// knots; out of range: R0012).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rate: Option<f64>,
 }

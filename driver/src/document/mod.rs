@@ -12,6 +12,9 @@
 //! - [`report::Report`]: the error document, the diagnostics report every failure is.
 //! - [`cell`]: the service's own documents (the cell, health, request bodies).
 //! - [`state`]: the durable state (interruptions, the execution journal).
+//! - [`controller::ControllerGoals`]: plans' motions as
+//!   `control_msgs/action/FollowJointTrajectory` goals (`cellc plan --emit`,
+//!   `POST /v1/plan/follow_joint_trajectory`).
 //!
 //! Names instead of ids, metres and radians, every joint value next to its URDF joint
 //! name, so a task planner reads a result without the artifact. The command line writes
@@ -20,6 +23,7 @@
 //! byte for byte).
 
 pub mod cell;
+pub mod controller;
 pub mod explain;
 pub mod plan;
 pub mod report;
@@ -56,5 +60,6 @@ pub fn schemas() -> serde_json::Map<String, serde_json::Value> {
     add::<cellc_schema::WorldDocument>(&mut generator);
     add::<state::Execution>(&mut generator);
     add::<state::Executions>(&mut generator);
+    add::<controller::ControllerGoals>(&mut generator);
     generator.take_definitions(true)
 }

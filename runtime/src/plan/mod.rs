@@ -434,6 +434,19 @@ pub enum PlanError {
         /// Searches started (the first, and one per backtrack).
         searches: u32,
     },
+    /// A timing option of the request is out of its range
+    /// ([`check_timing`](crate::motion::check_timing): a scaling not in (0, 1], a rate not
+    /// in (0, [`TimingOptions::MAX_RATE`](crate::motion::TimingOptions::MAX_RATE)]), found
+    /// before planning; or `rate` is in range but a motion of the plan would have more
+    /// than [`TimingOptions::MAX_POINTS`](crate::motion::TimingOptions::MAX_POINTS) points
+    /// at it. Refused whole: no other path would make the option right.
+    InvalidOption {
+        /// The field of [`TimingOptions`](crate::motion::TimingOptions)
+        /// (`velocity_scaling`, `acceleration_scaling`, `rate`).
+        name: &'static str,
+        /// Its value.
+        value: f64,
+    },
 }
 
 impl PlanError {
@@ -471,6 +484,9 @@ impl std::fmt::Display for PlanError {
             PlanError::GoalOccupied { by } => write!(f, "{by} stands at the goal"),
             PlanError::TimeBudget { searches } => {
                 write!(f, "the time budget ran out after {searches} searches")
+            }
+            PlanError::InvalidOption { name, value } => {
+                write!(f, "request option `{name}` cannot be {value}")
             }
         }
     }

@@ -68,6 +68,8 @@ impl Failure {
         match e {
             PlanError::TimeBudget { .. } => Failure::OutOfTime,
             PlanError::GoalOccupied { .. } | PlanError::Absent { .. } => Failure::Conflict,
+            // The request's own option, whatever the cell: the caller's to change.
+            PlanError::InvalidOption { .. } => Failure::BadBody,
             _ => Failure::CannotDo,
         }
     }
@@ -166,5 +168,10 @@ mod tests {
         );
         let replan = TaskError::Execute(ExecutionError::Replan(budget));
         assert_eq!(Failure::of_task(&replan), Failure::OutOfTime);
+        let rate = PlanError::InvalidOption {
+            name: "rate",
+            value: 1000.0,
+        };
+        assert_eq!(Failure::of_plan(&rate).status(), StatusCode::BAD_REQUEST);
     }
 }

@@ -74,6 +74,11 @@ pub async fn execute(State(service): Shared, headers: HeaderMap, body: Body) -> 
         Err(e) => return e.into_response(),
     };
     blocking(service, move |service, cancel| {
+        // Refused (R0012) before anything else is looked at, as a body that does not parse.
+        let options = match task_options(&body.options, service, cancel) {
+            Ok(o) => o,
+            Err(e) => return e.into_response(),
+        };
         let mut request = body.clone();
         request.revision = None;
         let intent = json!({"endpoint": "/v1/execute", "request": request});
@@ -87,7 +92,6 @@ pub async fn execute(State(service): Shared, headers: HeaderMap, body: Body) -> 
             Ok(l) => l,
             Err(e) => return e.into_response(),
         };
-        let options = task_options(&body.options, service, cancel);
         let run = Execution {
             key: asked.key,
             expect,
@@ -110,6 +114,11 @@ pub async fn tasks(State(service): Shared, headers: HeaderMap, body: Body) -> Re
         Err(e) => return e.into_response(),
     };
     blocking(service, move |service, cancel| {
+        // Refused (R0012) before anything else is looked at, as a body that does not parse.
+        let options = match task_options(&body.options, service, cancel) {
+            Ok(o) => o,
+            Err(e) => return e.into_response(),
+        };
         let mut request = body.clone();
         request.revision = None;
         let intent = json!({"endpoint": "/v1/tasks", "request": request});
@@ -133,7 +142,6 @@ pub async fn tasks(State(service): Shared, headers: HeaderMap, body: Body) -> Re
                 Err(e) => return e.into_response(),
             }
         }
-        let options = task_options(&body.options, service, cancel);
         let start = durable.world.clone();
         let run = Execution {
             key: asked.key,

@@ -12,6 +12,7 @@ mod durable;
 mod errors;
 mod execute;
 mod executions;
+mod goals;
 mod openapi;
 mod patch;
 mod routes;
@@ -253,6 +254,10 @@ fn router(service: Arc<Service>) -> Router {
         .route("/v1/executions", get(executions::list))
         .route("/v1/executions/{id}", get(executions::one))
         .route("/v1/plan", post(routes::plan))
+        .route(
+            "/v1/plan/follow_joint_trajectory",
+            post(goals::follow_joint_trajectory),
+        )
         .route("/v1/execute", post(execute::execute))
         .route("/v1/tasks", post(execute::tasks))
         .route("/v1/explain", post(routes::explain))

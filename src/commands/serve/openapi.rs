@@ -47,7 +47,7 @@ fn errors(with_body: bool) -> Map<String, Value> {
     if with_body {
         add(
             Failure::BadBody,
-            "the body is not what the endpoint takes (S0001; R0008 for world documents)",
+            "the body is not what the endpoint takes (S0001; R0008 for world documents; R0012 for a timing option out of range)",
         );
         add(Failure::TooLarge, "the body is too large (S0002)");
     }
@@ -66,6 +66,11 @@ fn document_or_report(description: &str, name: &str) -> Value {
 fn plan_failures(name: &str) -> Map<String, Value> {
     let answer = document_or_report;
     let mut e = Map::new();
+    // A rate at which a motion would have too many points is found while planning.
+    e.insert(
+        status(Failure::BadBody),
+        answer("the body is not what the endpoint takes (S0001), a timing option out of range, or a rate at which a motion would have too many points (R0012)", name),
+    );
     e.insert(
         status(Failure::Conflict),
         answer("the goal is taken or the object is absent (R0010)", name),
@@ -120,12 +125,13 @@ fn uncertain_too(mut failures: Map<String, Value>) -> Map<String, Value> {
     failures
 }
 
-/// The responses: 200 with `ok`, then `failures`, then the errors of every endpoint.
+/// The responses: 200 with `ok`, the errors of every endpoint, and `failures` (which
+/// say more of a status than the errors do, so they win).
 fn responses(ok: Value, failures: Map<String, Value>, with_body: bool) -> Value {
     let mut r = Map::new();
     r.insert(StatusCode::OK.as_u16().to_string(), ok);
-    r.extend(failures);
     r.extend(errors(with_body));
+    r.extend(failures);
     Value::Object(r)
 }
 
@@ -206,6 +212,7 @@ pub fn document() -> Value {
             "/v1/health": {"get": get("Liveness, and which cell is loaded", "Health")},
             "/v1/cell": {"get": get("The cell: objects, end-effectors, workspaces, arms", "Cell")},
             "/v1/world": world,
+            "/v1/plan/follow_joint_trajectory": post("Plan a move as `/v1/plan` does and answer its motions as `control_msgs/action/FollowJointTrajectory` goals, one per arm per step (docs/service.md); a move with no plan is answered with its report", "MoveRequest", "ControllerGoals", uncertain_too(plan_failures("Report"))),
             "/v1/plan": post("Plan a move against a copy of the world (the world is not changed); refused while the world is uncertain (S0007)", "MoveRequest", "Run", uncertain_too(plan_failures("Run"))),
             "/v1/execute": execution("Plan and execute a move in the simulator, journaled step by step; the world is updated, whether it succeeds or not", "MoveRequest"),
             "/v1/tasks": execution("Execute moves in order, journaled step by step; stops at the first that fails, the moves before it stay done", "TaskRequest"),

@@ -10,6 +10,7 @@ use axum::http::StatusCode;
 use axum::response::{IntoResponse, Response};
 use axum::Json;
 use cellc_lang::Diagnostic;
+use cellc_runtime::motion::{check_timing, MotionError, TimingOptions};
 use cellc_runtime::plan::{Goal, GoalByName, PlanError, PlanOptions};
 use cellc_runtime::{ObjectId, TaskError, TaskOptions, World};
 use cellc_schema::world::WorldDocumentError;
@@ -43,30 +44,45 @@ impl Drop for CancelOnDrop {
     }
 }
 
-/// A request's options as the runtime takes them.
+/// A request's options as the runtime takes them, or R0012 (400) for a timing option out
+/// of range (the runtime's check, so the service and the command line refuse alike).
 pub(super) fn task_options(
     body: &OptionsBody,
     service: &Service,
     cancel: &Arc<AtomicBool>,
-) -> TaskOptions {
-    {
-        let budget = body
-            .time_budget_ms
-            .map(std::time::Duration::from_millis)
-            .unwrap_or(super::DEFAULT_BUDGET)
-            .min(super::MAX_BUDGET);
-        TaskOptions {
-            plan: PlanOptions {
-                seed: body.seed.unwrap_or(service.seed),
-                motions: body.motions.unwrap_or(true),
-                time_budget: Some(budget),
-                cancel: Some(cancel.clone()),
-                ..PlanOptions::default()
-            },
-            clear: body.clear.unwrap_or(false),
-            ..TaskOptions::default()
-        }
+) -> Result<TaskOptions, ApiError> {
+    let defaults = TimingOptions::default();
+    let timing = TimingOptions {
+        velocity_scaling: body.velocity_scaling.unwrap_or(defaults.velocity_scaling),
+        acceleration_scaling: body
+            .acceleration_scaling
+            .unwrap_or(defaults.acceleration_scaling),
+        rate: body.rate,
+    };
+    if let Err(MotionError::InvalidOption { name, value }) = check_timing(&timing) {
+        return Err(ApiError::from_diagnostic(
+            Failure::BadBody,
+            &crate::plan_report::option_out_of_range(FrontEnd::Service, name, value),
+            &cellc_lang::SourceMap::new(),
+        ));
     }
+    let budget = body
+        .time_budget_ms
+        .map(std::time::Duration::from_millis)
+        .unwrap_or(super::DEFAULT_BUDGET)
+        .min(super::MAX_BUDGET);
+    Ok(TaskOptions {
+        plan: PlanOptions {
+            seed: body.seed.unwrap_or(service.seed),
+            motions: body.motions.unwrap_or(true),
+            time_budget: Some(budget),
+            cancel: Some(cancel.clone()),
+            timing,
+            ..PlanOptions::default()
+        },
+        clear: body.clear.unwrap_or(false),
+        ..TaskOptions::default()
+    })
 }
 
 /// Runs `work` on the blocking pool, with a cancel flag set if this request goes away.
@@ -321,7 +337,7 @@ fn placement(text: &str, what: &str) -> Result<cellc_runtime::PlacementByName, A
 }
 
 /// The world as last stored, or S0007 when an interruption left it uncertain.
-fn certain(service: &Service) -> Result<std::sync::Arc<Snapshot>, ApiError> {
+pub(super) fn certain(service: &Service) -> Result<std::sync::Arc<Snapshot>, ApiError> {
     let now = service.snapshot();
     now.refuse_uncertain(service.loaded.sources())?;
     Ok(now)
@@ -334,6 +350,11 @@ pub async fn plan(State(service): Shared, body: Body) -> Response {
         Err(e) => return e.into_response(),
     };
     blocking(service, move |service, cancel| {
+        // Refused (R0012) before anything else is looked at, as a body that does not parse.
+        let options = match task_options(&body.options, service, cancel) {
+            Ok(o) => o,
+            Err(e) => return e.into_response(),
+        };
         let now = match certain(service) {
             Ok(n) => n,
             Err(e) => return e.into_response(),
@@ -342,7 +363,6 @@ pub async fn plan(State(service): Shared, body: Body) -> Response {
             Ok(l) => l,
             Err(e) => return e.into_response(),
         };
-        let options = task_options(&body.options, service, cancel);
         let moves = [(located.object, located.goal)];
         let planned = service
             .loaded
@@ -356,7 +376,35 @@ pub async fn plan(State(service): Shared, body: Body) -> Response {
 /// The plan document of `cellc plan --format json`, with the status of its error.
 fn plan_response(service: &Service, planned: &cellc_runtime::TaskPlans) -> Response {
     let cell = &service.loaded.cell;
-    let artifact = cell.artifact();
+    let diagnostics: Vec<Diagnostic> = planned
+        .failure
+        .iter()
+        .map(|f| task_failure(service, &f.error))
+        .collect();
+    document(
+        Run::new(
+            Kind::Plan,
+            diagnostics.is_empty(),
+            plan_documents(service, planned),
+            Vec::new(),
+            Some(WorldAnswer::of(cell, &planned.world)),
+            service.loaded.json_report(&diagnostics),
+        ),
+        planned
+            .failure
+            .iter()
+            .next()
+            .map(|f| Failure::of_task(&f.error)),
+    )
+}
+
+/// The plans of a move as documents, in order: those clearing the way first (`clearing
+/// for OBJECT`), the move's own (`request`).
+pub(super) fn plan_documents(
+    service: &Service,
+    planned: &cellc_runtime::TaskPlans,
+) -> Vec<PlanDocument> {
+    let artifact = service.loaded.cell.artifact();
     let mut plans = Vec::new();
     for found in &planned.plans {
         let Some((own, clearing)) = found.split_last() else {
@@ -368,29 +416,16 @@ fn plan_response(service: &Service, planned: &cellc_runtime::TaskPlans) -> Respo
         }
         plans.push(PlanDocument::of(artifact, "request", own));
     }
-    let diagnostics: Vec<Diagnostic> = planned
-        .failure
-        .iter()
-        .map(|f| match &f.error {
-            TaskError::Plan(e) => plan_error(artifact, e, None, Some(service.loaded.sources())),
-            TaskError::Execute(e) => super::execute::execution_error(artifact, e),
-        })
-        .collect();
-    document(
-        Run::new(
-            Kind::Plan,
-            diagnostics.is_empty(),
-            plans,
-            Vec::new(),
-            Some(WorldAnswer::of(cell, &planned.world)),
-            service.loaded.json_report(&diagnostics),
-        ),
-        planned
-            .failure
-            .iter()
-            .next()
-            .map(|f| Failure::of_task(&f.error)),
-    )
+    plans
+}
+
+/// The diagnostic of a move that failed, in the service's terms.
+pub(super) fn task_failure(service: &Service, error: &TaskError) -> Diagnostic {
+    let artifact = service.loaded.cell.artifact();
+    match error {
+        TaskError::Plan(e) => plan_error(artifact, e, None, Some(service.loaded.sources())),
+        TaskError::Execute(e) => super::execute::execution_error(artifact, e),
+    }
 }
 
 /// A plan or run document, answered 200 when nothing failed and with its failure's
@@ -407,6 +442,11 @@ pub async fn explain(State(service): Shared, body: Body) -> Response {
         Err(e) => return e.into_response(),
     };
     blocking(service, move |service, cancel| {
+        // Refused (R0012) before anything else is looked at, as a body that does not parse.
+        let options = match task_options(&body.options, service, cancel) {
+            Ok(o) => o.plan,
+            Err(e) => return e.into_response(),
+        };
         let now = match certain(service) {
             Ok(n) => n,
             Err(e) => return e.into_response(),
@@ -415,7 +455,6 @@ pub async fn explain(State(service): Shared, body: Body) -> Response {
             Ok(l) => l,
             Err(e) => return e.into_response(),
         };
-        let options = task_options(&body.options, service, cancel).plan;
         let cell = &service.loaded.cell;
         let artifact = cell.artifact();
         match cell.plan_move(&located.world, located.object, &located.goal, &options) {

@@ -96,7 +96,10 @@ impl Planner<'_> {
         let mut error = direct.clone();
         let mut keep_out = self.places_needed(world, object, goal);
         loop {
-            if matches!(error, PlanError::TimeBudget { .. }) {
+            if matches!(
+                error,
+                PlanError::TimeBudget { .. } | PlanError::InvalidOption { .. }
+            ) {
                 return Err(error);
             }
             let blockers: Vec<ObjectId> = error
@@ -259,7 +262,9 @@ impl Planner<'_> {
                 },
             );
             match self.plan_move(&there, object, goal, &bounded(false)) {
-                Err(error @ PlanError::TimeBudget { .. }) => return Err(error),
+                Err(error @ (PlanError::TimeBudget { .. } | PlanError::InvalidOption { .. })) => {
+                    return Err(error)
+                }
                 Err(error) if error.blockers().contains(&blocker) => continue,
                 _ => {}
             }
@@ -272,7 +277,9 @@ impl Planner<'_> {
             });
             match self.plan_move(world, blocker, &goal, &bounded(true)) {
                 Ok(plan) => return Ok(Some(plan)),
-                Err(error @ PlanError::TimeBudget { .. }) => return Err(error),
+                Err(error @ (PlanError::TimeBudget { .. } | PlanError::InvalidOption { .. })) => {
+                    return Err(error)
+                }
                 Err(_) => {}
             }
         }

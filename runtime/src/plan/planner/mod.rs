@@ -24,7 +24,7 @@ use super::{
 };
 use crate::kinematics::IkOptions;
 use crate::math::Iso;
-use crate::motion::{MotionPlanner, RrtConnect};
+use crate::motion::{check_timing, MotionError, MotionPlanner, RrtConnect};
 use crate::scene::{Holder, Scene};
 use crate::termination::Termination;
 use crate::world::World;
@@ -111,6 +111,20 @@ impl WorldState {
 struct Failure {
     arc: ArcRef,
     reason: Infeasibility,
+}
+
+/// Why realising a path stopped: a step failed (its arc is removed and the search runs
+/// again), or the request itself is refused, whatever the path (a timing option that no
+/// motion can meet).
+enum Setback {
+    Failed(Failure),
+    Refused(PlanError),
+}
+
+impl From<Failure> for Setback {
+    fn from(failure: Failure) -> Setback {
+        Setback::Failed(failure)
+    }
 }
 
 impl<'a> Planner<'a> {
@@ -259,6 +273,11 @@ impl<'a> Planner<'a> {
         state: WorldState,
         options: &PlanOptions,
     ) -> Result<Plan, PlanError> {
+        // Before anything is searched: an option out of range fails every motion alike.
+        // (`check_timing` gives no other error.)
+        if let Err(MotionError::InvalidOption { name, value }) = check_timing(&options.timing) {
+            return Err(PlanError::InvalidOption { name, value });
+        }
         let goals = goal.states.as_slice();
         let goal_pose = goal.pose;
         let start_pose = state.object;
@@ -376,7 +395,8 @@ impl<'a> Planner<'a> {
                         detours,
                     });
                 }
-                Err(failure) => {
+                Err(Setback::Refused(error)) => return Err(error),
+                Err(Setback::Failed(failure)) => {
                     removed.insert(failure.arc);
                     failed.push((failure.arc, failure.reason));
                     backtracks += 1;

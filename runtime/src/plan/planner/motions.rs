@@ -4,7 +4,7 @@ use cellc_schema::{BlockedStep, Blocker, EndEffectorId, GraspId, Infeasibility, 
 use rand_chacha::ChaCha8Rng;
 
 use super::blocking::blocker_on_path;
-use super::{step_arc, Failure, Planner, WorldState};
+use super::{step_arc, Failure, Planner, Setback, WorldState};
 use crate::motion::{MotionError, MotionOptions, MotionProblem, TimingOptions};
 use crate::plan::{ArmConfigurations, Command, Step};
 use crate::scene::{Holder, ObjectPlacement, SceneScratch};
@@ -17,7 +17,8 @@ impl Planner<'_> {
     /// a held object travels with its hand, and an arm that lets go returns home. A motion
     /// that cannot be found fails the arc of its command, so the search tries another way;
     /// when the world's other objects stand on its straight path, which is free without
-    /// them, the failure names the one met first.
+    /// them, the failure names the one met first. A motion that refuses the request's
+    /// timing (more points at its rate than a motion may have) refuses the request.
     // The request's parts a motion needs, each its own concern: grouping them in a struct
     // would only rename the call.
     #[allow(clippy::too_many_arguments)]
@@ -30,7 +31,7 @@ impl Planner<'_> {
         timing: &TimingOptions,
         rng: &mut ChaCha8Rng,
         stop: &Termination,
-    ) -> Result<(), Failure> {
+    ) -> Result<(), Setback> {
         let Some(scene) = self.scene.filter(|s| s.has_kinematics()) else {
             return Ok(());
         };
@@ -219,6 +220,12 @@ impl Planner<'_> {
                         obstacles: obstacles.clone(),
                     });
                 }
+                Err(MotionError::InvalidOption { name, value }) => {
+                    return Err(Setback::Refused(crate::plan::PlanError::InvalidOption {
+                        name,
+                        value,
+                    }));
+                }
                 Err(error) => {
                     // A retreat that cannot be planned leaves the arm where it is.
                     let Some(arc) = fail_arc else {
@@ -248,7 +255,7 @@ impl Planner<'_> {
                             detail: format!("{}: {error}", crate::plan::NO_MOTION),
                         },
                     };
-                    return Err(Failure { arc, reason });
+                    return Err(Setback::Failed(Failure { arc, reason }));
                 }
             }
         }

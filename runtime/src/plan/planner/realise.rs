@@ -5,7 +5,7 @@ use cellc_schema::{ArcKind, ObjectId};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
-use super::{apply, Exchange, Failure, Planner, WorldState};
+use super::{apply, Exchange, Planner, Setback, WorldState};
 use crate::math::Iso;
 use crate::plan::search::{simplify, Path};
 use crate::plan::{ArcRef, Around, Command, Detour, PlanOptions, Step};
@@ -13,7 +13,7 @@ use crate::termination::Termination;
 
 impl Planner<'_> {
     /// Turns a path into commands (with the put-downs moved off poses the world's other
-    /// objects take), or says which arc failed.
+    /// objects take), or says which arc failed (or that the request is refused).
     pub(super) fn realise(
         &self,
         object: ObjectId,
@@ -22,7 +22,7 @@ impl Planner<'_> {
         state: &WorldState,
         options: &PlanOptions,
         stop: &Termination,
-    ) -> Result<(Vec<Step>, Vec<Detour>), Failure> {
+    ) -> Result<(Vec<Step>, Vec<Detour>), Setback> {
         let graph = &self.artifact.objects[object.index()].graph;
         let kept = simplify(graph, path);
         // The arc that ends at each kept node (after the first): the last arc of a run of
