@@ -299,7 +299,10 @@ fn plan_and_run_cell(path: &str, seed: u64) -> Artifact {
         error * 1e3
     );
     assert!(
-        simulator.log.iter().any(|l| l.ends_with("belt1 moves")),
+        simulator
+            .log
+            .iter()
+            .any(|l| l.contains(": belt1 moves (motion ")),
         "{:?}",
         simulator.log
     );

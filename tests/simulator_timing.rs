@@ -120,6 +120,8 @@ fn a_plan_played_faster_than_its_joints_allow_is_refused_with_the_joint_and_the_
     run(&cell, "handoff_cylinder", None, faster(1.0)).expect("plays as planned");
     // ...and over them at 1.25 times that speed: 1.56 times the accelerations.
     let error = run(&cell, "handoff_cylinder", None, faster(0.8)).expect_err("too fast");
+    // What docs/world.md quotes.
+    eprintln!("{error}");
     let StepError::LimitExceeded {
         arm,
         joint,

@@ -412,12 +412,14 @@ class World:
 @dataclass(frozen=True)
 class Move:
     """One plan carried out in the simulator: the plans executed (the first, then one per
-    replan), the simulator's log, and where the object ended."""
+    replan), the simulator's log and clock (`motion_time`, seconds of motion played),
+    and where the object ended."""
 
     object: str
     clears: str | None
     plans: tuple[Plan, ...]
     log: tuple[str, ...]
+    motion_time: float
     done: bool
     final_state: State | None
     final_pose: Pose | None
@@ -431,6 +433,7 @@ class Move:
             clears=d.get("clears"),
             plans=tuple(Plan.parse(p) for p in d.get("plans") or ()),
             log=tuple(d.get("log") or ()),
+            motion_time=float(d.get("motion_time") or 0.0),
             done=bool(d.get("done")),
             final_state=State.parse(d.get("final_state")),
             final_pose=Pose.parse(d.get("final_pose")),

@@ -236,13 +236,18 @@ fn is_straight(t: &Trajectory) -> bool {
 /// The fixture's speed limit of every joint (rad/s, `motion_fixture.rs`).
 const VELOCITY: f64 = 1.0;
 
-/// What every planned trajectory must satisfy: it starts at time 0 at `start`, ends
+/// What every planned trajectory must satisfy: it starts at time 0 at `start` at rest
+/// (accelerating as its first step does), ends
 /// exactly at `goal`, times increase, no joint moves more than `step` between points or
 /// faster than the speed limit, and the dense re-check finds nothing.
 fn assert_valid(problem: &Case<'_>, t: &Trajectory) {
     let options = MotionOptions::default();
     assert_eq!(t.arms, problem.arms);
-    assert_eq!(t.points[0], TrajectoryPoint::at_rest(0.0, &problem.start));
+    let first = &t.points[0];
+    assert_eq!(
+        (first.time, &first.positions, &first.velocities),
+        (0.0, &problem.start, &vec![0.0; problem.start.len()])
+    );
     assert_eq!(t.points[t.points.len() - 1].positions, problem.goal);
     for pair in t.points.windows(2) {
         let (t0, a, t1, b) = (

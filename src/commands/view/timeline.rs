@@ -211,9 +211,14 @@ pub fn poses(
     out
 }
 
-/// Joints of a trajectory at time `t` (linear between its points, as the simulator
-/// follows it). Points are in time order (the planner's, and a plan document's checked),
-/// so the point after `t` is found by bisection.
+/// Joints of a trajectory at time `t`, by its points' `time_from_start`: linear between
+/// them, which on screen is the planned motion, since its points are the time
+/// parameterisation's knots (at most [`MotionOptions::grid_step`] of the path apart) or
+/// a control rate's samples; the simulator holds the same points to the joints' limits
+/// by the cubic a controller follows. Points are in time order (the planner's, and a plan
+/// document's checked), so the point after `t` is found by bisection.
+///
+/// [`MotionOptions::grid_step`]: cellc_runtime::motion::MotionOptions::grid_step
 fn sample(points: &[(f64, Vec<f64>)], t: f64) -> Option<Vec<f64>> {
     let after = points.partition_point(|(s, _)| *s < t);
     match (after < points.len()).then_some(after) {
