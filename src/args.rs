@@ -149,7 +149,8 @@ pub struct RequestArgs {
     #[arg(long)]
     pub clear: bool,
     /// Output style: `human` numbered steps (diagnostics on standard error), `short` one
-    /// line per plan, step and diagnostic, `json` one document (docs/plan-json.md).
+    /// line per plan, step and diagnostic, `json` one document (docs/world.md,
+    /// "Machine-readable results").
     #[arg(long, value_enum, default_value = "human")]
     pub format: Format,
 }
