@@ -12,9 +12,7 @@ use axum::Json;
 use cellc_driver::document::controller::ControllerGoals;
 
 use super::errors::{ApiError, Failure};
-use super::routes::{
-    blocking, certain, locate, plan_documents, task_failure, task_options, MoveBody, Shared,
-};
+use super::routes::{blocking, plan_body, plan_documents, task_failure, MoveBody, Shared};
 use super::{read_json, MAX_BODY};
 
 /// `POST /v1/plan/follow_joint_trajectory`: plans against a copy of the world, as
@@ -25,23 +23,10 @@ pub async fn follow_joint_trajectory(State(service): Shared, body: Body) -> Resp
         Err(e) => return e.into_response(),
     };
     blocking(service, move |service, cancel| {
-        let options = match task_options(&body.options, service, cancel) {
-            Ok(o) => o,
+        let planned = match plan_body(service, &body, cancel) {
+            Ok(p) => p,
             Err(e) => return e.into_response(),
         };
-        let now = match certain(service) {
-            Ok(n) => n,
-            Err(e) => return e.into_response(),
-        };
-        let located = match locate(service, &body, &now.world) {
-            Ok(l) => l,
-            Err(e) => return e.into_response(),
-        };
-        let moves = [(located.object, located.goal)];
-        let planned = service
-            .loaded
-            .cell
-            .plan_task(&located.world, &moves, &options);
         let sources = service.loaded.sources();
         if let Some(failure) = &planned.failure {
             let d = task_failure(service, &failure.error);

@@ -343,6 +343,24 @@ pub(super) fn certain(service: &Service) -> Result<std::sync::Arc<Snapshot>, Api
     Ok(now)
 }
 
+/// A move's body planned against a copy of the world, for `POST /v1/plan` and its
+/// controller goals. The options are refused (R0012) before anything else is looked at,
+/// as a body that does not parse.
+pub(super) fn plan_body(
+    service: &Service,
+    body: &MoveBody,
+    cancel: &Arc<AtomicBool>,
+) -> Result<cellc_runtime::TaskPlans, ApiError> {
+    let options = task_options(&body.options, service, cancel)?;
+    let now = certain(service)?;
+    let located = locate(service, body, &now.world)?;
+    let moves = [(located.object, located.goal)];
+    Ok(service
+        .loaded
+        .cell
+        .plan_task(&located.world, &moves, &options))
+}
+
 /// `POST /v1/plan`: plans against a copy of the world; the world is not changed.
 pub async fn plan(State(service): Shared, body: Body) -> Response {
     let body: MoveBody = match read_json(body, MAX_BODY).await {
@@ -350,25 +368,10 @@ pub async fn plan(State(service): Shared, body: Body) -> Response {
         Err(e) => return e.into_response(),
     };
     blocking(service, move |service, cancel| {
-        // Refused (R0012) before anything else is looked at, as a body that does not parse.
-        let options = match task_options(&body.options, service, cancel) {
-            Ok(o) => o,
-            Err(e) => return e.into_response(),
-        };
-        let now = match certain(service) {
-            Ok(n) => n,
-            Err(e) => return e.into_response(),
-        };
-        let located = match locate(service, &body, &now.world) {
-            Ok(l) => l,
-            Err(e) => return e.into_response(),
-        };
-        let moves = [(located.object, located.goal)];
-        let planned = service
-            .loaded
-            .cell
-            .plan_task(&located.world, &moves, &options);
-        plan_response(service, &planned)
+        match plan_body(service, &body, cancel) {
+            Ok(planned) => plan_response(service, &planned),
+            Err(e) => e.into_response(),
+        }
     })
     .await
 }
